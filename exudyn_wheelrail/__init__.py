@@ -1,0 +1,1 @@
+"""exudyn-wheelrail: wheel-rail contact for Exudyn."""

@@ -1,0 +1,272 @@
+"""The compiled all-wheels contact evaluation: geometry (convex/concave search) + Hertz, one call for a vehicle.
+
+:func:`evaluate_wheels` takes plain arrays and fills ``out[wheel, region, field]`` (region 0 = tread, 1 = flange;
+fields below).  It is the inner loop of the Exudyn connector; :class:`ContactKernel` wraps it for Python users.
+
+Per wheel and region the search is (Montenegro et al. 2015, Sec. 2):
+
+1. start Newton from the last solution (warm start) — or, in *global* mode or without a valid last solution,
+   from the best basin of a coarse vertical-overlap scan of the region (so contact jumps are followed);
+2. convex search: Newton on the two contact conditions; accepted when it converges inside the region, with
+   opposing normals, and the pair is locally convex: kappa_w + kappa_r >= P_CONVEX_MIN_CURVATURE (relative lateral
+   curvature; the two conditions then mark a strict local minimum of the distance).  The paper checks the
+   wheel's convexity alone (kappa_w >= 0); S1002's tread is mildly concave everywhere (kappa_w about -3 to
+   -5 1/m against UIC60's +3.3 crown), so the relative-curvature check is what separates a well-posed
+   convex contact from a conformal one that needs the concave search;
+3. otherwise the concave search (maximum vertical overlap, :func:`~.search.vertical_overlap_search`); the
+   rail point is then moved to the normal foot of the deepest wheel point, so that the penetration is the true
+   normal distance there (the paper's vertical overlap times cos(gamma) differs by ~1 % in a conformal throat);
+4. penetration ``delta = -(p_w - p_r) · n_r``: contact when positive; Hertz gives N = Kh delta^1.5, dN/ddelta, a, b.
+   A separated region that overlaps nowhere vertically reports its gap: the smallest normal distance over the
+   region (:func:`~.search.nearest_by_normal_distance`).  In warm mode a conformal stationary point more than
+   P_SEPARATION_GATE from the rail is reported as separated without the concave search (a speed measure: a
+   contact that appears elsewhere in the region in a single step, more than the gate away, would be missed until
+   the next global evaluation).
+
+If both regions of a wheel report contact at (nearly) the same wheel point — possible next to the split — only
+the deeper one is kept.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..profiles.curve import curve_eval
+from .normal import hertz_from_penetration
+from .search import (convex_newton, nearest_by_normal_distance, nearest_start, normal_foot, vertical_overlap_search,
+                     wheel_point)
+
+# ---- output fields --------------------------------------------------------------------------------------------
+F_STATUS = 0          # STATUS_* below
+F_S_WHEEL = 1         # wheel surface parameter (arc length of the wheel curve, wheelset frame) [m]
+F_S_RAIL = 2          # rail surface parameter [m]
+F_PW_Y = 3            # wheel contact point, side frame [m]
+F_PW_Z = 4
+F_PR_Y = 5            # rail contact point, side frame [m]
+F_PR_Z = 6
+F_NR_Y = 7            # outward rail normal, side frame
+F_NR_Z = 8
+F_PENETRATION = 9     # delta [m], positive = interpenetration, negative = gap
+F_CONTACT_ANGLE = 10  # gamma [rad], positive leaning towards the track centre
+F_ROLLING_RADIUS = 11 # distance of the wheel point from the axle axis [m]
+F_KW_LAT = 12         # wheel curvature, lateral (profile) direction [1/m], convex positive
+F_KW_ROLL = 13        # wheel curvature, rolling direction [1/m]
+F_KR_LAT = 14         # rail curvature, lateral direction [1/m]
+F_KR_ROLL = 15        # rail curvature, rolling direction [1/m]
+F_A_REL = 16          # Hertz relative curvature A (rolling) [1/m]
+F_B_REL = 17          # Hertz relative curvature B (lateral) [1/m]
+F_SEMI_A = 18         # ellipse semi-axis along rolling [m]
+F_SEMI_B = 19         # ellipse semi-axis lateral [m]
+F_NORMAL_FORCE = 20   # N [N]
+F_DN_DDELTA = 21      # dN/ddelta [N/m]
+F_ITERATIONS = 22     # Newton iterations used
+F_HERTZ_STATUS = 23   # 0 ok, nonzero: curvature clamped (conformal), see contact.normal
+N_FIELDS = 24
+
+STATUS_SEPARATED = 0  # a solution was found, no penetration
+STATUS_CONVEX = 1     # contact from the convex search
+STATUS_CONCAVE = 2    # contact from the concave search
+STATUS_NO_OVERLAP = -1  # the region does not face the rail (no vertical overlap at all)
+
+# ---- parameters -----------------------------------------------------------------------------------------------
+P_E_STAR = 0
+P_NEWTON_TOL = 1
+P_NEWTON_MAX_ITER = 2
+P_N_SCAN = 3
+P_N_CONCAVE_WHEEL = 4
+P_N_CONCAVE_RAIL = 5
+P_REFINE = 6
+P_GLOBAL = 7
+P_RAIL_ROLL_CURVATURE = 8
+P_MIN_CURVATURE = 9          # [1/m] Hertz clamp of A and B (conformal contact)
+P_DEDUP_DISTANCE = 10
+P_CONVEX_MIN_CURVATURE = 11   # [1/m] kappa_w + kappa_r needed to accept the convex search
+P_SEPARATION_GATE = 12        # [m] warm mode: a conformal stationary point this far apart skips the concave search
+N_PARAMS = 13
+
+
+def default_params(E_star: float, global_search: bool = False, n_scan: int = 60, n_concave_wheel: int = 100,
+                   n_concave_rail: int = 100, refine: bool = True, newton_tol_m: float = 1e-11,
+                   newton_max_iter: int = 30, min_curvature: float = 0.1, dedup_distance_m: float = 1e-3,
+                   convex_min_curvature: float = 0.5, separation_gate_m: float = 1e-3):
+    """Parameter vector for :func:`evaluate_wheels` (see the P_* indices)."""
+    p = np.zeros(N_PARAMS)
+    p[P_E_STAR] = E_star
+    p[P_NEWTON_TOL] = newton_tol_m
+    p[P_NEWTON_MAX_ITER] = newton_max_iter
+    p[P_N_SCAN] = n_scan
+    p[P_N_CONCAVE_WHEEL] = n_concave_wheel
+    p[P_N_CONCAVE_RAIL] = n_concave_rail
+    p[P_REFINE] = 1.0 if refine else 0.0
+    p[P_GLOBAL] = 1.0 if global_search else 0.0
+    p[P_RAIL_ROLL_CURVATURE] = 0.0
+    p[P_MIN_CURVATURE] = min_curvature
+    p[P_DEDUP_DISTANCE] = dedup_distance_m
+    p[P_CONVEX_MIN_CURVATURE] = convex_min_curvature
+    p[P_SEPARATION_GATE] = separation_gate_m
+    return p
+
+
+@njit(cache=True)
+def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params):
+    """Evaluate geometry at (s_w, s_r) and Hertz; write one output row."""
+    wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
+    qy, qz, qty, qtz, qny, qnz, qk = curve_eval(nodes, meta, wheel, s_w)   # wheelset frame
+    delta = -((wy - ry) * rny + (wz - rz) * rnz)
+    r_roll = qz
+    k_w_roll = qnz / r_roll        # Meusnier: normal curvature of the parallel circle, cos(psi)/r
+    k_r_roll = params[P_RAIL_ROLL_CURVATURE]
+    o = out[w, reg]
+    o[F_S_WHEEL] = s_w
+    o[F_S_RAIL] = s_r
+    o[F_PW_Y] = wy
+    o[F_PW_Z] = wz
+    o[F_PR_Y] = ry
+    o[F_PR_Z] = rz
+    o[F_NR_Y] = rny
+    o[F_NR_Z] = rnz
+    o[F_PENETRATION] = delta
+    o[F_CONTACT_ANGLE] = np.arctan2(-rny, -rnz)
+    o[F_ROLLING_RADIUS] = r_roll
+    o[F_KW_LAT] = kw
+    o[F_KW_ROLL] = k_w_roll
+    o[F_KR_LAT] = kr
+    o[F_KR_ROLL] = k_r_roll
+    A = 0.5 * (k_w_roll + k_r_roll)
+    B = 0.5 * (kw + kr)
+    o[F_A_REL] = A
+    o[F_B_REL] = B
+    o[F_ITERATIONS] = iters
+    if delta > 0.0 and status > 0:
+        n, dn, a, b, hs = hertz_from_penetration(A, B, params[P_E_STAR], delta, params[P_MIN_CURVATURE])
+        o[F_STATUS] = status
+        o[F_NORMAL_FORCE] = n
+        o[F_DN_DDELTA] = dn
+        o[F_SEMI_A] = a
+        o[F_SEMI_B] = b
+        o[F_HERTZ_STATUS] = hs
+    else:
+        o[F_STATUS] = STATUS_SEPARATED if status >= 0 else status
+        o[F_NORMAL_FORCE] = 0.0
+        o[F_DN_DDELTA] = 0.0
+        o[F_SEMI_A] = 0.0
+        o[F_SEMI_B] = 0.0
+        o[F_HERTZ_STATUS] = 0.0
+
+
+@njit(cache=True)
+def _no_overlap(out, w, reg):
+    out[w, reg, :] = 0.0
+    out[w, reg, F_STATUS] = STATUS_NO_OVERLAP
+    out[w, reg, F_PENETRATION] = -np.inf
+
+
+@njit(cache=True)
+def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, out, w, reg):
+    """Contact of one wheel region with the rail; updates the warm start ``warm[w, reg, :] = (s_r, s_w)``."""
+    if wheel < 0:                                   # the profile has no such region (e.g. a flangeless cone)
+        _no_overlap(out, w, reg)
+        return
+    cos_r = np.cos(roll)
+    sin_r = np.sin(roll)
+    first = int(meta[wheel, 0])
+    s_lo = nodes[first, 0]
+    s_hi = nodes[first + int(meta[wheel, 1]) - 1, 0]
+    r_first = int(meta[rail, 0])
+    r_lo = nodes[r_first, 0]
+    r_hi = nodes[r_first + int(meta[rail, 1]) - 1, 0]
+    tol = params[P_NEWTON_TOL]
+    max_iter = int(params[P_NEWTON_MAX_ITER])
+    n_scan = int(params[P_N_SCAN])
+    s_r = warm[w, reg, 0]
+    s_w = warm[w, reg, 1]
+    need_scan = params[P_GLOBAL] > 0.0 or not (np.isfinite(s_r) and np.isfinite(s_w))
+    scanned = False
+    newton_ok = False
+    iters = 0
+    for attempt in range(2):
+        if attempt == 1 or need_scan:
+            if scanned:
+                break
+            found, s_w, s_r, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r,
+                                                          s_lo, s_hi, n_scan, 0, False)
+            if not found:
+                s_w, s_r = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, n_scan)
+            scanned = True
+        conv, s_r, s_w, it = convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol)
+        iters += it
+        if conv and s_lo <= s_w <= s_hi and r_lo <= s_r <= r_hi:
+            wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+            ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
+            if wny * rny + wnz * rnz < 0.0:       # opposing normals: a true contact candidate
+                warm[w, reg, 0] = s_r
+                warm[w, reg, 1] = s_w
+                newton_ok = True
+                if kw + kr >= params[P_CONVEX_MIN_CURVATURE]:
+                    _fill(out, w, reg, STATUS_CONVEX, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
+                          iters, params)
+                    return
+                gap = (wy - ry) * rny + (wz - rz) * rnz
+                if not need_scan and gap > params[P_SEPARATION_GATE]:
+                    # warm mode: a conformal stationary point far from the rail; skip the concave search
+                    _fill(out, w, reg, STATUS_SEPARATED, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
+                          iters, params)
+                    return
+                break                              # conformal/concave at the solution: concave search
+    # concave search (also the fallback when Newton fails or leaves the region)
+    n_sw = s_w
+    n_sr = s_r
+    found, s_w, s_r, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
+                                                  int(params[P_N_CONCAVE_WHEEL]), int(params[P_N_CONCAVE_RAIL]),
+                                                  params[P_REFINE] > 0.0)
+    if not found:
+        # apart, and nothing overlaps vertically: report the region's smallest normal distance (its gap)
+        ok, g_sw, g_sr, gap = nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
+                                                         n_scan, n_sr if newton_ok else r_lo)
+        if not (ok and r_lo <= g_sr <= r_hi):
+            _no_overlap(out, w, reg)
+            return
+        warm[w, reg, 0] = g_sr
+        warm[w, reg, 1] = g_sw
+        _fill(out, w, reg, STATUS_SEPARATED, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
+              iters, params)
+        return
+    # the deepest wheel point's penetration is its normal distance to the rail: move the rail point to the foot
+    wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    ok, s_foot = normal_foot(nodes, meta, rail, wy, wz, s_r)
+    if ok and r_lo <= s_foot <= r_hi:
+        s_r = s_foot
+    _fill(out, w, reg, STATUS_CONCAVE if dv > 0.0 else STATUS_SEPARATED, s_w, s_r, nodes, meta, rail, wheel,
+          c_y, c_z, cos_r, sin_r, iters, params)
+
+
+@njit(cache=True)
+def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
+    """Contact geometry and Hertz for every wheel.
+
+    Parameters (arrays)
+    -------------------
+    nodes, meta : packed curves (:func:`~exudyn_wheelrail.profiles.curve.pack_curves`), side frame.
+    mono : (n_curves, 2) int rows of each curve's vertically projectable stretch.
+    curve_ids : (n_wheels, 3) int — rail, tread and flange curve of each wheel.
+    poses : (n_wheels, 3) — wheel (wheelset) pose relative to its rail in the side frame: c_y, c_z [m], roll [rad].
+    warm : (n_wheels, 2, 2) — last (s_r, s_w) per region, NaN for none; updated in place.
+    params : :func:`default_params`.
+    out : (n_wheels, 2, N_FIELDS) — filled.
+    """
+    n_wheels = poses.shape[0]
+    for w in range(n_wheels):
+        rail = curve_ids[w, 0]
+        for reg in range(2):
+            solve_region(nodes, meta, mono, rail, curve_ids[w, 1 + reg], poses[w, 0], poses[w, 1], poses[w, 2],
+                         warm, params, out, w, reg)
+        t = out[w, 0]
+        f = out[w, 1]
+        if t[F_STATUS] > 0 and f[F_STATUS] > 0:
+            dist = np.hypot(t[F_PW_Y] - f[F_PW_Y], t[F_PW_Z] - f[F_PW_Z])
+            if dist < params[P_DEDUP_DISTANCE]:
+                drop = out[w, 1] if t[F_PENETRATION] >= f[F_PENETRATION] else out[w, 0]
+                drop[F_STATUS] = STATUS_SEPARATED
+                drop[F_NORMAL_FORCE] = 0.0
+                drop[F_DN_DDELTA] = 0.0

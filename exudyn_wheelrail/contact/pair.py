@@ -1,0 +1,92 @@
+"""Placement of a wheel and rail profile pair for a wheelset on track (see :mod:`exudyn_wheelrail.conventions`).
+
+:class:`WheelRailPair` turns profile-frame curves into *side-frame* curves:
+
+* the rail, rotated by its inclination (head towards the track centre) and shifted so that its gauge point
+  (the most inward point 14 mm below the top of rail) lies at ``gauge/2`` and its top at ``z = 0``;
+* the wheel's tread and flange functions, in the wheelset frame (right-side convention): flange back at
+  ``back_to_back/2``, tape circle at radius ``r0``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..conventions import DEFAULT_BACK_TO_BACK_M, GAUGE_MEASURING_DEPTH_M, STANDARD_GAUGE_M, parse_inclination
+from ..profiles.curve import ProfileCurve, pack_curves
+from ..profiles.profiles import RailProfile, WheelProfile, resolve_rail, resolve_wheel
+
+
+def gauge_point(curve: ProfileCurve, depth_m: float = GAUGE_MEASURING_DEPTH_M, spacing_m: float = 2e-6):
+    """Top-of-rail height and gauge point (y, z) of a rail curve already in side-frame orientation."""
+    s = np.linspace(curve.s_min, curve.s_max, max(1000, int(curve.length / spacing_m)))
+    p = curve.position(s)
+    z_top = float(np.min(p[:, 1]))
+    z_gauge = z_top + depth_m
+    below = p[:, 1] >= z_gauge
+    if not below.any() or below.all():
+        raise ValueError(f"{curve.name}: the rail profile does not reach {depth_m * 1e3:.0f} mm below its top; "
+                         "the gauge point cannot be found")
+    # the gauge point is the most inward point of the head at the measuring depth: first crossing from the top
+    i_top = int(np.argmin(p[:, 1]))
+    k = i_top
+    while k > 0 and p[k, 1] < z_gauge:
+        k -= 1
+    f = (z_gauge - p[k + 1, 1]) / (p[k, 1] - p[k + 1, 1])
+    y_gauge = float(p[k + 1, 0] + f * (p[k, 0] - p[k + 1, 0]))
+    return z_top, y_gauge
+
+
+class WheelRailPair:
+    """Wheel and rail profiles placed for one wheelset on track (both sides use the same profiles).
+
+    Parameters
+    ----------
+    wheel, rail : profile objects, or 'S1002' / 'UIC60', or file paths.
+    gauge_m : track gauge measured 14 mm below the top of rail.
+    inclination : rail inclination, '1/40', '1/20', 'none' or tan of the angle.  A rail profile that is already
+        canted (``RailProfile.canted_tan``) is rotated only by the difference.
+    back_to_back_m : wheel flange back-to-back distance.
+    r0_m : nominal rolling (tape circle) radius.
+    """
+
+    def __init__(self, wheel="S1002", rail="UIC60", gauge_m: float = STANDARD_GAUGE_M, inclination="1/40",
+                 back_to_back_m: float = DEFAULT_BACK_TO_BACK_M, r0_m: float = 0.46):
+        self.wheel: WheelProfile = resolve_wheel(wheel)
+        self.rail: RailProfile = resolve_rail(rail)
+        self.gauge_m = float(gauge_m)
+        self.inclination_tan = parse_inclination(inclination)
+        self.back_to_back_m = float(back_to_back_m)
+        self.r0_m = float(r0_m)
+        for label, value, lo, hi in (("gauge_m", self.gauge_m, 0.5, 2.0), ("back_to_back_m", back_to_back_m, 0.4, 2.0),
+                                     ("r0_m", r0_m, 0.1, 1.0)):
+            if not (lo <= value <= hi) or not np.isfinite(value):
+                raise ValueError(f"{label} = {value} is outside the plausible range [{lo}, {hi}] (metres)")
+        # rail: rotate towards the track centre by the net inclination, then place the gauge point and the top
+        cant_rad = np.arctan(self.inclination_tan) - np.arctan(self.rail.canted_tan)
+        rotated = self.rail.curve.transformed(-cant_rad)
+        z_top, y_gauge = gauge_point(rotated)
+        self.rail_side = rotated.transformed(0.0, (0.5 * self.gauge_m - y_gauge, -z_top), name=f"{self.rail.name}:side")
+        # wheel: flange back at back_to_back/2, tape circle at radius r0
+        self.wheel_offset_y_m = 0.5 * self.back_to_back_m - self.wheel.flange_back_y_m
+        offset = (self.wheel_offset_y_m, self.r0_m)
+        self.tread_side = self.wheel.tread.transformed(0.0, offset, name=f"{self.wheel.name}:tread:side")
+        self.flange_side = self.wheel.flange.transformed(0.0, offset, name=f"{self.wheel.name}:flange:side")
+
+    def packed(self):
+        """(nodes, meta) with curve 0 = rail, 1 = tread, 2 = flange (side frame)."""
+        return pack_curves([self.rail_side, self.tread_side, self.flange_side])
+
+    def nominal_axle_height_m(self) -> float:
+        """Axle centre z (negative: above the rail top) when the tape circles touch a flat rail top."""
+        return -self.r0_m
+
+    def wheel_y_profile(self, y_side_m):
+        """Lateral coordinate in the wheel profile frame of a wheelset-frame (side convention) coordinate."""
+        return np.asarray(y_side_m) - self.wheel_offset_y_m
+
+    def __repr__(self) -> str:
+        return (f"WheelRailPair({self.wheel.name} on {self.rail.name} 1:{1 / self.inclination_tan:.0f}, "
+                f"gauge {self.gauge_m:.4f} m, back-to-back {self.back_to_back_m:.4f} m, r0 {self.r0_m:.3f} m)"
+                if self.inclination_tan else
+                f"WheelRailPair({self.wheel.name} on {self.rail.name} vertical, gauge {self.gauge_m:.4f} m, "
+                f"back-to-back {self.back_to_back_m:.4f} m, r0 {self.r0_m:.3f} m)")

@@ -1,0 +1,333 @@
+"""Contact-point search between one wheel region (tread or flange function) and a rail, compiled with numba.
+
+Method: Montenegro, Neves, Calçada, Tanabe & Sogabe, "Wheel–rail contact formulation for analyzing the lateral
+train–structure dynamic interaction", Computers & Structures 152 (2015) 200–214, Sec. 2.
+
+All geometry is in the side frame of :mod:`exudyn_wheelrail.conventions` (y to the field side, z down) with the
+rail fixed; the wheel curve is given in the wheelset frame and placed by its pose ``(c_y, c_z, roll)``.
+
+* :func:`convex_newton` — Newton on the two contact conditions (paper Eqs. 5–6)
+  ``f1 = t_r · (p_w - p_r) = 0`` and ``f2 = n_r · t_w = 0`` in the surface parameters (s_r, s_w), with the
+  analytic Jacobian from ``dt/ds = -kappa n`` and ``dn/ds = kappa t``.
+* :func:`vertical_overlap_search` — the *concave search* (paper Eqs. 8–13): both surfaces discretised, each point
+  projected vertically onto the other surface, the pair of maximum vertical overlap taken; optionally refined to
+  the continuous maximum (where the two tangents are parallel).  The same routine with penetration allowed to be
+  negative is the *global scan* that starts Newton from the best basin (contact jumps).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..profiles.curve import curve_eval
+
+NEWTON_MAX_STEP_M = 3e-3
+
+
+@njit(cache=True, inline="always")
+def wheel_point(nodes, meta, curve, s, c_y, c_z, cos_r, sin_r):
+    """Wheel curve point at ``s`` placed by the pose: (p_y, p_z, t_y, t_z, n_y, n_z, kappa) in the side frame."""
+    py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, curve, s)
+    return (c_y + cos_r * py - sin_r * pz, c_z + sin_r * py + cos_r * pz,
+            cos_r * ty - sin_r * tz, sin_r * ty + cos_r * tz,
+            cos_r * ny - sin_r * nz, sin_r * ny + cos_r * nz, k)
+
+
+@njit(cache=True)
+def convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol_m):
+    """Newton iteration on the contact conditions from (s_r, s_w).
+
+    Returns ``(converged, s_r, s_w, iterations)``; steps are limited to 3 mm.
+    """
+    for it in range(max_iter):
+        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        dy = wy - ry
+        dz = wz - rz
+        f1 = rty * dy + rtz * dz
+        f2 = rny * wty + rnz * wtz
+        nd = rny * dy + rnz * dz
+        tt = rty * wty + rtz * wtz
+        j11 = -rk * nd - 1.0
+        j12 = tt
+        j21 = rk * tt
+        j22 = -wk * (rny * wny + rnz * wnz)
+        det = j11 * j22 - j12 * j21
+        if abs(det) < 1e-12:
+            return False, s_r, s_w, it + 1
+        d_r = -(f1 * j22 - j12 * f2) / det
+        d_w = -(j11 * f2 - j21 * f1) / det
+        step = max(abs(d_r), abs(d_w))
+        if step > NEWTON_MAX_STEP_M:
+            d_r *= NEWTON_MAX_STEP_M / step
+            d_w *= NEWTON_MAX_STEP_M / step
+        s_r += d_r
+        s_w += d_w
+        if step < tol_m:
+            return True, s_r, s_w, it + 1
+    return False, s_r, s_w, max_iter
+
+
+@njit(cache=True)
+def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos_r, sin_r):
+    """Arc length of the point of ``curve`` (placed by the pose) with side-frame lateral coordinate ``y_target``.
+
+    Only the stretch of rows [row_lo, row_hi] is searched, on which y must increase with s (the part of the
+    profile that a vertical line meets once).  Returns ``(found, s)``.
+    """
+    y_lo = c_y + cos_r * nodes[row_lo, 1] - sin_r * nodes[row_lo, 2]
+    y_hi = c_y + cos_r * nodes[row_hi, 1] - sin_r * nodes[row_hi, 2]
+    if not (y_lo <= y_target <= y_hi):
+        return False, 0.0
+    a = row_lo
+    b = row_hi
+    while b - a > 1:
+        m = (a + b) // 2
+        ym = c_y + cos_r * nodes[m, 1] - sin_r * nodes[m, 2]
+        if ym <= y_target:
+            a = m
+        else:
+            b = m
+    ya = c_y + cos_r * nodes[a, 1] - sin_r * nodes[a, 2]
+    yb = c_y + cos_r * nodes[b, 1] - sin_r * nodes[b, 2]
+    s = nodes[a, 0] + (y_target - ya) / (yb - ya) * (nodes[b, 0] - nodes[a, 0])
+    for _ in range(6):
+        py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, curve, s)
+        dyds = cos_r * ty - sin_r * tz
+        ds = (y_target - (c_y + cos_r * py - sin_r * pz)) / dyds
+        s += ds
+        if abs(ds) < 1e-13:
+            break
+    return True, s
+
+
+@njit(cache=True, inline="always")
+def _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r):
+    """Vertical overlap (z_w - z_r, positive = penetration) of the wheel point at s_w; (found, overlap, s_r)."""
+    wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    ok, s_r = project_vertical(nodes, meta, rail, mono[rail, 0], mono[rail, 1], wy, 0.0, 0.0, 1.0, 0.0)
+    if not ok:
+        return False, -1.0, 0.0
+    ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+    return True, wz - rz, s_r
+
+
+@njit(cache=True, inline="always")
+def _slope_mismatch(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r):
+    """Derivative sign of the vertical overlap along the wheel: cross(t_w, t_r) (zero at the maximum)."""
+    wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+    # d(z_w - z_r)/ds_w = t_wz - (t_rz / t_ry) t_wy  ->  sign of (t_wz t_ry - t_rz t_wy) for t_ry > 0
+    return wtz * rty - rtz * wty
+
+
+@njit(cache=True)
+def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi,
+                            n_wheel, n_rail, refine):
+    """Maximum vertical overlap between a wheel region [s_w_lo, s_w_hi] and the rail (paper Eqs. 8–13).
+
+    ``n_wheel`` wheel points are projected vertically onto the rail and ``n_rail`` rail points (within the wheel
+    region's lateral window) onto the wheel; the pair of largest overlap ``z_w - z_r`` wins.  With ``refine`` the
+    maximum is then located on the continuous curves (bracketed root of the slope mismatch, Illinois method).
+    Returns ``(found, s_w, s_r, overlap_m)``; the overlap is negative when the surfaces are apart (then it is the
+    smallest vertical gap, with sign flipped) — callers decide contact on its sign.
+    """
+    best = -1e30
+    best_sw = 0.5 * (s_w_lo + s_w_hi)
+    best_sr = 0.0
+    found = False
+    h_w = (s_w_hi - s_w_lo) / (n_wheel - 1)
+    y_min = 1e30
+    y_max = -1e30
+    for k in range(n_wheel):
+        s_w = s_w_lo + h_w * k
+        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        y_min = min(y_min, wy)
+        y_max = max(y_max, wy)
+        ok, dv, s_r = _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        if ok and dv > best:
+            best = dv
+            best_sw = s_w
+            best_sr = s_r
+            found = True
+    # rail points projected onto the wheel region (its monotone stretch)
+    if n_rail > 1 and mono[wheel, 1] > mono[wheel, 0]:
+        r_lo = nodes[mono[rail, 0], 0]
+        r_hi = nodes[mono[rail, 1], 0]
+        h_r = (r_hi - r_lo) / (n_rail - 1)
+        for k in range(n_rail):
+            s_r = r_lo + h_r * k
+            ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+            if ry < y_min or ry > y_max:
+                continue
+            ok, s_w = project_vertical(nodes, meta, wheel, mono[wheel, 0], mono[wheel, 1], ry,
+                                       c_y, c_z, cos_r, sin_r)
+            if not ok or s_w < s_w_lo or s_w > s_w_hi:
+                continue
+            wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+            if wz - rz > best:
+                best = wz - rz
+                best_sw = s_w
+                best_sr = s_r
+                found = True
+    if not found or not refine:
+        return found, best_sw, best_sr, best
+    # refine: bracket [s - h, s + h] around the best sample, root of the slope mismatch
+    a = max(s_w_lo, best_sw - h_w)
+    b = min(s_w_hi, best_sw + h_w)
+    ok_a, dv_a, sr_a = _overlap_at_wheel(nodes, meta, mono, rail, wheel, a, c_y, c_z, cos_r, sin_r)
+    ok_b, dv_b, sr_b = _overlap_at_wheel(nodes, meta, mono, rail, wheel, b, c_y, c_z, cos_r, sin_r)
+    if not (ok_a and ok_b):
+        return found, best_sw, best_sr, best
+    ga = _slope_mismatch(nodes, meta, rail, wheel, a, sr_a, c_y, c_z, cos_r, sin_r)
+    gb = _slope_mismatch(nodes, meta, rail, wheel, b, sr_b, c_y, c_z, cos_r, sin_r)
+    if ga * gb > 0.0:
+        return found, best_sw, best_sr, best     # maximum at the region's end: keep the sample
+    side = 0
+    for _ in range(60):
+        c = (a * gb - b * ga) / (gb - ga)
+        ok_c, dv_c, sr_c = _overlap_at_wheel(nodes, meta, mono, rail, wheel, c, c_y, c_z, cos_r, sin_r)
+        if not ok_c:
+            break
+        gc = _slope_mismatch(nodes, meta, rail, wheel, c, sr_c, c_y, c_z, cos_r, sin_r)
+        if dv_c > best:
+            best = dv_c
+            best_sw = c
+            best_sr = sr_c
+        if abs(b - a) < 1e-11 or gc == 0.0:
+            break
+        if gc * gb > 0.0:
+            b = c
+            gb = gc
+            if side == -1:
+                ga *= 0.5
+            side = -1
+        else:
+            a = c
+            ga = gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+    return found, best_sw, best_sr, best
+
+
+@njit(cache=True)
+def normal_foot(nodes, meta, rail, p_y, p_z, s_r):
+    """Arc length of the rail point whose normal passes through (p_y, p_z), by Newton from ``s_r``.
+
+    Solves ``t_r(s) · (p - r(s)) = 0``; returns ``(converged, s_r)``.
+    """
+    for _ in range(20):
+        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+        dy = p_y - ry
+        dz = p_z - rz
+        g = rty * dy + rtz * dz
+        dg = -rk * (rny * dy + rnz * dz) - 1.0
+        if dg == 0.0:
+            return False, s_r
+        step = -g / dg
+        if abs(step) > NEWTON_MAX_STEP_M:
+            step = NEWTON_MAX_STEP_M if step > 0 else -NEWTON_MAX_STEP_M
+        s_r += step
+        if abs(step) < 1e-13:
+            return True, s_r
+    return False, s_r
+
+
+@njit(cache=True)
+def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, n_rail):
+    """Newton start when nothing overlaps vertically: the nearest pair among ``n_wheel`` wheel-region samples and
+    ``n_rail`` samples of the whole rail curve (gauge face included).  Returns ``(s_w, s_r)``."""
+    first = int(meta[rail, 0])
+    r_lo = nodes[first, 0]
+    r_hi = nodes[first + int(meta[rail, 1]) - 1, 0]
+    rail_pts = np.empty((n_rail, 2))
+    for j in range(n_rail):
+        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, r_lo + (r_hi - r_lo) * j / (n_rail - 1))
+        rail_pts[j, 0] = ry
+        rail_pts[j, 1] = rz
+    best = 1e30
+    best_sw = s_w_lo
+    best_j = 0
+    for k in range(n_wheel):
+        s_w = s_w_lo + (s_w_hi - s_w_lo) * k / (n_wheel - 1)
+        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        for j in range(n_rail):
+            d = (wy - rail_pts[j, 0]) ** 2 + (wz - rail_pts[j, 1]) ** 2
+            if d < best:
+                best = d
+                best_sw = s_w
+                best_j = j
+    return best_sw, r_lo + (r_hi - r_lo) * best_j / (n_rail - 1)
+
+
+@njit(cache=True)
+def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, s_r0):
+    """Wheel point of the region with the smallest signed normal distance to the rail (global over the region).
+
+    ``n_wheel`` samples, each with its normal foot on the rail (Newton warm-started along the samples), then a
+    golden-section refinement between the neighbours of the best sample.  Returns ``(found, s_w, s_r, distance)``.
+    """
+    best = 1e30
+    best_sw = s_w_lo
+    best_sr = s_r0
+    s_r = s_r0
+    found = False
+    h = (s_w_hi - s_w_lo) / (n_wheel - 1)
+    for k in range(n_wheel):
+        s_w = s_w_lo + h * k
+        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        ok, s_f = normal_foot(nodes, meta, rail, wy, wz, s_r)
+        if not ok:
+            continue
+        s_r = s_f
+        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_f)
+        d = (wy - ry) * rny + (wz - rz) * rnz
+        if d < best:
+            best = d
+            best_sw = s_w
+            best_sr = s_f
+            found = True
+    if not found:
+        return False, best_sw, best_sr, best
+    a = max(s_w_lo, best_sw - h)
+    b = min(s_w_hi, best_sw + h)
+    g = 0.5 * (np.sqrt(5.0) - 1.0)
+    s_r = best_sr
+    for _ in range(40):
+        c = b - g * (b - a)
+        d_ = a + g * (b - a)
+        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, c, c_y, c_z, cos_r, sin_r)
+        ok_c, sc = normal_foot(nodes, meta, rail, wy, wz, s_r)
+        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, sc)
+        fc = (wy - ry) * rny + (wz - rz) * rnz
+        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, d_, c_y, c_z, cos_r, sin_r)
+        ok_d, sd = normal_foot(nodes, meta, rail, wy, wz, s_r)
+        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, sd)
+        fd = (wy - ry) * rny + (wz - rz) * rnz
+        if ok_c and fc < best:
+            best, best_sw, best_sr = fc, c, sc
+        if ok_d and fd < best:
+            best, best_sw, best_sr = fd, d_, sd
+        if fc < fd:
+            b = d_
+        else:
+            a = c
+        if b - a < 1e-10:
+            break
+    return True, best_sw, best_sr, best
+
+
+def monotone_rows(curve_nodes: np.ndarray, first_row: int, min_ty: float = 0.15) -> tuple[int, int]:
+    """Longest run of nodes on which the lateral coordinate increases (|slope| below acos(min_ty))."""
+    ok = curve_nodes[:, 3] > min_ty
+    best = (0, 0)
+    start = None
+    for i, flag in enumerate(np.append(ok, False)):
+        if flag and start is None:
+            start = i
+        elif not flag and start is not None:
+            if i - 1 - start > best[1] - best[0]:
+                best = (start, i - 1)
+            start = None
+    return first_row + best[0], first_row + best[1]

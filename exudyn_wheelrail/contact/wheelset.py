@@ -1,0 +1,150 @@
+"""Python front of the contact kernel: wheelsets on a rigid track, readable results.
+
+>>> from exudyn_wheelrail.contact import WheelsetContact
+>>> contact = WheelsetContact(WheelRailPair("S1002", "UIC60", inclination="1/40"))   # doctest: +SKIP
+>>> points = contact.contact_points(y_m=0.002, z_m=-0.46, roll_rad=0.0)            # doctest: +SKIP
+
+Wheel order in every array: wheelset k has wheel ``2k`` (right) and ``2k+1`` (left).  The kernel works in side
+frames; this module converts to and from the track frame (:mod:`exudyn_wheelrail.conventions`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import kernel as K
+from .normal import effective_modulus
+from .pair import WheelRailPair
+from .search import monotone_rows
+
+E_STEEL_PA = 2.1e11
+NU_STEEL = 0.28
+
+REGIONS = ("tread", "flange")
+SIDES = ("right", "left")
+STATUS_NAMES = {K.STATUS_SEPARATED: "separated", K.STATUS_CONVEX: "convex", K.STATUS_CONCAVE: "concave",
+                K.STATUS_NO_OVERLAP: "no-overlap"}
+
+
+@dataclass(frozen=True)
+class ContactPoint:
+    """One wheel–rail contact point of a wheel region, track frame, SI units."""
+
+    side: str                    # 'right' / 'left'
+    region: str                  # 'tread' / 'flange'
+    method: str                  # 'convex' / 'concave' (which search found it)
+    p_wheel_in_track: np.ndarray  # (y, z) of the wheel surface point [m]
+    p_rail_in_track: np.ndarray   # (y, z) of the rail surface point [m]
+    n_rail_in_track: np.ndarray   # outward rail normal (y, z)
+    y_wheel_profile_m: float     # lateral coordinate of the contact in the wheel's profile frame
+    y_rail_profile_m: float      # lateral coordinate of the rail point in the side frame relative to the gauge line
+    s_wheel_m: float             # wheel surface parameter (arc length)
+    s_rail_m: float              # rail surface parameter (arc length)
+    penetration_m: float         # delta > 0: interpenetration
+    contact_angle_rad: float     # positive towards the flange (track centre)
+    rolling_radius_m: float
+    curvature_wheel_lateral: float   # [1/m], convex positive
+    curvature_wheel_rolling: float
+    curvature_rail_lateral: float
+    curvature_rail_rolling: float
+    semi_axis_a_m: float         # along rolling
+    semi_axis_b_m: float         # lateral
+    normal_force_N: float
+    dN_ddelta_N_per_m: float
+
+
+class WheelsetContact:
+    """Contact of ``n_wheelsets`` wheelsets, all with the same wheel/rail pair, with a rigid track.
+
+    Parameters
+    ----------
+    pair : the placed profiles.
+    n_wheelsets : number of wheelsets evaluated in one call.
+    E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail : materials (steel by default).
+    global_search : run the coarse vertical scan at every evaluation (follows contact jumps; a quasi-static
+        sweep needs it) instead of warm-starting from the last solution.
+    n_concave_wheel, n_concave_rail : discretisation of the concave search (points per wheel region / rail).
+    refine : refine the concave search's maximum on the continuous curves (otherwise the discrete paper method).
+    """
+
+    def __init__(self, pair: WheelRailPair, n_wheelsets: int = 1, E_wheel_Pa: float = E_STEEL_PA,
+                 nu_wheel: float = NU_STEEL, E_rail_Pa: float = E_STEEL_PA, nu_rail: float = NU_STEEL,
+                 global_search: bool = False, n_scan: int = 60, n_concave_wheel: int = 100, n_concave_rail: int = 100,
+                 refine: bool = True):
+        self.pair = pair
+        self.n_wheelsets = int(n_wheelsets)
+        self.nodes, self.meta = pair.packed()
+        self.mono = np.array([monotone_rows(self.nodes[int(m[0]):int(m[0] + m[1])], int(m[0])) for m in self.meta],
+                             dtype=np.int64)
+        n_wheels = 2 * self.n_wheelsets
+        self.curve_ids = np.tile(np.array([0, 1, 2], dtype=np.int64), (n_wheels, 1))
+        self.E_star = effective_modulus(E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail)
+        self.params = K.default_params(self.E_star, global_search=global_search, n_scan=n_scan,
+                                       n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine)
+        self.warm = np.full((n_wheels, 2, 2), np.nan)
+        self.out = np.zeros((n_wheels, 2, K.N_FIELDS))
+        self._side_poses = np.zeros((n_wheels, 3))
+
+    def reset(self):
+        """Forget the warm start."""
+        self.warm[:] = np.nan
+
+    def side_poses(self, poses: np.ndarray) -> np.ndarray:
+        """Wheelset poses (n, 3) (y, z, roll) in the track frame -> per-wheel side-frame poses (2n, 3)."""
+        poses = np.asarray(poses, dtype=float).reshape(-1, 3)
+        sp = self._side_poses
+        sp[0::2] = poses
+        sp[1::2, 0] = -poses[:, 0]
+        sp[1::2, 1] = poses[:, 1]
+        sp[1::2, 2] = -poses[:, 2]
+        return sp
+
+    def evaluate(self, poses) -> np.ndarray:
+        """Raw kernel output (2n, 2, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
+        poses = np.asarray(poses, dtype=float).reshape(-1, 3)
+        if poses.shape[0] != self.n_wheelsets:
+            raise ValueError(f"expected {self.n_wheelsets} wheelset poses, got {poses.shape[0]}")
+        if not np.all(np.isfinite(poses)):
+            raise ValueError(f"wheelset pose contains NaN or infinity: {poses.tolist()}")
+        K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self.side_poses(poses), self.warm,
+                          self.params, self.out)
+        return self.out
+
+    def contact_points(self, y_m: float, z_m: float, roll_rad: float = 0.0, wheelset: int = 0,
+                       include_separated: bool = False) -> list[ContactPoint]:
+        """Readable contact points of one wheelset pose (track frame); other wheelsets keep their last pose."""
+        poses = np.zeros((self.n_wheelsets, 3))
+        poses[wheelset] = (y_m, z_m, roll_rad)
+        out = self.evaluate(poses)
+        return self.points_from_output(out, wheelset, include_separated)
+
+    def points_from_output(self, out, wheelset: int = 0, include_separated: bool = False) -> list[ContactPoint]:
+        points = []
+        half_gauge = 0.5 * self.pair.gauge_m
+        for side_index, side in enumerate(SIDES):
+            w = 2 * wheelset + side_index
+            mirror = 1.0 if side == "right" else -1.0
+            for reg, region in enumerate(REGIONS):
+                o = out[w, reg]
+                status = int(o[K.F_STATUS])
+                if status <= 0 and not (include_separated and status == K.STATUS_SEPARATED):
+                    continue
+                s_w = o[K.F_S_WHEEL]
+                q = self.pair.tread_side if reg == 0 else self.pair.flange_side
+                y_wheelset = float(q.position([s_w])[0, 0])
+                points.append(ContactPoint(
+                    side=side, region=region, method=STATUS_NAMES.get(status, "separated") if status > 0 else "separated",
+                    p_wheel_in_track=np.array([mirror * o[K.F_PW_Y], o[K.F_PW_Z]]),
+                    p_rail_in_track=np.array([mirror * o[K.F_PR_Y], o[K.F_PR_Z]]),
+                    n_rail_in_track=np.array([mirror * o[K.F_NR_Y], o[K.F_NR_Z]]),
+                    y_wheel_profile_m=float(self.pair.wheel_y_profile(y_wheelset)),
+                    y_rail_profile_m=float(o[K.F_PR_Y] - half_gauge),
+                    s_wheel_m=float(s_w), s_rail_m=float(o[K.F_S_RAIL]),
+                    penetration_m=float(o[K.F_PENETRATION]), contact_angle_rad=float(o[K.F_CONTACT_ANGLE]),
+                    rolling_radius_m=float(o[K.F_ROLLING_RADIUS]),
+                    curvature_wheel_lateral=float(o[K.F_KW_LAT]), curvature_wheel_rolling=float(o[K.F_KW_ROLL]),
+                    curvature_rail_lateral=float(o[K.F_KR_LAT]), curvature_rail_rolling=float(o[K.F_KR_ROLL]),
+                    semi_axis_a_m=float(o[K.F_SEMI_A]), semi_axis_b_m=float(o[K.F_SEMI_B]),
+                    normal_force_N=float(o[K.F_NORMAL_FORCE]), dN_ddelta_N_per_m=float(o[K.F_DN_DDELTA])))
+        return points

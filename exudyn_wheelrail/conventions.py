@@ -1,0 +1,89 @@
+"""Frames, units and sign conventions of exudyn-wheelrail — written down once, tested in ``tests/test_conventions.py``.
+
+Units
+-----
+SI throughout: metres, radians, newtons, pascals, seconds.  Profile point files in millimetres are converted on
+reading.  Names carry the unit where it is not obvious (``a_m``, ``roll_rad``).
+
+Track frame ``track``
+---------------------
+Right-handed, as in Kalker's CONTACT and most railway codes:
+
+* ``x`` forward (running direction),
+* ``y`` lateral, positive to the **right** (looking forward) — a positive lateral shift moves a wheelset towards
+  the right rail,
+* ``z`` vertical, positive **downwards**; gravity acts along +z.
+
+Origin on the track centre line at the height of the top of the (unworn) rails.
+
+Wheelset frame ``wheelset``
+---------------------------
+Origin at the axle centre, axes parallel to the track frame at zero pose.  The wheelset *pose* used by the
+contact search is ``(y_m, z_m, roll_rad)``: the position of the axle centre in the track frame and the roll angle
+about x.  Positive roll (right-hand rule about x) lowers the right wheel.  Yaw is neglected by the search (as
+in Montenegro et al. 2015) but carried by the kinematics of later modules.
+
+Side frame ``side`` (right-side convention)
+------------------------------------------
+Both wheel–rail pairs are solved as *right-side* pairs.  For the right pair the side frame *is* the track frame
+(y–z plane).  For the left pair the side frame is the track frame mirrored in y (``y_side = -y_track``); a
+wheelset pose ``(y, z, roll)`` becomes ``(-y, z, -roll)`` there.  Hence in the side frame +y always points to
+the field side (outwards) and the flange sits on the -y side of its wheel.
+
+Profile frames ``profile``
+--------------------------
+A profile is a plane curve in its own frame (y positive towards the field side):
+
+* wheel: origin at the tape circle (nominal rolling circle, r0) point, ``z`` = radius increase (positive towards
+  the rail).  S1002's flange back lies at y = -70 mm.  Placed in the wheelset side frame at
+  ``y = back_to_back/2 - y_flange_back + y_profile`` and ``z = r0 + z_profile``.
+* rail: origin at the top of the unrotated rail head on its centre line, ``z`` positive downwards.  Placed in the
+  side frame after rotation by the inclination (the head tilts towards the track centre) so that the gauge point —
+  the most inward point of the gauge face 14 mm below the top of rail — lies at ``y = gauge/2`` and the top of the
+  inclined rail at ``z = 0``.
+
+Curves, normals and curvature
+-----------------------------
+Every profile curve is parameterised by arc length ``s`` (metres), increasing from the gauge/flange side to the
+field side.  At each point it gives the position ``p``, the unit tangent ``t = dp/ds`` and the **outward** unit
+normal ``n`` (out of the body's material: downwards/towards the rail for a wheel, upwards for a rail).  The signed
+curvature is defined by ``dt/ds = -kappa * n``: **convex = positive** (a rail crown, a wheel tread), concave =
+negative (the wheel's tread–flange throat).
+
+Contact
+-------
+For a wheel point ``p_w`` and a rail point ``p_r`` with outward rail normal ``n_r``: ``d = p_w - p_r``; the
+*penetration* is ``delta = -d · n_r`` (positive when the wheel point is inside the rail, i.e. ``d · n_r < 0``).
+The contact conditions of the convex search (Montenegro et al. 2015, Eqs. 5–6) are ``t_r · d = 0`` and
+``n_r · t_w = 0``.
+
+The **contact angle** ``gamma`` of a contact point is the angle between the rail normal and the vertical, in the
+side frame, positive when the normal leans towards the track centre (flange contact has a large positive angle):
+``n_r = (-sin gamma, -cos gamma)`` in side-frame (y, z) components.  The **rolling radius** is the distance of the
+wheel contact point from the axle axis.
+"""
+
+#: Depth below the top of rail at which the track gauge is measured [m] (EN 13848-1).
+GAUGE_MEASURING_DEPTH_M = 0.014
+
+#: Standard gauge [m].
+STANDARD_GAUGE_M = 1.435
+
+#: Default wheel flange back-to-back distance [m] (UIC 510-2 nominal).
+DEFAULT_BACK_TO_BACK_M = 1.360
+
+#: Rail inclinations accepted by name (tan of the cant angle).
+RAIL_INCLINATIONS = {"1/40": 1.0 / 40.0, "1/20": 1.0 / 20.0, "none": 0.0, "0": 0.0}
+
+
+def parse_inclination(value) -> float:
+    """Rail inclination as the tangent of the cant angle, from '1/40', '1:40', '1/20', 'none' or a number."""
+    if isinstance(value, (int, float)):
+        return float(value)
+    text = str(value).strip().lower().replace(":", "/")
+    if text in RAIL_INCLINATIONS:
+        return RAIL_INCLINATIONS[text]
+    if "/" in text:
+        num, den = text.split("/", 1)
+        return float(num) / float(den)
+    return float(text)

@@ -1,0 +1,178 @@
+"""Wheel and rail profiles: the curves the contact search works on.
+
+A :class:`WheelProfile` is split, as in Montenegro et al. (2015, Sec. 2.1), into two functions — the **tread** and
+the **flange** — so that each can carry its own contact point.  The split lies in the concave throat between them
+(by default the middle of the concave stretch next to the flange, where neither region can hold a convex contact).
+A :class:`RailProfile` is one curve.  Both live in their profile frames (:mod:`exudyn_wheelrail.conventions`).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .curve import ProfileCurve
+from .dense import DenseProfile
+
+
+def _curve_from_dense(dense: DenseProfile, outward: str, node_spacing_m: float) -> ProfileCurve:
+    return ProfileCurve.from_dense(dense, outward=outward, node_spacing_m=node_spacing_m)
+
+
+class WheelProfile:
+    """A wheel profile in its profile frame (y to the field side, z = radius increase), split into tread/flange.
+
+    Parameters
+    ----------
+    curve : the whole profile, arc length increasing from the flange back to the field side.
+    flange_back_y_m : lateral coordinate of the flange back face in the profile frame (S1002: -0.070 m).
+    split_y_m : lateral coordinate of the tread/flange split; ``None`` finds it in the throat (see module doc).
+    """
+
+    def __init__(self, curve: ProfileCurve, flange_back_y_m: float | None = None, split_y_m: float | None = None,
+                 name: str = "wheel"):
+        self.curve = curve
+        self.name = name
+        s_nodes = curve.nodes[:, 0]
+        p = curve.evaluate(s_nodes)
+        if flange_back_y_m is None:
+            flange_back_y_m = float(np.min(p[:, 0]))
+        self.flange_back_y_m = float(flange_back_y_m)
+        i_tip = int(np.argmax(p[:, 1]))               # flange tip: largest radius increase
+        self.flange_tip_y_m = float(p[i_tip, 0])
+        self.flange_height_m = float(p[i_tip, 1] - np.interp(0.0, p[:, 0][i_tip:], p[:, 1][i_tip:]))
+        if split_y_m is None:
+            s_split = self._find_split(s_nodes[i_tip:], p[i_tip:])
+        else:
+            s_split = self.s_at_y(split_y_m)
+        self.split_s = float(s_split)
+        self.split_y_m = float(curve.position([s_split])[0, 0])
+        self.flange = curve.sub(curve.s_min, s_split, name=f"{name}:flange")
+        self.tread = curve.sub(s_split, curve.s_max, name=f"{name}:tread")
+
+    @staticmethod
+    def _find_split(s, p):
+        """Middle of the strongly concave throat between the flange tip and the tape circle.
+
+        The throat is the stretch around the most concave point whose curvature is below half that extreme
+        (S1002: the R13 fillet, section D).  A profile without a throat (e.g. a pure cone) is split where the
+        slope leaves 1 rad, or at its flange-side end.
+        """
+        kappa = p[:, 6]
+        flange_side = np.flatnonzero(p[:, 0] <= 0.0)
+        k_min = kappa[flange_side].min() if flange_side.size else 0.0
+        if k_min >= -1.0:          # no throat more concave than 1 m radius
+            steep = np.flatnonzero(np.abs(np.arctan2(p[:, 3], p[:, 2])) > 1.0)
+            return float(s[steep[-1]] if steep.size else s[0])
+        i_min = flange_side[np.argmin(kappa[flange_side])]
+        start = end = i_min
+        while start > 0 and kappa[start - 1] < 0.5 * k_min:
+            start -= 1
+        while end + 1 < len(kappa) and kappa[end + 1] < 0.5 * k_min:
+            end += 1
+        return float(0.5 * (s[start] + s[end]))
+
+    def s_at_y(self, y_m: float) -> float:
+        """Arc length of the tread-side point with lateral coordinate ``y_m`` (after the flange tip)."""
+        s = np.linspace(self.curve.s_min, self.curve.s_max, 20001)
+        p = self.curve.position(s)
+        i_tip = int(np.argmax(p[:, 1]))
+        ys = p[i_tip:, 0]
+        if not (ys[0] <= y_m <= ys[-1]):
+            raise ValueError(f"{self.name}: y = {y_m} m outside the tread side [{ys[0]}, {ys[-1]}] m")
+        return float(np.interp(y_m, ys, s[i_tip:]))
+
+    # ------------------------------------------------------------------------------------------- factories
+    @classmethod
+    def from_dense(cls, dense: DenseProfile, node_spacing_m: float = 2.5e-4, **kw) -> "WheelProfile":
+        kw.setdefault("name", dense.name)
+        return cls(_curve_from_dense(dense, "+z", node_spacing_m), **kw)
+
+    @classmethod
+    def s1002(cls, **kw) -> "WheelProfile":
+        """The S1002 wheel (EN 13715), exact analytic definition."""
+        from .standard import S1002_FLANGE_BACK_Y_M, s1002_dense
+        kw.setdefault("flange_back_y_m", S1002_FLANGE_BACK_Y_M)
+        kw.setdefault("name", "S1002")
+        return cls.from_dense(s1002_dense(), **kw)
+
+    @classmethod
+    def from_file(cls, path, smoothing=None, **kw) -> "WheelProfile":
+        """A wheel profile from a SIMPACK ``.prw`` file or a two-column y-z table (see :mod:`.readers`)."""
+        from .readers import load_profile
+        kw.setdefault("name", Path(path).stem)
+        return cls.from_dense(load_profile(path, kind="wheel", smoothing=smoothing), **kw)
+
+    @classmethod
+    def cone(cls, conicity: float, half_width_m: float = 0.05, flange_back_y_m: float = -0.070,
+             name: str = "cone") -> "WheelProfile":
+        """A pure cone (straight profile z = -conicity * y) without flange: for analytic checks."""
+        y = np.linspace(-half_width_m, half_width_m, 4001)
+        one = np.ones_like(y)
+        dense = DenseProfile(y, -conicity * y, one, -conicity * one, 0 * y, 0 * y, name=name)
+        return cls(ProfileCurve.from_dense(dense, "+z"), flange_back_y_m=flange_back_y_m, split_y_m=None,
+                   name=name)
+
+    def __repr__(self) -> str:
+        return (f"WheelProfile({self.name!r}: flange back y={self.flange_back_y_m * 1e3:.2f} mm, "
+                f"tread/flange split y={self.split_y_m * 1e3:.2f} mm, flange height {self.flange_height_m * 1e3:.2f} mm)")
+
+
+class RailProfile:
+    """A rail head profile in its profile frame (y to the field side, z down from the top), not inclined."""
+
+    def __init__(self, curve: ProfileCurve, name: str = "rail", canted_tan: float = 0.0):
+        self.curve = curve
+        self.name = name
+        #: inclination already contained in the data (e.g. a canted point file), tan of the angle
+        self.canted_tan = float(canted_tan)
+
+    @classmethod
+    def from_dense(cls, dense: DenseProfile, node_spacing_m: float = 2.5e-4, **kw) -> "RailProfile":
+        kw.setdefault("name", dense.name)
+        return cls(_curve_from_dense(dense, "-z", node_spacing_m), **kw)
+
+    @classmethod
+    def uic60(cls, **kw) -> "RailProfile":
+        """The UIC60 / 60E1 rail head (EN 13674-1), exact arc definition."""
+        from .standard import uic60_dense
+        kw.setdefault("name", "UIC60")
+        return cls.from_dense(uic60_dense(), **kw)
+
+    @classmethod
+    def from_file(cls, path, smoothing=None, canted_tan: float = 0.0, **kw) -> "RailProfile":
+        """A rail profile from a SIMPACK ``.prr`` file or a y-z table; ``canted_tan`` states an inclination the
+        data already contain (the Manchester UIC60 file is canted 1:40), so it is not applied twice."""
+        from .readers import load_profile
+        kw.setdefault("name", Path(path).stem)
+        return cls.from_dense(load_profile(path, kind="rail", smoothing=smoothing), canted_tan=canted_tan, **kw)
+
+    @classmethod
+    def circular_crown(cls, radius_m: float, half_width_m: float = 0.03, name: str = "crown") -> "RailProfile":
+        """A circular crown of radius ``radius_m`` (for analytic checks)."""
+        th = np.linspace(-half_width_m / radius_m, half_width_m / radius_m, 6001)
+        r = radius_m
+        dense = DenseProfile(r * np.sin(th), r * (1 - np.cos(th)), r * np.cos(th), r * np.sin(th),
+                             -r * np.sin(th), r * np.cos(th), name=name)
+        return cls(ProfileCurve.from_dense(dense, "-z"), name=name)
+
+    def __repr__(self) -> str:
+        return f"RailProfile({self.name!r}, {self.curve!r})"
+
+
+def resolve_wheel(spec) -> WheelProfile:
+    """A :class:`WheelProfile` from a profile object, the name 'S1002' or a file path."""
+    if isinstance(spec, WheelProfile):
+        return spec
+    if str(spec).upper() == "S1002":
+        return WheelProfile.s1002()
+    return WheelProfile.from_file(spec)
+
+
+def resolve_rail(spec, canted_tan: float = 0.0) -> RailProfile:
+    """A :class:`RailProfile` from a profile object, the name 'UIC60'/'60E1' or a file path."""
+    if isinstance(spec, RailProfile):
+        return spec
+    if str(spec).upper() in ("UIC60", "60E1"):
+        return RailProfile.uic60()
+    return RailProfile.from_file(spec, canted_tan=canted_tan)
