@@ -15,6 +15,10 @@ from .curve import ProfileCurve
 from .dense import DenseProfile
 
 
+#: Flange back relative to the tape circle for EN 13715 wheel profiles [m].
+DEFAULT_FLANGE_BACK_Y_M = -0.070
+
+
 def _curve_from_dense(dense: DenseProfile, outward: str, node_spacing_m: float) -> ProfileCurve:
     return ProfileCurve.from_dense(dense, outward=outward, node_spacing_m=node_spacing_m)
 
@@ -25,7 +29,9 @@ class WheelProfile:
     Parameters
     ----------
     curve : the whole profile, arc length increasing from the flange back to the field side.
-    flange_back_y_m : lateral coordinate of the flange back face in the profile frame (S1002: -0.070 m).
+    flange_back_y_m : lateral coordinate of the flange back face in the profile frame.  Default -0.070 m: the tape
+        circle lies 70 mm from the flange back for the EN 13715 profiles (S1002 and others).  It is a fixed datum
+        of the profile frame, not inferred from the points (point files often stop short of the back face).
     split_y_m : lateral coordinate of the tread/flange split; ``None`` finds it in the throat (see module doc).
     """
 
@@ -36,7 +42,7 @@ class WheelProfile:
         s_nodes = curve.nodes[:, 0]
         p = curve.evaluate(s_nodes)
         if flange_back_y_m is None:
-            flange_back_y_m = float(np.min(p[:, 0]))
+            flange_back_y_m = DEFAULT_FLANGE_BACK_Y_M
         self.flange_back_y_m = float(flange_back_y_m)
         i_tip = int(np.argmax(p[:, 1]))               # flange tip: largest radius increase
         self.flange_tip_y_m = float(p[i_tip, 0])
