@@ -143,7 +143,8 @@ class ProfileCurve:
     @classmethod
     def from_dense(cls, dense: DenseProfile, outward: str, node_spacing_m: float = 2.5e-4,
                    name: str | None = None) -> "ProfileCurve":
-        """Arc-length curve through a dense exact description.
+        """Arc-length curve through a dense exact description (points ordered along the curve; the derivative
+        parameter may run either way).
 
         ``outward`` is the side of the material's outward normal in the profile frame: ``'+z'`` for a wheel
         (towards the rail, z = radius increase) and ``'-z'`` for a rail (upwards).  Nodes are a subset of the
@@ -157,6 +158,10 @@ class ProfileCurve:
         if np.any(speed <= 0):
             raise ValueError(f"{name}: zero parametric speed (repeated points or a cusp)")
         t = dp / speed[:, None]
+        # the parameter may run against the point order: orient the tangent along the order (d2p/dtau2 is even)
+        chord_dir = np.diff(p, axis=0)
+        if np.median(np.sum(t[:-1] * chord_dir, axis=1)) < 0:
+            t = -t
         a = (ddp - np.sum(ddp * t, axis=1)[:, None] * t) / (speed ** 2)[:, None]
         chord = np.hypot(*np.diff(p, axis=0).T)
         if np.any(chord <= 0):
