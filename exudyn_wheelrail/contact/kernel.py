@@ -22,6 +22,10 @@ Per wheel and region the search is (Montenegro et al. 2015, Sec. 2):
    P_SEPARATION_GATE from the rail is reported as separated without the concave search (a speed measure: a
    contact that appears elsewhere in the region in a single step, more than the gate away, would be missed until
    the next global evaluation).
+5. Warm mode, separated regions: once a region's smallest gap g is known (computed globally over the region)
+   at a reference pose, the region is reported separated without any search while the wheel has moved less than
+   g since (translation + |roll change| x P_WHEEL_LEVER): the signed distance is 1-Lipschitz in the point
+   position, so this skips no contact.  The reported penetration is then minus that guaranteed lower bound.
 
 If both regions of a wheel report contact at (nearly) the same wheel point — possible next to the split — only
 the deeper one is kept.
@@ -68,6 +72,15 @@ STATUS_CONVEX = 1     # contact from the convex search
 STATUS_CONCAVE = 2    # contact from the concave search
 STATUS_NO_OVERLAP = -1  # the region does not face the rail (no vertical overlap at all)
 
+# ---- warm-start state per wheel and region: warm[w, reg, :] ---------------------------------------------------
+W_S_RAIL = 0          # last rail parameter (NaN: none)
+W_S_WHEEL = 1         # last wheel parameter
+W_GAP = 2             # region's smallest gap [m] at the reference pose (global over the region), <= 0: unknown
+W_POSE_Y = 3          # reference pose at which W_GAP was computed
+W_POSE_Z = 4
+W_POSE_ROLL = 5
+N_WARM = 6
+
 # ---- parameters -----------------------------------------------------------------------------------------------
 P_E_STAR = 0
 P_NEWTON_TOL = 1
@@ -82,13 +95,14 @@ P_MIN_CURVATURE = 9          # [1/m] Hertz clamp of A and B (conformal contact)
 P_DEDUP_DISTANCE = 10
 P_CONVEX_MIN_CURVATURE = 11   # [1/m] kappa_w + kappa_r needed to accept the convex search
 P_SEPARATION_GATE = 12        # [m] warm mode: a conformal stationary point this far apart skips the concave search
-N_PARAMS = 13
+P_WHEEL_LEVER = 13            # [m] largest distance of a wheel curve point from the axle centre
+N_PARAMS = 14
 
 
 def default_params(E_star: float, global_search: bool = False, n_scan: int = 60, n_concave_wheel: int = 100,
                    n_concave_rail: int = 100, refine: bool = True, newton_tol_m: float = 1e-11,
                    newton_max_iter: int = 30, min_curvature: float = 0.1, dedup_distance_m: float = 1e-3,
-                   convex_min_curvature: float = 0.5, separation_gate_m: float = 1e-3):
+                   convex_min_curvature: float = 0.5, separation_gate_m: float = 1e-3, wheel_lever_m: float = 1.0):
     """Parameter vector for :func:`evaluate_wheels` (see the P_* indices)."""
     p = np.zeros(N_PARAMS)
     p[P_E_STAR] = E_star
@@ -104,6 +118,7 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 60,
     p[P_DEDUP_DISTANCE] = dedup_distance_m
     p[P_CONVEX_MIN_CURVATURE] = convex_min_curvature
     p[P_SEPARATION_GATE] = separation_gate_m
+    p[P_WHEEL_LEVER] = wheel_lever_m
     return p
 
 
@@ -179,9 +194,20 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     tol = params[P_NEWTON_TOL]
     max_iter = int(params[P_NEWTON_MAX_ITER])
     n_scan = int(params[P_N_SCAN])
-    s_r = warm[w, reg, 0]
-    s_w = warm[w, reg, 1]
+    s_r = warm[w, reg, W_S_RAIL]
+    s_w = warm[w, reg, W_S_WHEEL]
     need_scan = params[P_GLOBAL] > 0.0 or not (np.isfinite(s_r) and np.isfinite(s_w))
+    if not need_scan and warm[w, reg, W_GAP] > 0.0:
+        # separation bound: the signed distance to the rail is 1-Lipschitz in the wheel point's position, and no
+        # wheel point has moved further than `motion` since the region's smallest gap was computed globally
+        motion = (abs(c_y - warm[w, reg, W_POSE_Y]) + abs(c_z - warm[w, reg, W_POSE_Z])
+                  + abs(roll - warm[w, reg, W_POSE_ROLL]) * params[P_WHEEL_LEVER])
+        if warm[w, reg, W_GAP] - motion > 0.0:
+            _fill(out, w, reg, STATUS_SEPARATED, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, 0,
+                  params)
+            out[w, reg, F_PENETRATION] = -(warm[w, reg, W_GAP] - motion)    # a guaranteed lower bound of the gap
+            return
+    warm[w, reg, W_GAP] = -1.0
     scanned = False
     newton_ok = False
     iters = 0
@@ -227,8 +253,13 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
         if not (ok and r_lo <= g_sr <= r_hi):
             _no_overlap(out, w, reg)
             return
-        warm[w, reg, 0] = g_sr
-        warm[w, reg, 1] = g_sw
+        warm[w, reg, W_S_RAIL] = g_sr
+        warm[w, reg, W_S_WHEEL] = g_sw
+        if gap > 0.0:
+            warm[w, reg, W_GAP] = gap
+            warm[w, reg, W_POSE_Y] = c_y
+            warm[w, reg, W_POSE_Z] = c_z
+            warm[w, reg, W_POSE_ROLL] = roll
         _fill(out, w, reg, STATUS_SEPARATED, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
               iters, params)
         return
@@ -251,7 +282,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
     mono : (n_curves, 2) int rows of each curve's vertically projectable stretch.
     curve_ids : (n_wheels, 3) int — rail, tread and flange curve of each wheel.
     poses : (n_wheels, 3) — wheel (wheelset) pose relative to its rail in the side frame: c_y, c_z [m], roll [rad].
-    warm : (n_wheels, 2, 2) — last (s_r, s_w) per region, NaN for none; updated in place.
+    warm : (n_wheels, 2, N_WARM) — warm-start state (W_* fields; s NaN for none); updated in place.
     params : :func:`default_params`.
     out : (n_wheels, 2, N_FIELDS) — filled.
     """

@@ -80,14 +80,16 @@ class WheelsetContact:
         n_wheels = 2 * self.n_wheelsets
         self.curve_ids = np.tile(np.array([0, 1, 2], dtype=np.int64), (n_wheels, 1))
         self.E_star = effective_modulus(E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail)
+        lever = max(float(np.max(np.hypot(c.nodes[:, 1], c.nodes[:, 2]))) for c in (pair.tread_side, pair.flange_side))
         self.params = K.default_params(self.E_star, global_search=global_search, n_scan=n_scan,
-                                       n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine)
-        self.warm = np.full((n_wheels, 2, 2), np.nan)
+                                       n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine,
+                                       wheel_lever_m=lever)
+        self.warm = np.full((n_wheels, 2, K.N_WARM), np.nan)
         self.out = np.zeros((n_wheels, 2, K.N_FIELDS))
         self._side_poses = np.zeros((n_wheels, 3))
 
     def reset(self):
-        """Forget the warm start."""
+        """Forget the warm start (and the separation bounds)."""
         self.warm[:] = np.nan
 
     def side_poses(self, poses: np.ndarray) -> np.ndarray:
