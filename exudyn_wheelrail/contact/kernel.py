@@ -5,30 +5,35 @@ fields below).  It is the inner loop of the Exudyn connector; :class:`ContactKer
 
 Per wheel and region the search is (Montenegro et al. 2015, Sec. 2):
 
-1. start Newton from the last solution (warm start) — or, in *global* mode or without a valid last solution,
-   from the best basin of a coarse vertical-overlap scan of the region (so contact jumps are followed);
-2. convex search: Newton on the two contact conditions; accepted when it converges inside the region, with
-   opposing normals, and the pair is locally convex: kappa_w + kappa_r >= P_CONVEX_MIN_CURVATURE (relative lateral
-   curvature; the two conditions then mark a strict local minimum of the distance).  The paper checks the
-   wheel's convexity alone (kappa_w >= 0); S1002's tread is mildly concave everywhere (kappa_w about -3 to
-   -5 1/m against UIC60's +3.3 crown), so the relative-curvature check is what separates a well-posed
-   convex contact from a conformal one that needs the concave search;
-3. otherwise the concave search (maximum vertical overlap, :func:`~.search.vertical_overlap_search`); the
-   rail point is then moved to the normal foot of the deepest wheel point, so that the penetration is the true
-   normal distance there (the paper's vertical overlap times cos(gamma) differs by ~1 % in a conformal throat);
-4. penetration ``delta = -(p_w - p_r) · n_r``: contact when positive; Hertz gives N = Kh delta^1.5, dN/ddelta, a, b.
-   A separated region that overlaps nowhere vertically reports its gap: the smallest normal distance over the
-   region (:func:`~.search.nearest_by_normal_distance`).  In warm mode a conformal stationary point more than
-   P_SEPARATION_GATE from the rail is reported as separated without the concave search (a speed measure: a
-   contact that appears elsewhere in the region in a single step, more than the gate away, would be missed until
-   the next global evaluation).
-5. Warm mode, separated regions: once a region's smallest gap g is known (computed globally over the region)
-   at a reference pose, the region is reported separated without any search while the wheel has moved less than
-   g since (translation + |roll change| x P_WHEEL_LEVER): the signed distance is 1-Lipschitz in the point
-   position, so this skips no contact.  The reported penetration is then minus that guaranteed lower bound.
+1. **separation bound** (warm mode): once a region's smallest gap g is known (computed over the whole region) at a
+   reference pose, the region is reported separated without any search while the wheel has moved less than g
+   since (translation + |roll change| x P_WHEEL_LEVER): the signed distance is 1-Lipschitz in the point position,
+   so this skips no contact.  The reported penetration is then minus that guaranteed lower bound;
+2. **convex search**: Newton on the two contact conditions from the last solution (warm mode) or from the best
+   basins (P_N_STARTS deepest local maxima) of a coarse vertical-overlap scan of the region (global mode, or when the warm start fails, lands on a
+   concave/conformal point, or has lifted off — the region is then checked as a whole).  Accepted when it
+   converges inside the region with opposing normals, penetration, and a locally convex pair:
+   kappa_w + kappa_r >= P_CONVEX_MIN_CURVATURE (relative lateral curvature; the two conditions then mark a strict
+   local minimum of the distance).  The paper checks the wheel's convexity alone (kappa_w >= 0); S1002's tread is
+   mildly concave everywhere (kappa_w about -3 to -5 1/m against UIC60's +3.3 crown), so the relative curvature
+   is what separates a well-posed convex contact from a conformal one that needs the concave search;
+3. otherwise the **concave search** (maximum vertical overlap, :func:`~.search.vertical_overlap_search`).  Its
+   point is polished by Newton when the pair is convex there (then it is a convex contact); else the rail point
+   is moved to the normal foot of the deepest wheel point, so that the penetration is the true normal distance
+   (the paper's vertical overlap times cos(gamma) differs by ~1 % in a conformal throat);
+4. **apart**: the region's gap is its smallest normal distance over the whole region
+   (:func:`~.search.nearest_by_normal_distance`); for step 1 it is remembered less the largest dip a distance
+   function can make between two scan samples, h^2/8 x P_CURVATURE_BOUND (h = sample spacing);
+5. **Hertz** for every contact: N = Kh delta^1.5, dN/ddelta, a, b.
 
-If both regions of a wheel report contact at (nearly) the same wheel point — possible next to the split — only
-the deeper one is kept.
+Both regions of a wheel may carry a contact (two-point contact).  One overlap zone that straddles the tread/flange
+split is reported once: a region whose maximum sits at its split end is the tail of the neighbour's zone and is
+dropped, and so is the shallower of two points closer than P_DEDUP_DISTANCE.  Two separate local maxima of the
+penetration (e.g. flange flank and tread, even with the throat between them in overlap) stay two contacts.
+
+Known limitation (documented, tested): a region holds ONE contact point.  Where a region has two separate
+penetrating zones (S1002/UIC60 near the centred position), global mode takes the deeper one (and jumps when the
+depths cross), warm mode follows the zone it is on.
 """
 from __future__ import annotations
 
@@ -37,8 +42,8 @@ from numba import njit
 
 from ..profiles.curve import curve_eval
 from .normal import hertz_from_penetration
-from .search import (convex_newton, nearest_by_normal_distance, nearest_start, normal_foot, vertical_overlap_search,
-                     wheel_point)
+from .search import (convex_newton, nearest_by_normal_distance, nearest_start, normal_foot,
+                     overlap_peaks, vertical_overlap_search, wheel_point)
 
 # ---- output fields --------------------------------------------------------------------------------------------
 F_STATUS = 0          # STATUS_* below
@@ -94,15 +99,18 @@ P_RAIL_ROLL_CURVATURE = 8
 P_MIN_CURVATURE = 9          # [1/m] Hertz clamp of A and B (conformal contact)
 P_DEDUP_DISTANCE = 10
 P_CONVEX_MIN_CURVATURE = 11   # [1/m] kappa_w + kappa_r needed to accept the convex search
-P_SEPARATION_GATE = 12        # [m] warm mode: a conformal stationary point this far apart skips the concave search
+P_SEPARATION_GATE = 12        # [m] (unused, kept for the parameter layout)
 P_WHEEL_LEVER = 13            # [m] largest distance of a wheel curve point from the axle centre
-N_PARAMS = 14
+P_CURVATURE_BOUND = 14        # [1/m] bound of |kappa_w| + |kappa_r| (sampling margin of the gap bound)
+P_N_STARTS = 15               # Newton starts from the scan's deepest local maxima
+N_PARAMS = 16
 
 
-def default_params(E_star: float, global_search: bool = False, n_scan: int = 60, n_concave_wheel: int = 100,
+def default_params(E_star: float, global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100,
                    n_concave_rail: int = 100, refine: bool = True, newton_tol_m: float = 1e-11,
                    newton_max_iter: int = 30, min_curvature: float = 0.1, dedup_distance_m: float = 1e-3,
-                   convex_min_curvature: float = 0.5, separation_gate_m: float = 1e-3, wheel_lever_m: float = 1.0):
+                   convex_min_curvature: float = 0.5, separation_gate_m: float = 1e-3, wheel_lever_m: float = 1.0,
+                   curvature_bound: float = 200.0, n_starts: int = 3):
     """Parameter vector for :func:`evaluate_wheels` (see the P_* indices)."""
     p = np.zeros(N_PARAMS)
     p[P_E_STAR] = E_star
@@ -119,6 +127,8 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 60,
     p[P_CONVEX_MIN_CURVATURE] = convex_min_curvature
     p[P_SEPARATION_GATE] = separation_gate_m
     p[P_WHEEL_LEVER] = wheel_lever_m
+    p[P_CURVATURE_BOUND] = curvature_bound
+    p[P_N_STARTS] = n_starts
     return p
 
 
@@ -178,8 +188,36 @@ def _no_overlap(out, w, reg):
 
 
 @njit(cache=True)
+def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, k_max, out_sw, out_sr):
+    """Newton starts: the deepest local maxima of a coarse vertical-overlap scan, or the nearest sample pair."""
+    n = overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, min(k_max, 8),
+                      out_sw, out_sr)
+    if n == 0:
+        out_sw[0], out_sr[0] = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
+                                             n_scan)
+        n = 1
+    return n
+
+
+@njit(cache=True)
+def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, s_lo, s_hi, r_lo, r_hi, params):
+    """Convex search from (s_r, s_w).  Returns (valid, convex, s_r, s_w, penetration, iterations): valid = converged
+    inside both ranges with opposing normals; convex = valid and kappa_w + kappa_r >= P_CONVEX_MIN_CURVATURE."""
+    conv, s_r, s_w, it = convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w,
+                                       int(params[P_NEWTON_MAX_ITER]), params[P_NEWTON_TOL])
+    if not (conv and s_lo <= s_w <= s_hi and r_lo <= s_r <= r_hi):
+        return False, False, s_r, s_w, 0.0, it
+    wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
+    if wny * rny + wnz * rnz >= 0.0:
+        return False, False, s_r, s_w, 0.0, it
+    delta = -((wy - ry) * rny + (wz - rz) * rnz)
+    return True, kw + kr >= params[P_CONVEX_MIN_CURVATURE], s_r, s_w, delta, it
+
+
+@njit(cache=True)
 def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, out, w, reg):
-    """Contact of one wheel region with the rail; updates the warm start ``warm[w, reg, :] = (s_r, s_w)``."""
+    """Contact of one wheel region with the rail (steps in the module docstring); updates ``warm[w, reg]``."""
     if wheel < 0:                                   # the profile has no such region (e.g. a flangeless cone)
         _no_overlap(out, w, reg)
         return
@@ -191,13 +229,12 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     r_first = int(meta[rail, 0])
     r_lo = nodes[r_first, 0]
     r_hi = nodes[r_first + int(meta[rail, 1]) - 1, 0]
-    tol = params[P_NEWTON_TOL]
-    max_iter = int(params[P_NEWTON_MAX_ITER])
     n_scan = int(params[P_N_SCAN])
+    warm_mode = params[P_GLOBAL] == 0.0
     s_r = warm[w, reg, W_S_RAIL]
     s_w = warm[w, reg, W_S_WHEEL]
-    need_scan = params[P_GLOBAL] > 0.0 or not (np.isfinite(s_r) and np.isfinite(s_w))
-    if not need_scan and warm[w, reg, W_GAP] > 0.0:
+    scanned = not (warm_mode and np.isfinite(s_r) and np.isfinite(s_w))
+    if not scanned and warm[w, reg, W_GAP] > 0.0:
         # separation bound: the signed distance to the rail is 1-Lipschitz in the wheel point's position, and no
         # wheel point has moved further than `motion` since the region's smallest gap was computed globally
         motion = (abs(c_y - warm[w, reg, W_POSE_Y]) + abs(c_z - warm[w, reg, W_POSE_Z])
@@ -208,68 +245,103 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
             out[w, reg, F_PENETRATION] = -(warm[w, reg, W_GAP] - motion)    # a guaranteed lower bound of the gap
             return
     warm[w, reg, W_GAP] = -1.0
-    scanned = False
-    newton_ok = False
+    starts_sw = np.empty(8)
+    starts_sr = np.empty(8)
+    n_starts = 1
+    if scanned:
+        n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
+                                int(params[P_N_STARTS]), starts_sw, starts_sr)
+    else:
+        starts_sw[0] = s_w
+        starts_sr[0] = s_r
     iters = 0
+    sep_ok = False          # a convex, separated Newton solution from the global start (exact gap candidate)
+    sep_sw = 0.0
+    sep_sr = 0.0
+    sep_gap = np.inf
+    best_delta = 0.0        # deepest convex contact among the starts
+    best_sw = 0.0
+    best_sr = 0.0
+    # 1. convex search: warm start first; a failure, a concave point or (warm) a lifted-off point -> global starts
     for attempt in range(2):
-        if attempt == 1 or need_scan:
-            if scanned:
-                break
-            found, s_w, s_r, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r,
-                                                          s_lo, s_hi, n_scan, 0, False)
-            if not found:
-                s_w, s_r = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, n_scan)
-            scanned = True
-        conv, s_r, s_w, it = convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol)
-        iters += it
-        if conv and s_lo <= s_w <= s_hi and r_lo <= s_r <= r_hi:
-            wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
-            ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
-            if wny * rny + wnz * rnz < 0.0:       # opposing normals: a true contact candidate
-                warm[w, reg, 0] = s_r
-                warm[w, reg, 1] = s_w
-                newton_ok = True
-                if kw + kr >= params[P_CONVEX_MIN_CURVATURE]:
-                    _fill(out, w, reg, STATUS_CONVEX, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
-                          iters, params)
-                    return
-                gap = (wy - ry) * rny + (wz - rz) * rnz
-                if not need_scan and gap > params[P_SEPARATION_GATE]:
-                    # warm mode: a conformal stationary point far from the rail; skip the concave search
-                    _fill(out, w, reg, STATUS_SEPARATED, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
-                          iters, params)
-                    return
-                break                              # conformal/concave at the solution: concave search
-    # concave search (also the fallback when Newton fails or leaves the region)
-    n_sw = s_w
-    n_sr = s_r
-    found, s_w, s_r, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
-                                                  int(params[P_N_CONCAVE_WHEEL]), int(params[P_N_CONCAVE_RAIL]),
-                                                  params[P_REFINE] > 0.0)
-    if not found:
-        # apart, and nothing overlaps vertically: report the region's smallest normal distance (its gap)
-        ok, g_sw, g_sr, gap = nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
-                                                         n_scan, n_sr if newton_ok else r_lo)
-        if not (ok and r_lo <= g_sr <= r_hi):
-            _no_overlap(out, w, reg)
+        for k in range(n_starts):
+            valid, convex, s_r, s_w, delta, it = _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
+                                                                   starts_sr[k], starts_sw[k], s_lo, s_hi, r_lo,
+                                                                   r_hi, params)
+            iters += it
+            if valid and convex and delta > best_delta:
+                best_delta = delta
+                best_sw = s_w
+                best_sr = s_r
+            elif valid and convex and scanned and -delta < sep_gap:
+                sep_ok = True
+                sep_sw = s_w
+                sep_sr = s_r
+                sep_gap = -delta
+        if best_delta > 0.0:
+            warm[w, reg, W_S_RAIL] = best_sr
+            warm[w, reg, W_S_WHEEL] = best_sw
+            _fill(out, w, reg, STATUS_CONVEX, best_sw, best_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
+                  iters, params)
             return
-        warm[w, reg, W_S_RAIL] = g_sr
-        warm[w, reg, W_S_WHEEL] = g_sw
-        if gap > 0.0:
-            warm[w, reg, W_GAP] = gap
-            warm[w, reg, W_POSE_Y] = c_y
-            warm[w, reg, W_POSE_Z] = c_z
-            warm[w, reg, W_POSE_ROLL] = roll
-        _fill(out, w, reg, STATUS_SEPARATED, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
-              iters, params)
+        if scanned:
+            break
+        n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
+                                int(params[P_N_STARTS]), starts_sw, starts_sr)
+        scanned = True
+    # 2. concave search (maximum vertical overlap); its point is polished by Newton where the pair is convex there
+    found, c_sw, c_sr, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
+                                                    int(params[P_N_CONCAVE_WHEEL]), int(params[P_N_CONCAVE_RAIL]),
+                                                    params[P_REFINE] > 0.0)
+    if found and dv > 0.0:
+        p_valid, p_convex, p_sr, p_sw, p_delta, it = _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r,
+                                                                       sin_r, c_sr, c_sw, s_lo, s_hi, r_lo, r_hi,
+                                                                       params)
+        iters += it
+        warm[w, reg, W_S_RAIL] = c_sr
+        warm[w, reg, W_S_WHEEL] = c_sw
+        if p_valid and p_convex and p_delta > 0.0 and abs(p_sw - c_sw) < 1e-3:
+            warm[w, reg, W_S_RAIL] = p_sr
+            warm[w, reg, W_S_WHEEL] = p_sw
+            _fill(out, w, reg, STATUS_CONVEX, p_sw, p_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
+                  params)
+            return
+        # the deepest wheel point's penetration is its normal distance to the rail: rail point at the normal foot
+        wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, c_sw, c_y, c_z, cos_r, sin_r)
+        ok, s_foot = normal_foot(nodes, meta, rail, wy, wz, c_sr)
+        if ok and r_lo <= s_foot <= r_hi:
+            c_sr = s_foot
+        _fill(out, w, reg, STATUS_CONCAVE, c_sw, c_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
+              params)
         return
-    # the deepest wheel point's penetration is its normal distance to the rail: move the rail point to the foot
-    wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
-    ok, s_foot = normal_foot(nodes, meta, rail, wy, wz, s_r)
-    if ok and r_lo <= s_foot <= r_hi:
-        s_r = s_foot
-    _fill(out, w, reg, STATUS_CONCAVE if dv > 0.0 else STATUS_SEPARATED, s_w, s_r, nodes, meta, rail, wheel,
-          c_y, c_z, cos_r, sin_r, iters, params)
+    # 3. apart: the region's smallest normal distance over the whole region is its gap; remember it as a bound
+    ok, g_sw, g_sr, gap = nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
+                                                     n_scan, s_r if np.isfinite(s_r) else r_lo)
+    if sep_ok and (not ok or sep_gap <= gap + 1e-9):
+        # the Newton point is the region's nearest point (to the scan's resolution): exact, keep it
+        ok = True
+        g_sw = sep_sw
+        g_sr = sep_sr
+        gap = min(sep_gap, gap)
+    if not (ok and r_lo <= g_sr <= r_hi):
+        _no_overlap(out, w, reg)
+        return
+    warm[w, reg, W_S_RAIL] = g_sr
+    warm[w, reg, W_S_WHEEL] = g_sw
+    # the sampled minimum can exceed the true one by at most h^2/8 x (curvature bound) between samples
+    h_scan = (s_hi - s_lo) / (n_scan - 1)
+    gap_bound = gap - 0.125 * h_scan * h_scan * params[P_CURVATURE_BOUND]
+    if gap_bound > 0.0:
+        warm[w, reg, W_GAP] = gap_bound
+        warm[w, reg, W_POSE_Y] = c_y
+        warm[w, reg, W_POSE_Z] = c_z
+        warm[w, reg, W_POSE_ROLL] = roll
+        _fill(out, w, reg, STATUS_SEPARATED, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
+              params)
+    else:
+        # penetration where no vertical line meets the rail (the steep gauge face): a contact all the same
+        _fill(out, w, reg, STATUS_CONCAVE, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
+              params)
 
 
 @njit(cache=True)
@@ -295,9 +367,23 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
         t = out[w, 0]
         f = out[w, 1]
         if t[F_STATUS] > 0 and f[F_STATUS] > 0:
-            dist = np.hypot(t[F_PW_Y] - f[F_PW_Y], t[F_PW_Z] - f[F_PW_Z])
-            if dist < params[P_DEDUP_DISTANCE]:
-                drop = out[w, 1] if t[F_PENETRATION] >= f[F_PENETRATION] else out[w, 0]
+            # one overlap zone across the split: the region whose maximum sits at its split end is the tail of the
+            # neighbour's zone; otherwise two points closer than P_DEDUP_DISTANCE are one contact
+            t_first = int(meta[curve_ids[w, 1], 0])
+            f_first = int(meta[curve_ids[w, 2], 0])
+            t_at_split = t[F_S_WHEEL] <= nodes[t_first, 0] + 1e-9
+            f_at_split = f[F_S_WHEEL] >= nodes[f_first + int(meta[curve_ids[w, 2], 1]) - 1, 0] - 1e-9
+            drop_reg = -1
+            if t_at_split and not f_at_split:
+                drop_reg = 0
+            elif f_at_split and not t_at_split:
+                drop_reg = 1
+            elif np.hypot(t[F_PW_Y] - f[F_PW_Y], t[F_PW_Z] - f[F_PW_Z]) < params[P_DEDUP_DISTANCE]:
+                drop_reg = 1 if t[F_PENETRATION] >= f[F_PENETRATION] else 0
+            if drop_reg >= 0:
+                drop = out[w, drop_reg]
                 drop[F_STATUS] = STATUS_SEPARATED
                 drop[F_NORMAL_FORCE] = 0.0
                 drop[F_DN_DDELTA] = 0.0
+                drop[F_SEMI_A] = 0.0
+                drop[F_SEMI_B] = 0.0

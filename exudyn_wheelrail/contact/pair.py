@@ -70,11 +70,12 @@ class WheelRailPair:
         self.wheel_offset_y_m = 0.5 * self.back_to_back_m - self.wheel.flange_back_y_m
         offset = (self.wheel_offset_y_m, self.r0_m)
         self.tread_side = self.wheel.tread.transformed(0.0, offset, name=f"{self.wheel.name}:tread:side")
-        self.flange_side = self.wheel.flange.transformed(0.0, offset, name=f"{self.wheel.name}:flange:side")
+        self.flange_side = (None if self.wheel.flange is None else
+                            self.wheel.flange.transformed(0.0, offset, name=f"{self.wheel.name}:flange:side"))
 
     def packed(self):
-        """(nodes, meta) with curve 0 = rail, 1 = tread, 2 = flange (side frame)."""
-        return pack_curves([self.rail_side, self.tread_side, self.flange_side])
+        """(nodes, meta) with curve 0 = rail, 1 = tread, 2 = flange (side frame; absent for a flangeless wheel)."""
+        return pack_curves([c for c in (self.rail_side, self.tread_side, self.flange_side) if c is not None])
 
     def nominal_axle_height_m(self) -> float:
         """Axle centre z (negative: above the rail top) when the tape circles touch a flat rail top."""

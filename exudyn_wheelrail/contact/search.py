@@ -318,6 +318,45 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
     return True, best_sw, best_sr, best
 
 
+@njit(cache=True)
+def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, k_max, out_sw,
+                  out_sr):
+    """Up to ``k_max`` local maxima of the sampled vertical overlap along the wheel region, deepest first.
+
+    Writes their (s_w, s_r) into ``out_sw``/``out_sr`` and returns how many were found.  Starting Newton from
+    several basins (not only the deepest sample) finds a narrow deeper zone that falls between two samples of a
+    broad one.
+    """
+    dv = np.full(n_wheel, -np.inf)
+    sr = np.zeros(n_wheel)
+    h = (s_w_hi - s_w_lo) / (n_wheel - 1)
+    for k in range(n_wheel):
+        ok, d, s_r = _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w_lo + h * k, c_y, c_z, cos_r, sin_r)
+        if ok:
+            dv[k] = d
+            sr[k] = s_r
+    count = 0
+    taken = np.zeros(n_wheel, dtype=np.bool_)
+    while count < k_max:
+        best = -np.inf
+        best_k = -1
+        for k in range(n_wheel):
+            if taken[k] or not np.isfinite(dv[k]):
+                continue
+            left = dv[k - 1] if k > 0 else -np.inf
+            right = dv[k + 1] if k + 1 < n_wheel else -np.inf
+            if dv[k] >= left and dv[k] >= right and dv[k] > best:
+                best = dv[k]
+                best_k = k
+        if best_k < 0:
+            break
+        taken[best_k] = True
+        out_sw[count] = s_w_lo + h * best_k
+        out_sr[count] = sr[best_k]
+        count += 1
+    return count
+
+
 def monotone_rows(curve_nodes: np.ndarray, first_row: int, min_ty: float = 0.15) -> tuple[int, int]:
     """Longest run of nodes on which the lateral coordinate increases (|slope| below acos(min_ty))."""
     ok = curve_nodes[:, 3] > min_ty

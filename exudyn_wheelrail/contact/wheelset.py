@@ -70,7 +70,7 @@ class WheelsetContact:
 
     def __init__(self, pair: WheelRailPair, n_wheelsets: int = 1, E_wheel_Pa: float = E_STEEL_PA,
                  nu_wheel: float = NU_STEEL, E_rail_Pa: float = E_STEEL_PA, nu_rail: float = NU_STEEL,
-                 global_search: bool = False, n_scan: int = 60, n_concave_wheel: int = 100, n_concave_rail: int = 100,
+                 global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100, n_concave_rail: int = 100,
                  refine: bool = True):
         self.pair = pair
         self.n_wheelsets = int(n_wheelsets)
@@ -78,9 +78,10 @@ class WheelsetContact:
         self.mono = np.array([monotone_rows(self.nodes[int(m[0]):int(m[0] + m[1])], int(m[0])) for m in self.meta],
                              dtype=np.int64)
         n_wheels = 2 * self.n_wheelsets
-        self.curve_ids = np.tile(np.array([0, 1, 2], dtype=np.int64), (n_wheels, 1))
+        flange_id = 2 if pair.flange_side is not None else -1
+        self.curve_ids = np.tile(np.array([0, 1, flange_id], dtype=np.int64), (n_wheels, 1))
         self.E_star = effective_modulus(E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail)
-        lever = max(float(np.max(np.hypot(c.nodes[:, 1], c.nodes[:, 2]))) for c in (pair.tread_side, pair.flange_side))
+        lever = max(float(np.max(np.hypot(c.nodes[:, 1], c.nodes[:, 2]))) for c in (pair.tread_side, pair.flange_side) if c is not None)
         self.params = K.default_params(self.E_star, global_search=global_search, n_scan=n_scan,
                                        n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine,
                                        wheel_lever_m=lever)

@@ -53,8 +53,9 @@ class WheelProfile:
             s_split = self.s_at_y(split_y_m)
         self.split_s = float(s_split)
         self.split_y_m = float(curve.position([s_split])[0, 0])
-        self.flange = curve.sub(curve.s_min, s_split, name=f"{name}:flange")
-        self.tread = curve.sub(s_split, curve.s_max, name=f"{name}:tread")
+        #: the flange function; None for a profile without a flange (the whole curve is tread)
+        self.flange = None if s_split <= curve.s_min else curve.sub(curve.s_min, s_split, name=f"{name}:flange")
+        self.tread = curve if s_split <= curve.s_min else curve.sub(s_split, curve.s_max, name=f"{name}:tread")
 
     @staticmethod
     def _find_split(s, p):
@@ -66,6 +67,8 @@ class WheelProfile:
         """
         kappa = p[:, 6]
         flange_side = np.flatnonzero(p[:, 0] <= 0.0)
+        if p[0, 3] < 0.7 and p[0, 1] <= p[min(len(p) - 1, 1), 1] + 1e-12 and not np.any(kappa < -1.0):
+            return float(s[0])      # no flange: the profile never rises steeply towards the flange side
         k_min = kappa[flange_side].min() if flange_side.size else 0.0
         if k_min >= -1.0:          # no throat more concave than 1 m radius
             steep = np.flatnonzero(np.abs(np.arctan2(p[:, 3], p[:, 2])) > 1.0)
@@ -120,6 +123,8 @@ class WheelProfile:
                    name=name)
 
     def __repr__(self) -> str:
+        if self.flange is None:
+            return f"WheelProfile({self.name!r}: no flange)"
         return (f"WheelProfile({self.name!r}: flange back y={self.flange_back_y_m * 1e3:.2f} mm, "
                 f"tread/flange split y={self.split_y_m * 1e3:.2f} mm, flange height {self.flange_height_m * 1e3:.2f} mm)")
 

@@ -1,0 +1,390 @@
+"""The wheel-rail contact search (kernel + WheelsetContact) against independent references.
+
+References used here (never numbers printed by the code under test):
+
+* ``tests/brute_force.py``: dense sampling of the wheel region (2 µm) + nearest of ~1 µm rail samples (KD-tree),
+  projected on the sample normal, and a bounded scalar refinement — no Newton, no scan.  Its own error is
+  O(h^2 kappa) ~ 1e-11 m in distance (h = 0.5 µm half spacing, kappa <= 77 1/m at the R13 gauge corner).
+* the concave search's *own* criterion done by brute force (max vertical overlap, ``max_vertical_overlap``);
+* closed-form geometry of a straight (coned) wheel line against a circular rail crown;
+* mirror symmetry of the wheelset;
+* the global search itself (for the warm-start test: same answer from a different start).
+
+Frames: the right wheel in its side frame is the track frame (``exudyn_wheelrail.conventions``), so a wheelset pose
+(y, z, roll) is the right wheel's side-frame pose and (-y, z, -roll) the left wheel's.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
+from scipy.optimize import root
+
+from brute_force import FastRailDistance, deepest_point, max_vertical_overlap
+from exudyn_wheelrail.analysis.conicity import equivalent_conicity
+from exudyn_wheelrail.analysis.geometry_functions import contact_geometry_sweep, solve_rigid_contact
+from exudyn_wheelrail.contact import kernel as K
+from exudyn_wheelrail.contact.pair import WheelRailPair
+from exudyn_wheelrail.contact.search import monotone_rows
+from exudyn_wheelrail.contact.wheelset import WheelsetContact
+from exudyn_wheelrail.profiles.curve import ProfileCurve, pack_curves
+from exudyn_wheelrail.profiles.dense import DenseProfile
+from exudyn_wheelrail.profiles.profiles import RailProfile, WheelProfile
+
+# ---- tolerances (see the module docstring and each test for where they come from) ----------------------------
+PEN_TOL_M = 1e-7          # penetration / gap vs brute force: 0.1 µm (brute-force error ~1e-11 m)
+POS_TOL_M = 1e-5          # contact point vs brute force: 0.01 mm (the issue's target for convex contact)
+CONCAVE_POS_TOL_M = 5e-5  # concave search location vs its own criterion: 0.05 mm (the issue's concave target)
+# Position is only checked where it is well conditioned.  Near an interior minimum the normal distance along the
+# wheel is d(s) = d* + (kappa_w + kappa_r)/2 (s - s*)^2, so a distance error eps (brute force: ~1e-11 m from the
+# nearest-sample projection) moves the located minimum by up to sqrt(2 eps / |kappa_w + kappa_r|): 4.5 µm at
+# |kappa_rel| = 1 1/m, 10 µm at 0.2 1/m but 45 µm at 0.01 1/m (S1002's R13 throat against UIC60's R13 gauge corner is nearly
+# conformal, kappa_rel ~ 0.01 1/m).  Minima at a region's end are well conditioned (non-zero slope there).
+# With eps = 1e-11 m the 10 µm tolerance holds down to 2 eps / (1e-5)^2 = 0.2 1/m; below that only the
+# penetration is compared.  (Measured: every checked point, down to kappa_rel = 0.64 1/m, within 0.6 µm.)
+MIN_KAPPA_REL_FOR_POSITION = 0.2
+
+
+class Setup:
+    def __init__(self, pair: WheelRailPair):
+        self.pair = pair
+        self.rd = FastRailDistance(pair.rail_side)
+        self.contact = WheelsetContact(pair, global_search=True)
+        self.regions = (pair.tread_side, pair.flange_side)
+
+
+@pytest.fixture(scope="module")
+def s1002():
+    return Setup(WheelRailPair())
+
+
+def _at_region_end(curve, s_w, tol=1e-9):
+    return min(abs(s_w - curve.s_min), abs(s_w - curve.s_max)) < tol
+
+
+def _z_for_target(setup, y, roll, target):
+    """Axle height so that the largest *vertical* overlap v of the right wheel with its rail equals ``target``.
+
+    Brute force, without the code under test.  The deepest normal penetration p then lies between 0 and v:
+    a wheel point inside the rail is at most its vertical depth from the surface (the vertical segment reaches
+    it), so p <= max(v, 0); the point that attains v is inside the rail when v >= 0 (p >= 0) and at most |v| from
+    it when v < 0 (p >= v).  target in [-50, 200] µm thus keeps p in [-50, 200] µm (asserted in the test).
+    """
+    z0 = -0.46
+    found = [max_vertical_overlap(cv, setup.pair.rail_side, (y, z0, roll), refine=False) for cv in setup.regions]
+    best = max(m[1] for m in found if m is not None)       # (the flange may lie wholly inside the gauge line)
+    return z0 - best + target
+
+
+def check_region_against_brute_force(setup, pose, out_row, reg, bf):
+    """Assert one kernel output row (side frame) against the brute force ``bf`` = deepest_point(...) of the region."""
+    cv = setup.regions[reg]
+    status = int(out_row[K.F_STATUS])
+    pw = np.array([out_row[K.F_PW_Y], out_row[K.F_PW_Z]])
+    assert status in (K.STATUS_SEPARATED, K.STATUS_CONVEX, K.STATUS_CONCAVE), status
+    if status in (K.STATUS_SEPARATED, K.STATUS_CONVEX):
+        s_bf, pen_bf, p_bf, _, _ = bf
+        # penetration (positive) or gap (negative) equals the region's deepest point: 0.1 µm
+        assert out_row[K.F_PENETRATION] == pytest.approx(pen_bf, abs=PEN_TOL_M), (pose, reg, status)
+        kappa_rel = out_row[K.F_KW_LAT] + out_row[K.F_KR_LAT]
+        if _at_region_end(cv, s_bf) or abs(kappa_rel) >= MIN_KAPPA_REL_FOR_POSITION:
+            assert np.hypot(*(pw - p_bf)) <= POS_TOL_M, (pose, reg, status, kappa_rel)
+        return
+    # concave search: its own criterion (maximum vertical overlap), then the normal distance at that wheel point
+    mv = max_vertical_overlap(cv, setup.pair.rail_side, pose)
+    assert mv is not None and mv[1] > 0, (pose, reg, mv)        # concave contact = positive vertical overlap
+    assert np.hypot(*(pw - mv[2])) <= CONCAVE_POS_TOL_M, (pose, reg, mv)
+    d_bf = setup.rd.signed_distance(pw[None, :])[0][0]
+    assert out_row[K.F_PENETRATION] == pytest.approx(-d_bf, abs=PEN_TOL_M), (pose, reg)
+
+
+# ---- 1. brute force on random poses -----------------------------------------------------------------------------
+def _uniform_pose(seed):
+    rng = np.random.default_rng(seed)
+    return rng.uniform(-8e-3, 10e-3), rng.uniform(-4e-3, 4e-3), rng.uniform(-50e-6, 200e-6)
+
+
+# Hypothesis draws a seed and the pose is uniform in the box: drawing the three floats directly concentrates the
+# examples on 0 and the box edges (of 52 examples only 42 distinct poses, 16 with y = 0).  The edges and the
+# interesting spots are added as explicit examples.
+@settings(max_examples=50, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2 ** 32 - 1))
+@example(seed=(-8e-3, -4e-3, 200e-6))
+@example(seed=(10e-3, 4e-3, -50e-6))
+@example(seed=(0.0, 0.0, 0.0))
+# a flange-region result from the concave search (max vertical overlap on the steep flank, the deepest normal
+# point of the region being its end in the throat) — found by a random probe, kept so the CONCAVE branch is always
+# exercised (test_concave_example_is_concave)
+@example(seed=(7.502800326165895e-3, 1.858886698604836e-3, 120e-6))
+@example(seed=(6.2525e-3, -0.773e-3, 40e-6))
+def test_random_poses_match_brute_force(s1002, seed):
+    y, roll, target = seed if isinstance(seed, tuple) else _uniform_pose(seed)
+    z = _z_for_target(s1002, y, roll, target)
+    pose = (y, z, roll)
+    out = s1002.contact.evaluate(np.array([pose]))
+    bf = [deepest_point(cv, s1002.rd, pose) for cv in s1002.regions]
+    # the set-up itself: deepest normal penetration in [-50, 200] µm (see _z_for_target)
+    assert -50e-6 - 1e-9 <= max(b[1] for b in bf) <= 200e-6 + 1e-9
+    for reg in (0, 1):
+        check_region_against_brute_force(s1002, pose, out[0, reg], reg, bf[reg])
+
+
+def test_concave_example_is_concave(s1002):
+    """The @example above does reach the concave branch (otherwise the random test would not cover it)."""
+    y, roll, target = 7.502800326165895e-3, 1.858886698604836e-3, 120e-6
+    out = s1002.contact.evaluate(np.array([(y, _z_for_target(s1002, y, roll, target), roll)]))
+    assert K.STATUS_CONCAVE in out[0, :, K.F_STATUS]
+
+
+def test_global_scan_finds_the_deepest_of_two_tread_minima(s1002):
+    # Found by the random probe (y = 4.886 mm, next to the contact jump at ~4.85 mm).  The normal distance along
+    # the tread has two local minima: 20.50 µm at s_w = 0.06462 m and 11.86 µm at s_w = 0.07520 m.  With the
+    # a 60-sample scan (1.6 mm spacing, wider than the deeper basin) reported the 11.86 µm one; the default scan
+    # (200 samples) and the multi-start from its deepest local maxima find 20.50 µm.
+    pose = (0.004885761535025289, -0.4599771724592631, -0.0003663546431932137)
+    out = s1002.contact.evaluate(np.array([pose]))
+    bf = deepest_point(s1002.pair.tread_side, s1002.rd, pose)
+    assert bf[1] == pytest.approx(20.5016e-6, abs=1e-9)
+    check_region_against_brute_force(s1002, pose, out[0, 0], 0, bf)
+
+
+# ---- 2. warm start gives the global answer ----------------------------------------------------------------------
+@pytest.mark.parametrize("y_range", [(0.5e-3, 4.5e-3), (-4.5e-3, -0.5e-3), (7.0e-3, 9.5e-3)],
+                         ids=["tread+", "tread-", "flange"])
+def test_warm_start_equals_global_search(s1002, y_range):
+    # a slowly varying path between the contact jumps (jumps at |y| ~ 0.21, 4.85 and 6.25 mm, see
+    # test_geometry_sweep.py): lateral steps of 20 µm, z wobbling by 10 µm around 40 µm below the rigid contact,
+    # roll wobbling by 20 µrad (15 µm at the wheels) around the rigid roll, so both wheels stay in contact
+    ys = np.linspace(*y_range, 201)
+    rigid = contact_geometry_sweep(s1002.pair, ys)
+    k = np.arange(len(ys))
+    poses = np.column_stack([ys, rigid.z_m + 40e-6 + 10e-6 * np.sin(k / 7), rigid.roll_rad + 2e-5 * np.sin(k / 11)])
+    warm = WheelsetContact(s1002.pair, global_search=False)
+    fields = [K.F_PW_Y, K.F_PW_Z, K.F_PR_Y, K.F_PR_Z, K.F_PENETRATION, K.F_ROLLING_RADIUS]
+    n_contacts = 0
+    for i, pose in enumerate(poses):
+        ow = warm.evaluate(pose[None, :]).copy()
+        og = s1002.contact.evaluate(pose[None, :])
+        for w in (0, 1):
+            for r in (0, 1):
+                # same contact/no-contact decision
+                assert (ow[w, r, K.F_STATUS] > 0) == (og[w, r, K.F_STATUS] > 0), (i, w, r)
+                if og[w, r, K.F_STATUS] > 0:
+                    n_contacts += 1
+                    assert ow[w, r, K.F_STATUS] == og[w, r, K.F_STATUS]
+                    # both Newton runs stop on a step < 1e-11 m (quadratic convergence): agreement far below 1 nm
+                    np.testing.assert_allclose(ow[w, r, fields], og[w, r, fields], rtol=0, atol=1e-10)
+                    np.testing.assert_allclose(ow[w, r, K.F_CONTACT_ANGLE], og[w, r, K.F_CONTACT_ANGLE], atol=1e-9)
+                    if i > 0:
+                        # warm: a few Newton steps from the previous solution
+                        assert ow[w, r, K.F_ITERATIONS] <= 4, (i, w, r, ow[w, r, K.F_ITERATIONS])
+    assert n_contacts >= len(poses) * 2      # both wheels in contact along the whole path
+
+
+# ---- 3. two-point and flange-only contact ------------------------------------------------------------------------
+def test_two_point_contact_tread_and_flange(s1002):
+    # At the jump y = 6.2525 mm (rigid solution) the contact moves from the tread next to the throat to the flange
+    # flank; lowered by 40 µm both regions penetrate.  Note: for S1002/UIC60 1:40 the tread contact near the throat
+    # and the flank are joined through the throat, whose R13 radius conforms to the rail's R13 gauge corner; a
+    # search of y in [5.5, 7] mm, dz in [0, 300] µm, droll in +-1 mrad found no pose where both regions are CONVEX
+    # (interior minima of the normal distance): the flange region then comes from the concave search (max vertical
+    # overlap on the flank), which is checked against its own definition.
+    y = 6.2525e-3
+    state = solve_rigid_contact(s1002.contact, y)
+    pose = (y, state.z_m + 40e-6, state.roll_rad)
+    out = s1002.contact.evaluate(np.array([pose]))[0].copy()
+    tread, flange = out[0], out[1]
+    assert tread[K.F_STATUS] > 0 and flange[K.F_STATUS] > 0
+    assert tread[K.F_CONTACT_ANGLE] < 0.8 and flange[K.F_CONTACT_ANGLE] > 1.0     # tread and flank, not the throat
+    assert np.hypot(tread[K.F_PW_Y] - flange[K.F_PW_Y], tread[K.F_PW_Z] - flange[K.F_PW_Z]) > 3e-3
+    for reg in (0, 1):
+        bf = deepest_point(s1002.regions[reg], s1002.rd, pose)
+        check_region_against_brute_force(s1002, pose, out[reg], reg, bf)
+    # both are reported as contacts with a force (the dedup rule keeps points more than 1 mm apart)
+    assert tread[K.F_NORMAL_FORCE] > 0 and flange[K.F_NORMAL_FORCE] > 0
+
+
+def test_flange_only_contact(s1002):
+    # y = 8 mm: rigid solution on the flange (roll about -8.7 mrad lifts the right tread by ~8 mm), lowered 20 µm
+    y = 8e-3
+    state = solve_rigid_contact(s1002.contact, y)
+    pose = (y, state.z_m + 20e-6, state.roll_rad)
+    out = s1002.contact.evaluate(np.array([pose]))[0].copy()
+    bf = [deepest_point(cv, s1002.rd, pose) for cv in s1002.regions]
+    assert out[0, K.F_STATUS] == K.STATUS_SEPARATED and bf[0][1] < -1e-3          # tread clear by > 1 mm
+    assert out[1, K.F_STATUS] == K.STATUS_CONVEX and bf[1][1] > 5e-6                # flange in contact
+    assert out[1, K.F_CONTACT_ANGLE] > 0.8
+    for reg in (0, 1):
+        check_region_against_brute_force(s1002, pose, out[reg], reg, bf[reg])
+
+
+# ---- 4. mirror symmetry -----------------------------------------------------------------------------------------
+def test_centred_wheelset_left_equals_right(s1002):
+    for z in (-0.46, -0.46 + 50e-6, -0.46 - 50e-6):
+        out = s1002.contact.evaluate(np.array([[0.0, z, 0.0]]))
+        # side frames: the two wheels see bit-identical inputs; allow 1e-12 for any order-dependent rounding
+        np.testing.assert_allclose(out[0], out[1], rtol=0, atol=1e-12)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True, database=None)
+@given(y=st.floats(-10e-3, 10e-3), dz=st.floats(-100e-6, 300e-6), roll=st.floats(-5e-3, 5e-3))
+def test_mirrored_pose_swaps_left_and_right(s1002, y, dz, roll):
+    a = s1002.contact.evaluate(np.array([[y, -0.46 + dz, roll]])).copy()
+    b = s1002.contact.evaluate(np.array([[-y, -0.46 + dz, -roll]])).copy()
+    # the right wheel's side pose of one is the left wheel's of the other: identical numbers (global search has no
+    # memory), NaN-free
+    np.testing.assert_array_equal(a[0], b[1])
+    np.testing.assert_array_equal(a[1], b[0])
+
+
+# ---- 5. coned wheel on a circular crown: closed form ------------------------------------------------------------
+CONE = 0.05          # conicity (1:20)
+CROWN_R = 0.08       # crown radius [m]
+CONE_GAUGE = 1.41    # gauge chosen so that the crown top sits near the cone's middle
+CONE_B2B = 1.36
+CONE_R0 = 0.46
+DEPTH = 0.014        # gauge measuring depth (conventions.GAUGE_MEASURING_DEPTH_M)
+# Side-frame geometry, derived from conventions.py only:
+# * wheel: profile z = -c y (radius increase), placed at y = b2b/2 - y_flange_back + y_profile (flange back -70 mm),
+#   z = r0 + z_profile: in the wheelset frame the line through (Y_OFF, r0) with direction (1, -c).
+# * rail: crown y = R sin th, z = R (1 - cos th), vertical ('none'): its gauge point, 14 mm below the top, is
+#   sqrt(R^2 - (R - 0.014)^2) inside the crown top, and sits at gauge/2.  So the crown top is at
+#   (Y0, 0) and the circle centre at (Y0, R) (z down).
+Y_OFF = CONE_B2B / 2 + 0.070
+Y0 = CONE_GAUGE / 2 + np.sqrt(CROWN_R ** 2 - (CROWN_R - DEPTH) ** 2)
+
+
+def cone_on_crown(c_y, c_z, roll):
+    """Closed-form contact of the wheel line with the crown circle for a side-frame pose.
+
+    The wheel line, rotated by the roll, has slope angle alpha = roll - atan(c) and outward (rail-facing) normal
+    n_w = (-sin alpha, cos alpha).  The rail point whose normal is perpendicular to the line is the circle point
+    p_r = C - R n_w, i.e. y_r = Y0 + R sin(alpha); the wheel point is the foot of the centre on the line,
+    p_w = C - D n_w with D = (C - P0) . n_w the centre's distance from the line; penetration = R - D.  The rolling
+    radius is the wheelset-frame z of p_w; the contact angle (n_r = -n_w = (-sin g, -cos g)) is g = -alpha.
+    """
+    alpha = roll - np.arctan(CONE)
+    p0 = np.array([c_y + np.cos(roll) * Y_OFF - np.sin(roll) * CONE_R0,
+                   c_z + np.sin(roll) * Y_OFF + np.cos(roll) * CONE_R0])
+    n_w = np.array([-np.sin(alpha), np.cos(alpha)])
+    centre = np.array([Y0, CROWN_R])
+    dist = (centre - p0) @ n_w
+    p_w = centre - dist * n_w
+    p_r = centre - CROWN_R * n_w
+    r_roll = -np.sin(roll) * (p_w[0] - c_y) + np.cos(roll) * (p_w[1] - c_z)
+    return CROWN_R - dist, p_w, p_r, r_roll, -alpha
+
+
+def _cone_curve():
+    y = np.linspace(-0.05, 0.05, 4001)
+    one = np.ones_like(y)
+    return ProfileCurve.from_dense(DenseProfile(y, -CONE * y, one, -CONE * one, 0 * y, 0 * y, name="cone"), "+z")
+
+
+@pytest.fixture(scope="module")
+def cone_pair():
+    # WheelProfile.cone() cannot be built (see test_cone_factory_builds); the same straight profile is built here
+    # with an explicit tread/flange split 45 mm inside the tape circle, so the "flange" region is a short piece of
+    # the same line, > 30 mm away from every contact of these tests.
+    wheel = WheelProfile(_cone_curve(), flange_back_y_m=-0.070, split_y_m=-0.045, name="cone")
+    rail = RailProfile.circular_crown(CROWN_R, half_width_m=0.05)     # reaches 15 mm below its top
+    return WheelRailPair(wheel, rail, gauge_m=CONE_GAUGE, inclination="none", back_to_back_m=CONE_B2B,
+                         r0_m=CONE_R0)
+
+
+def test_cone_factory_builds():
+    wheel = WheelProfile.cone(CONE)
+    assert wheel.tread.length > 0.09
+
+
+@settings(max_examples=60, deadline=None, derandomize=True, database=None)
+@given(c_y=st.floats(-10e-3, 10e-3), roll=st.floats(-4e-3, 4e-3), pen=st.floats(-50e-6, 200e-6))
+def test_cone_on_crown_matches_closed_form(cone_pair, c_y, roll, pen):
+    contact = WheelsetContact(cone_pair, global_search=True)
+    # z for the wanted penetration: moving the line by dz along z changes D by -dz cos(alpha)
+    pen0 = cone_on_crown(c_y, -CONE_R0, roll)[0]
+    c_z = -CONE_R0 + (pen - pen0) / np.cos(roll - np.arctan(CONE))
+    delta, p_w, p_r, r_roll, gamma = cone_on_crown(c_y, c_z, roll)
+    o = contact.evaluate(np.array([[c_y, c_z, roll]]))[0, 0]
+    # kappa_w = 0, kappa_r = 1/R = 12.5 1/m: a convex contact when penetrating
+    if abs(delta) > 1e-10:                     # (at delta ~ 0 the sign is a matter of rounding)
+        assert o[K.F_STATUS] == (K.STATUS_CONVEX if delta > 0 else K.STATUS_SEPARATED)
+    # curves are exact to ~1e-16 m (quintic Hermite of a line and a circle); Newton stops at 1e-11 m steps
+    assert np.hypot(o[K.F_PW_Y] - p_w[0], o[K.F_PW_Z] - p_w[1]) < 1e-8
+    assert np.hypot(o[K.F_PR_Y] - p_r[0], o[K.F_PR_Z] - p_r[1]) < 1e-8
+    assert o[K.F_PENETRATION] == pytest.approx(delta, abs=1e-9)
+    assert o[K.F_ROLLING_RADIUS] == pytest.approx(r_roll, abs=1e-9)
+    assert o[K.F_CONTACT_ANGLE] == pytest.approx(gamma, abs=1e-9)
+    assert o[K.F_KW_LAT] == pytest.approx(0.0, abs=1e-6)
+    assert o[K.F_KR_LAT] == pytest.approx(1 / CROWN_R, rel=1e-6)
+
+
+def test_kernel_flangeless_wheel(cone_pair):
+    """The kernel's own no-flange path (curve id -1): tread as the closed form, flange region NO_OVERLAP."""
+    rail = cone_pair.rail_side
+    cone_side = _cone_curve().transformed(0.0, (Y_OFF, CONE_R0))
+    nodes, meta = pack_curves([rail, cone_side])
+    mono = np.array([monotone_rows(nodes[int(m[0]):int(m[0] + m[1])], int(m[0])) for m in meta], dtype=np.int64)
+    params = K.default_params(1e11, global_search=True)
+    pose = (2e-3, -CONE_R0 + 50e-6, 1e-3)
+    out = np.zeros((1, 2, K.N_FIELDS))
+    K.evaluate_wheels(nodes, meta, mono, np.array([[0, 1, -1]], dtype=np.int64), np.array([pose]),
+                      np.full((1, 2, 2), np.nan), params, out)
+    delta, p_w, _, r_roll, _ = cone_on_crown(*pose)
+    assert out[0, 0, K.F_STATUS] == K.STATUS_CONVEX
+    assert out[0, 0, K.F_PENETRATION] == pytest.approx(delta, abs=1e-9)
+    assert np.hypot(out[0, 0, K.F_PW_Y] - p_w[0], out[0, 0, K.F_PW_Z] - p_w[1]) < 1e-8
+    assert out[0, 1, K.F_STATUS] == K.STATUS_NO_OVERLAP
+
+
+def _rigid_cone(y):
+    """Closed-form rigid state: z and roll with zero penetration on both wheels (left = mirrored pose)."""
+    def f(x):
+        return [cone_on_crown(y, x[0], x[1])[0], cone_on_crown(-y, x[0], -x[1])[0]]
+    sol = root(f, [-CONE_R0, 0.0], method="hybr", options={"xtol": 1e-14})
+    assert np.max(np.abs(f(sol.x))) < 1e-13
+    z, roll = sol.x
+    return z, roll, cone_on_crown(y, z, roll)[3] - cone_on_crown(-y, z, -roll)[3]
+
+
+def test_cone_rigid_sweep_and_conicity(cone_pair):
+    ys = np.linspace(-10e-3, 10e-3, 81)
+    sweep = contact_geometry_sweep(cone_pair, ys)
+    exact = np.array([_rigid_cone(y) for y in ys])
+    # every contact is on the tread (the dummy "flange" piece never touches)
+    assert {r["region"] for r in sweep.rows} == {"tread"}
+    np.testing.assert_allclose(sweep.delta_r_m, exact[:, 2], rtol=0, atol=1e-7)     # the issue's target, 1e-7 m
+    # the sweep's Newton stops at penetrations < 1e-10 m: z within ~1e-10 / cos(gamma), roll within ~1e-10/0.75
+    np.testing.assert_allclose(sweep.z_m, exact[:, 0], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(sweep.roll_rad, exact[:, 1], rtol=0, atol=1e-9)
+    # equivalent conicity at 3 mm: swept vs closed form sampled 200 times denser; with |dDelta r| <= 1e-7 m the
+    # harmonic integral (~ mean of Delta r / (2 y) near y ~ yhat) moves by <~ 1e-7 / 3e-3 ~ 3e-5
+    y_fine = np.linspace(-10e-3, 10e-3, 16001)
+    dr_fine = np.array([_rigid_cone(y)[2] for y in y_fine[::20]])
+    ge_sweep = equivalent_conicity(ys, sweep.delta_r_m, 3e-3, method="harmonic")
+    ge_exact = equivalent_conicity(y_fine[::20], dr_fine, 3e-3, method="harmonic")
+    assert ge_sweep == pytest.approx(ge_exact, abs=3e-5)
+    # and against the linearised closed form: Delta r = 2 c (y - (R + r0) roll), roll = -Delta r / (2 Y0)
+    # => gamma_e = c / (1 - c (R + r0) / Y0) (= 0.051867 here; O(y^2) corrections ~1e-6 relative at 3 mm)
+    assert ge_sweep == pytest.approx(CONE / (1 - CONE * (CROWN_R + CONE_R0) / Y0), rel=1e-4)
+
+
+# ---- 8. bad input -------------------------------------------------------------------------------------------------
+def test_nan_pose_raises(s1002):
+    with pytest.raises(ValueError, match="NaN"):
+        s1002.contact.evaluate(np.array([[np.nan, -0.46, 0.0]]))
+    with pytest.raises(ValueError, match="NaN or infinity"):
+        s1002.contact.contact_points(0.0, -0.46, np.inf)
+    # the failed call left the warm start untouched and the next call works
+    out = s1002.contact.evaluate(np.array([[0.0, -0.46, 0.0]]))
+    assert np.all(np.isfinite(out[:, 0, K.F_PENETRATION]))
+
+
+@pytest.mark.parametrize("kwargs, match", [({"gauge_m": 14.35}, "gauge_m"), ({"gauge_m": float("nan")}, "gauge_m"),
+                                           ({"gauge_m": 0.1}, "gauge_m"), ({"back_to_back_m": -1.0}, "back_to_back"),
+                                           ({"r0_m": 46.0}, "r0_m")])
+def test_absurd_pair_raises(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        WheelRailPair(**kwargs)
