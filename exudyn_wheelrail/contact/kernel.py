@@ -193,8 +193,9 @@ def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s
     n = overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, min(k_max, 8),
                       out_sw, out_sr)
     if n == 0:
+        # a Newton start only: 50 rail samples (2-3 mm apart) are plenty
         out_sw[0], out_sr[0] = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                                             n_scan)
+                                             min(n_scan, 50))
         n = 1
     return n
 
