@@ -2,7 +2,7 @@
 
 References used (never the module's own numbers):
 * closed-form sphere results, Kh = 4/3 E* sqrt(R), a = (3NR/(4E*))^(1/3) (Johnson 1985, §4.2);
-* the classical m, n table /work/shared/reference/hertz_m_n.csv;
+* the classical m, n table ../shared/reference/hertz_m_n.csv;
 * an in-test solution of the eccentricity equation with scipy.special.ellipk/ellipe (parameter e^2);
 * a semi-analytic Boussinesq integration of the surface displacement under the ellipsoidal Hertz pressure
   (no elliptic integrals): u(x, y) must equal delta - A x^2 - B y^2 inside the ellipse;
@@ -23,6 +23,7 @@ from numba import njit
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
+from reference_paths import HERTZ_M_N_TABLE
 from exudyn_wheelrail.contact.normal import (
     DEFAULT_MIN_CURVATURE,
     G_STEEL,
@@ -38,7 +39,7 @@ from exudyn_wheelrail.contact.normal import (
     hertz_stiffness,
 )
 
-REF_TABLE = Path("/work/shared/reference/hertz_m_n.csv")
+REF_TABLE = HERTZ_M_N_TABLE
 E_ST, NU_ST = 2.1e11, 0.28
 
 

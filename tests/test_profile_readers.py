@@ -14,11 +14,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from reference_paths import PROFILES_DIR
 from exudyn_wheelrail.profiles.dense import DenseProfile
 from exudyn_wheelrail.profiles.readers import (DEFAULT_SPACING_M, ProfileError, dense_from_points, load_profile,
                                                read_simpack_profile, read_yz_table)
 
-REF = Path("/work/shared/reference/profiles")
+REF = PROFILES_DIR
 S1002_FILE = REF / "MBench_S1002_v3.prw"
 UIC60_FILE = REF / "MBench_UIC60_v3.prr"
 

@@ -1,7 +1,7 @@
 """Checks of the analytic S1002 and 60E1 (UIC60) profiles of :mod:`exudyn_wheelrail.profiles.standard`.
 
 Independent check against the point files of the Manchester contact benchmark (SIMPACK format, mm), see
-``/work/shared/reference/profiles``:
+``../shared/reference/profiles``:
 
 * ``MBench_S1002_v3.prw``: header ``mirror.y = 1``, the file's y is minus the standard's y (flange at file y = +70),
   z is the standard's z.  Compared in the standard frame.
@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
+from reference_paths import PROFILES_DIR
 from exudyn_wheelrail.profiles.standard import (
     S1002_BREAKS_Y_M,
     S1002_FLANGE_BACK_Y_M,
@@ -39,7 +40,7 @@ from exudyn_wheelrail.profiles.standard import (
     uic60_sections,
 )
 
-REFERENCE_DIR = Path("/work/shared/reference/profiles")
+REFERENCE_DIR = PROFILES_DIR
 MAX_DEVIATION_MM = 0.05
 RAIL_CANT = math.atan(1.0 / 40.0)
 
