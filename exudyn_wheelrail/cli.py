@@ -19,8 +19,9 @@ def _add_pair_arguments(p: argparse.ArgumentParser):
     p.add_argument("--wheel", default="S1002", help="wheel profile: S1002 or a .prw / y-z table file")
     p.add_argument("--rail", default="UIC60", help="rail profile: UIC60 (60E1) or a .prr / y-z table file")
     p.add_argument("--inclination", default="1/40", help="rail inclination: 1/40, 1/20, none (default 1/40)")
-    p.add_argument("--rail-canted", default="none",
-                   help="inclination the rail file already contains (e.g. 1/40 for the Manchester UIC60 file)")
+    p.add_argument("--rail-canted", default="auto",
+                   help="inclination the rail file already contains (e.g. 1/40 for the Manchester UIC60 file); "
+                        "auto (default) detects it from the head shape")
     p.add_argument("--gauge", type=float, default=1.435, help="track gauge 14 mm below the rail top [m]")
     p.add_argument("--back-to-back", type=float, default=1.360, help="flange back-to-back distance [m]")
     p.add_argument("--r0", type=float, default=0.46, help="nominal rolling radius [m]")
@@ -33,7 +34,8 @@ def _pair_from_args(args):
     from .contact.pair import WheelRailPair
     from .conventions import parse_inclination
     from .profiles.profiles import resolve_rail, resolve_wheel
-    rail = resolve_rail(args.rail, canted_tan=parse_inclination(args.rail_canted))
+    canted = None if str(args.rail_canted).lower() == "auto" else parse_inclination(args.rail_canted)
+    rail = resolve_rail(args.rail, canted_tan=canted)
     return WheelRailPair(resolve_wheel(args.wheel), rail, gauge_m=args.gauge, inclination=args.inclination,
                          back_to_back_m=args.back_to_back, r0_m=args.r0)
 
@@ -41,8 +43,10 @@ def _pair_from_args(args):
 def _sweep(args, y_max=None):
     from .analysis.geometry_functions import contact_geometry_sweep
     y_max = args.y_max if y_max is None else y_max
-    if not (args.y_step > 0 and y_max > 0):
-        raise SystemExit("error: --y-max and --y-step must be positive")
+    if not (np.isfinite(args.y_step) and np.isfinite(y_max) and args.y_step > 0 and y_max > 0):
+        raise ValueError("--y-max and --y-step must be positive finite numbers (metres)")
+    if y_max / args.y_step > 20000:
+        raise ValueError(f"--y-max / --y-step = {y_max / args.y_step:.0f} steps: too many")
     n = int(round(y_max / args.y_step))
     y = np.linspace(-n * args.y_step, n * args.y_step, 2 * n + 1)
     return contact_geometry_sweep(_pair_from_args(args), y, wheel_load_N=args.wheel_load)

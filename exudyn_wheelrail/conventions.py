@@ -83,7 +83,15 @@ def parse_inclination(value) -> float:
     text = str(value).strip().lower().replace(":", "/")
     if text in RAIL_INCLINATIONS:
         return RAIL_INCLINATIONS[text]
-    if "/" in text:
-        num, den = text.split("/", 1)
-        return float(num) / float(den)
-    return float(text)
+    try:
+        if "/" in text:
+            num, den = text.split("/", 1)
+            value = float(num) / float(den)
+        else:
+            value = float(text)
+    except (ValueError, ZeroDivisionError):
+        raise ValueError(f"rail inclination {value!r}: expected '1/40', '1:20', 'none' or a number (tan of the "
+                         "angle)") from None
+    if not 0.0 <= value <= 0.1:
+        raise ValueError(f"rail inclination {value!r} (tan) is outside 0 ... 0.1 (1:10); did you mean 1/{value:g}?")
+    return value

@@ -52,7 +52,7 @@ def _deepest(out, w):
 
 
 def solve_rigid_contact(contact: WheelsetContact, y_m: float, z0_m: float | None = None, roll0_rad: float = 0.0,
-                        tol_m: float = 1e-10, max_iter: int = 60) -> RigidContactState:
+                        tol_m: float = 1e-12, max_iter: int = 60) -> RigidContactState:
     """Vertical position and roll so that both wheels touch (rigid), for lateral shift ``y_m``.
 
     Newton on (z, roll) with the penetrations of the deepest point of each wheel as residuals; the Jacobian
@@ -117,6 +117,11 @@ def contact_geometry_sweep(pair: WheelRailPair, y_values_m, wheel_load_N: float 
     ``Q / cos(gamma)`` at a single contact point; shared in proportion of ``1/cos`` at two points is not attempted:
     each point is given the full nominal load, so ``a``, ``b`` at a two-point shift are upper bounds).
     """
+    if not (np.isfinite(wheel_load_N) and wheel_load_N > 0):
+        raise ValueError(f"wheel_load_N = {wheel_load_N} must be a positive number of newtons")
+    y_values_m = np.asarray(y_values_m, dtype=float)
+    if not np.all(np.isfinite(y_values_m)):
+        raise ValueError("lateral shifts must be finite numbers (metres)")
     if contact is None:
         contact = WheelsetContact(pair, global_search=True, n_scan=n_scan)
     rows = []

@@ -18,9 +18,10 @@ Per wheel and region the search is (Montenegro et al. 2015, Sec. 2):
    mildly concave everywhere (kappa_w about -3 to -5 1/m against UIC60's +3.3 crown), so the relative curvature
    is what separates a well-posed convex contact from a conformal one that needs the concave search;
 3. otherwise the **concave search** (maximum vertical overlap, :func:`~.search.vertical_overlap_search`).  Its
-   point is polished by Newton when the pair is convex there (then it is a convex contact); else the rail point
-   is moved to the normal foot of the deepest wheel point, so that the penetration is the true normal distance
-   (the paper's vertical overlap times cos(gamma) differs by ~1 % in a conformal throat);
+   point is polished by Newton when the pair is convex there (then it is a convex contact); else it moves to the
+   deepest point by *normal* distance within P_CONCAVE_NORMAL_WINDOW, when that is a true local maximum inside
+   the window (in a conformal throat the vertical and the normal maximum lie up to ~4 mm and ~8 µm apart), and the
+   rail point is its normal foot: the penetration is always the normal distance of the reported wheel point;
 4. **apart**: the region's gap is its smallest normal distance over the whole region
    (:func:`~.search.nearest_by_normal_distance`); for step 1 it is remembered less the largest dip a distance
    function can make between two scan samples, h^2/8 x P_CURVATURE_BOUND (h = sample spacing);
@@ -70,12 +71,19 @@ F_NORMAL_FORCE = 20   # N [N]
 F_DN_DDELTA = 21      # dN/ddelta [N/m]
 F_ITERATIONS = 22     # Newton iterations used
 F_HERTZ_STATUS = 23   # 0 ok, nonzero: curvature clamped (conformal), see contact.normal
-N_FIELDS = 24
+F_FLAGS = 24          # FLAG_* bits below
+N_FIELDS = 25
+
+FLAG_PROFILE_END = 1        # the wheel or rail point is at an end of its profile: the contact may lie beyond the data
+FLAG_DEEP_PENETRATION = 2   # penetration above P_MAX_PENETRATION: far outside elastic contact (climbing, bad pose)
+FLAG_HERTZ_CLAMPED = 4      # relative curvature clamped (conformal contact): Hertz is an approximation there
 
 STATUS_SEPARATED = 0  # a solution was found, no penetration
 STATUS_CONVEX = 1     # contact from the convex search
 STATUS_CONCAVE = 2    # contact from the concave search
 STATUS_NO_OVERLAP = -1  # the region does not face the rail (no vertical overlap at all)
+STATUS_MERGED = -2      # penetrating, but the tail of the other region's contact zone (reported there, no force)
+STATUS_INVALID_POSE = -3  # the pose contains NaN or infinity: every other output field is NaN
 
 # ---- warm-start state per wheel and region: warm[w, reg, :] ---------------------------------------------------
 W_S_RAIL = 0          # last rail parameter (NaN: none)
@@ -99,18 +107,19 @@ P_RAIL_ROLL_CURVATURE = 8
 P_MIN_CURVATURE = 9          # [1/m] Hertz clamp of A and B (conformal contact)
 P_DEDUP_DISTANCE = 10
 P_CONVEX_MIN_CURVATURE = 11   # [1/m] kappa_w + kappa_r needed to accept the convex search
-P_SEPARATION_GATE = 12        # [m] (unused, kept for the parameter layout)
+P_MAX_PENETRATION = 12        # [m] penetration above which FLAG_DEEP_PENETRATION is set
 P_WHEEL_LEVER = 13            # [m] largest distance of a wheel curve point from the axle centre
 P_CURVATURE_BOUND = 14        # [1/m] bound of |kappa_w| + |kappa_r| (sampling margin of the gap bound)
 P_N_STARTS = 15               # Newton starts from the scan's deepest local maxima
-N_PARAMS = 16
+P_CONCAVE_NORMAL_WINDOW = 16  # [m] half-width around the concave maximum searched for the deepest normal point
+N_PARAMS = 17
 
 
 def default_params(E_star: float, global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100,
                    n_concave_rail: int = 100, refine: bool = True, newton_tol_m: float = 1e-11,
                    newton_max_iter: int = 30, min_curvature: float = 0.1, dedup_distance_m: float = 1e-3,
-                   convex_min_curvature: float = 0.5, separation_gate_m: float = 1e-3, wheel_lever_m: float = 1.0,
-                   curvature_bound: float = 200.0, n_starts: int = 3):
+                   convex_min_curvature: float = 0.5, max_penetration_m: float = 2e-3, wheel_lever_m: float = 2.0,
+                   curvature_bound: float = 200.0, n_starts: int = 3, concave_normal_window_m: float = 5e-3):
     """Parameter vector for :func:`evaluate_wheels` (see the P_* indices)."""
     p = np.zeros(N_PARAMS)
     p[P_E_STAR] = E_star
@@ -125,10 +134,11 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 200
     p[P_MIN_CURVATURE] = min_curvature
     p[P_DEDUP_DISTANCE] = dedup_distance_m
     p[P_CONVEX_MIN_CURVATURE] = convex_min_curvature
-    p[P_SEPARATION_GATE] = separation_gate_m
+    p[P_MAX_PENETRATION] = max_penetration_m
     p[P_WHEEL_LEVER] = wheel_lever_m
     p[P_CURVATURE_BOUND] = curvature_bound
     p[P_N_STARTS] = n_starts
+    p[P_CONCAVE_NORMAL_WINDOW] = concave_normal_window_m
     return p
 
 
@@ -163,6 +173,17 @@ def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos
     o[F_A_REL] = A
     o[F_B_REL] = B
     o[F_ITERATIONS] = iters
+    flags = 0
+    w_first = int(meta[wheel, 0])
+    r_first = int(meta[rail, 0])
+    w_ends = int(meta[wheel, 4])
+    if ((w_ends & 1) and s_w <= nodes[w_first, 0] + 1e-9) or \
+            ((w_ends & 2) and s_w >= nodes[w_first + int(meta[wheel, 1]) - 1, 0] - 1e-9) or \
+            s_r <= nodes[r_first, 0] + 1e-9 or s_r >= nodes[r_first + int(meta[rail, 1]) - 1, 0] - 1e-9:
+        flags |= FLAG_PROFILE_END
+    if delta > params[P_MAX_PENETRATION]:
+        flags |= FLAG_DEEP_PENETRATION
+    o[F_FLAGS] = flags
     if delta > 0.0 and status > 0:
         n, dn, a, b, hs = hertz_from_penetration(A, B, params[P_E_STAR], delta, params[P_MIN_CURVATURE])
         o[F_STATUS] = status
@@ -171,6 +192,8 @@ def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos
         o[F_SEMI_A] = a
         o[F_SEMI_B] = b
         o[F_HERTZ_STATUS] = hs
+        if hs & 3:
+            o[F_FLAGS] = flags | FLAG_HERTZ_CLAMPED
     else:
         o[F_STATUS] = STATUS_SEPARATED if status >= 0 else status
         o[F_NORMAL_FORCE] = 0.0
@@ -307,17 +330,29 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
             _fill(out, w, reg, STATUS_CONVEX, p_sw, p_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
                   params)
             return
-        # the deepest wheel point's penetration is its normal distance to the rail: rail point at the normal foot
+        # the penetration is a normal distance: take the deepest wheel point (by its normal distance to the rail)
+        # within P_CONCAVE_NORMAL_WINDOW of the vertical-overlap maximum; its rail point is the normal foot
         wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, c_sw, c_y, c_z, cos_r, sin_r)
         ok, s_foot = normal_foot(nodes, meta, rail, wy, wz, c_sr)
         if ok and r_lo <= s_foot <= r_hi:
             c_sr = s_foot
+        half = params[P_CONCAVE_NORMAL_WINDOW]
+        if half > 0.0:
+            win_lo = max(s_lo, c_sw - half)
+            win_hi = min(s_hi, c_sw + half)
+            ok, all_ok, n_sw, n_sr, d_min = nearest_by_normal_distance(
+                nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, win_lo, win_hi, 21, c_sr)
+            ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, c_sr)
+            interior = win_lo + 1e-7 < n_sw < win_hi - 1e-7      # a true local maximum, not the window's edge
+            if ok and interior and r_lo <= n_sr <= r_hi and d_min < (wy - ry) * rny + (wz - rz) * rnz:
+                c_sw = n_sw
+                c_sr = n_sr
         _fill(out, w, reg, STATUS_CONCAVE, c_sw, c_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
               params)
         return
     # 3. apart: the region's smallest normal distance over the whole region is its gap; remember it as a bound
-    ok, g_sw, g_sr, gap = nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
-                                                     n_scan, s_r if np.isfinite(s_r) else r_lo)
+    ok, all_ok, g_sw, g_sr, gap = nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
+                                                             s_lo, s_hi, n_scan, s_r if np.isfinite(s_r) else r_lo)
     if sep_ok and (not ok or sep_gap <= gap + 1e-9):
         # the Newton point is the region's nearest point (to the scan's resolution): exact, keep it
         ok = True
@@ -332,7 +367,7 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     # the sampled minimum can exceed the true one by at most h^2/8 x (curvature bound) between samples
     h_scan = (s_hi - s_lo) / (n_scan - 1)
     gap_bound = gap - 0.125 * h_scan * h_scan * params[P_CURVATURE_BOUND]
-    if gap_bound > 0.0:
+    if gap_bound > 0.0 and all_ok:
         warm[w, reg, W_GAP] = gap_bound
         warm[w, reg, W_POSE_Y] = c_y
         warm[w, reg, W_POSE_Z] = c_z
@@ -362,6 +397,10 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
     n_wheels = poses.shape[0]
     for w in range(n_wheels):
         rail = curve_ids[w, 0]
+        if not (np.isfinite(poses[w, 0]) and np.isfinite(poses[w, 1]) and np.isfinite(poses[w, 2])):
+            out[w, :, :] = np.nan
+            out[w, :, F_STATUS] = STATUS_INVALID_POSE
+            continue
         for reg in range(2):
             solve_region(nodes, meta, mono, rail, curve_ids[w, 1 + reg], poses[w, 0], poses[w, 1], poses[w, 2],
                          warm, params, out, w, reg)
@@ -383,7 +422,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
                 drop_reg = 1 if t[F_PENETRATION] >= f[F_PENETRATION] else 0
             if drop_reg >= 0:
                 drop = out[w, drop_reg]
-                drop[F_STATUS] = STATUS_SEPARATED
+                drop[F_STATUS] = STATUS_MERGED
                 drop[F_NORMAL_FORCE] = 0.0
                 drop[F_DN_DDELTA] = 0.0
                 drop[F_SEMI_A] = 0.0

@@ -58,7 +58,7 @@ class WheelRailPair:
         self.back_to_back_m = float(back_to_back_m)
         self.r0_m = float(r0_m)
         for label, value, lo, hi in (("gauge_m", self.gauge_m, 0.5, 2.0), ("back_to_back_m", back_to_back_m, 0.4, 2.0),
-                                     ("r0_m", r0_m, 0.1, 1.0)):
+                                     ("r0_m", r0_m, 0.1, 1.0), ("inclination (tan)", self.inclination_tan, 0.0, 0.1)):
             if not (lo <= value <= hi) or not np.isfinite(value):
                 raise ValueError(f"{label} = {value} is outside the plausible range [{lo}, {hi}] (metres)")
         # rail: rotate towards the track centre by the net inclination, then place the gauge point and the top

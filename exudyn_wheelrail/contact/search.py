@@ -266,19 +266,23 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
     """Wheel point of the region with the smallest signed normal distance to the rail (global over the region).
 
     ``n_wheel`` samples, each with its normal foot on the rail (Newton warm-started along the samples), then a
-    golden-section refinement between the neighbours of the best sample.  Returns ``(found, s_w, s_r, distance)``.
+    golden-section refinement between the neighbours of the best sample.  Returns
+    ``(found, all_samples_ok, s_w, s_r, distance)``; ``all_samples_ok`` is False when the normal foot of some
+    sample could not be found (the minimum is then not guaranteed to the sampling resolution).
     """
     best = 1e30
     best_sw = s_w_lo
     best_sr = s_r0
     s_r = s_r0
     found = False
+    all_ok = True
     h = (s_w_hi - s_w_lo) / (n_wheel - 1)
     for k in range(n_wheel):
         s_w = s_w_lo + h * k
         wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
         ok, s_f = normal_foot(nodes, meta, rail, wy, wz, s_r)
         if not ok:
+            all_ok = False
             continue
         s_r = s_f
         ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_f)
@@ -289,7 +293,7 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
             best_sr = s_f
             found = True
     if not found:
-        return False, best_sw, best_sr, best
+        return False, False, best_sw, best_sr, best
     a = max(s_w_lo, best_sw - h)
     b = min(s_w_hi, best_sw + h)
     g = 0.5 * (np.sqrt(5.0) - 1.0)
@@ -315,7 +319,7 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
             a = c
         if b - a < 1e-10:
             break
-    return True, best_sw, best_sr, best
+    return True, all_ok, best_sw, best_sr, best
 
 
 @njit(cache=True)

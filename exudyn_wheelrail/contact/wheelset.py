@@ -24,7 +24,7 @@ NU_STEEL = 0.28
 REGIONS = ("tread", "flange")
 SIDES = ("right", "left")
 STATUS_NAMES = {K.STATUS_SEPARATED: "separated", K.STATUS_CONVEX: "convex", K.STATUS_CONCAVE: "concave",
-                K.STATUS_NO_OVERLAP: "no-overlap"}
+                K.STATUS_NO_OVERLAP: "no-overlap", K.STATUS_MERGED: "merged", K.STATUS_INVALID_POSE: "invalid-pose"}
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,7 @@ class ContactPoint:
     p_rail_in_track: np.ndarray   # (y, z) of the rail surface point [m]
     n_rail_in_track: np.ndarray   # outward rail normal (y, z)
     y_wheel_profile_m: float     # lateral coordinate of the contact in the wheel's profile frame
-    y_rail_profile_m: float      # lateral coordinate of the rail point in the side frame relative to the gauge line
+    y_rail_profile_m: float      # lateral coordinate of the rail contact in the rail's profile frame
     s_wheel_m: float             # wheel surface parameter (arc length)
     s_rail_m: float              # rail surface parameter (arc length)
     penetration_m: float         # delta > 0: interpenetration
@@ -81,13 +81,19 @@ class WheelsetContact:
         flange_id = 2 if pair.flange_side is not None else -1
         self.curve_ids = np.tile(np.array([0, 1, flange_id], dtype=np.int64), (n_wheels, 1))
         self.E_star = effective_modulus(E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail)
-        lever = max(float(np.max(np.hypot(c.nodes[:, 1], c.nodes[:, 2]))) for c in (pair.tread_side, pair.flange_side) if c is not None)
+        wheel_curves = [c for c in (pair.tread_side, pair.flange_side) if c is not None]
+        lever = max(float(np.max(np.hypot(c.nodes[:, 1], c.nodes[:, 2]))) for c in wheel_curves)
+        # bound of |kappa_w| + |kappa_r| for the gap bound's sampling margin (1.25 x the largest node curvature)
+        kappa_max = (max(float(np.max(np.abs(c.curvature(c.nodes[:, 0])))) for c in wheel_curves)
+                     + float(np.max(np.abs(pair.rail_side.curvature(pair.rail_side.nodes[:, 0])))))
         self.params = K.default_params(self.E_star, global_search=global_search, n_scan=n_scan,
                                        n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine,
-                                       wheel_lever_m=lever)
+                                       wheel_lever_m=lever, curvature_bound=1.25 * kappa_max)
         self.warm = np.full((n_wheels, 2, K.N_WARM), np.nan)
         self.out = np.zeros((n_wheels, 2, K.N_FIELDS))
         self._side_poses = np.zeros((n_wheels, 3))
+        #: last evaluated wheelset poses (y, z, roll); nominal height at start
+        self.poses = np.tile([0.0, pair.nominal_axle_height_m(), 0.0], (self.n_wheelsets, 1))
 
     def reset(self):
         """Forget the warm start (and the separation bounds)."""
@@ -112,19 +118,19 @@ class WheelsetContact:
             raise ValueError(f"wheelset pose contains NaN or infinity: {poses.tolist()}")
         K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self.side_poses(poses), self.warm,
                           self.params, self.out)
+        self.poses[:] = poses
         return self.out
 
     def contact_points(self, y_m: float, z_m: float, roll_rad: float = 0.0, wheelset: int = 0,
                        include_separated: bool = False) -> list[ContactPoint]:
         """Readable contact points of one wheelset pose (track frame); other wheelsets keep their last pose."""
-        poses = np.zeros((self.n_wheelsets, 3))
+        poses = self.poses.copy()
         poses[wheelset] = (y_m, z_m, roll_rad)
         out = self.evaluate(poses)
         return self.points_from_output(out, wheelset, include_separated)
 
     def points_from_output(self, out, wheelset: int = 0, include_separated: bool = False) -> list[ContactPoint]:
         points = []
-        half_gauge = 0.5 * self.pair.gauge_m
         for side_index, side in enumerate(SIDES):
             w = 2 * wheelset + side_index
             mirror = 1.0 if side == "right" else -1.0
@@ -142,7 +148,7 @@ class WheelsetContact:
                     p_rail_in_track=np.array([mirror * o[K.F_PR_Y], o[K.F_PR_Z]]),
                     n_rail_in_track=np.array([mirror * o[K.F_NR_Y], o[K.F_NR_Z]]),
                     y_wheel_profile_m=float(self.pair.wheel_y_profile(y_wheelset)),
-                    y_rail_profile_m=float(o[K.F_PR_Y] - half_gauge),
+                    y_rail_profile_m=float(self.pair.rail.curve.position([o[K.F_S_RAIL]])[0, 0]),
                     s_wheel_m=float(s_w), s_rail_m=float(o[K.F_S_RAIL]),
                     penetration_m=float(o[K.F_PENETRATION]), contact_angle_rad=float(o[K.F_CONTACT_ANGLE]),
                     rolling_radius_m=float(o[K.F_ROLLING_RADIUS]),

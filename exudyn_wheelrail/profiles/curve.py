@@ -11,7 +11,8 @@ Frames and signs are those of :mod:`exudyn_wheelrail.conventions`: the outward n
 ``n = normal_sign * (-t_z, t_y)`` and the curvature obeys ``dt/ds = -kappa n`` (convex positive).
 
 The compiled functions work on a *packed* curve set: ``nodes`` (N, 7) = [s, p_y, p_z, t_y, t_z, a_y, a_z] for all
-curves one after the other, and ``meta`` (n_curves, 4) = [first row, row count, normal_sign, mean spacing].
+curves one after the other, and ``meta`` (n_curves, 5) = [first row, row count, normal_sign, mean spacing, end flags]
+(end flags: 1 = the start is an end of the real profile, 2 = the stop is; a tread/flange split is not).
 """
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ from numba import njit
 from .dense import DenseProfile
 
 NODE_COLUMNS = 7
-META_COLUMNS = 4
+META_COLUMNS = 5
 
 
 @njit(cache=True, inline="always")
@@ -136,7 +137,9 @@ class ProfileCurve:
         self.normal_sign = float(normal_sign)
         self.name = name
         self.fit_error_m = float(fit_error_m)
-        self.meta = np.array([[0.0, nodes.shape[0], self.normal_sign, 0.0]])
+        #: which ends are ends of the real profile (1 start, 2 stop); set by the owner of a sub-curve
+        self.end_flags = 3
+        self.meta = np.array([[0.0, nodes.shape[0], self.normal_sign, 0.0, 3.0]])
         self.meta[0, 3] = (nodes[-1, 0] - nodes[0, 0]) / (nodes.shape[0] - 1)
 
     # ----------------------------------------------------------------------------------------------- building
@@ -197,7 +200,9 @@ class ProfileCurve:
             n[:, col:col + 2] = n[:, col:col + 2] @ rot.T
         n[:, 1] += offset[0]
         n[:, 2] += offset[1]
-        return ProfileCurve(n, self.normal_sign, name or self.name, self.fit_error_m)
+        moved = ProfileCurve(n, self.normal_sign, name or self.name, self.fit_error_m)
+        moved.end_flags = self.end_flags
+        return moved
 
     def sub(self, s_start: float, s_end: float, name: str | None = None) -> "ProfileCurve":
         """The piece between arc lengths ``s_start`` and ``s_end`` (same parameter values, exact end nodes)."""
@@ -257,6 +262,6 @@ def pack_curves(curves: list[ProfileCurve]) -> tuple[np.ndarray, np.ndarray]:
     meta = np.zeros((len(curves), META_COLUMNS))
     row = 0
     for k, c in enumerate(curves):
-        meta[k] = [row, c.nodes.shape[0], c.normal_sign, c.meta[0, 3]]
+        meta[k] = [row, c.nodes.shape[0], c.normal_sign, c.meta[0, 3], c.end_flags]
         row += c.nodes.shape[0]
     return np.ascontiguousarray(nodes), meta

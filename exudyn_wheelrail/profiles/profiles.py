@@ -19,10 +19,6 @@ from .dense import DenseProfile
 DEFAULT_FLANGE_BACK_Y_M = -0.070
 
 
-def _curve_from_dense(dense: DenseProfile, outward: str, node_spacing_m: float) -> ProfileCurve:
-    return ProfileCurve.from_dense(dense, outward=outward, node_spacing_m=node_spacing_m)
-
-
 class WheelProfile:
     """A wheel profile in its profile frame (y to the field side, z = radius increase), split into tread/flange.
 
@@ -56,6 +52,9 @@ class WheelProfile:
         #: the flange function; None for a profile without a flange (the whole curve is tread)
         self.flange = None if s_split <= curve.s_min else curve.sub(curve.s_min, s_split, name=f"{name}:flange")
         self.tread = curve if s_split <= curve.s_min else curve.sub(s_split, curve.s_max, name=f"{name}:tread")
+        if self.flange is not None:
+            self.flange.end_flags = 1          # flange back end is a profile end, the split is not
+            self.tread.end_flags = 2           # field-side end is a profile end, the split is not
 
     @staticmethod
     def _find_split(s, p):
@@ -95,7 +94,7 @@ class WheelProfile:
     @classmethod
     def from_dense(cls, dense: DenseProfile, node_spacing_m: float = 2.5e-4, **kw) -> "WheelProfile":
         kw.setdefault("name", dense.name)
-        return cls(_curve_from_dense(dense, "+z", node_spacing_m), **kw)
+        return cls(ProfileCurve.from_dense(dense, outward="+z", node_spacing_m=node_spacing_m), **kw)
 
     @classmethod
     def s1002(cls, **kw) -> "WheelProfile":
@@ -129,19 +128,58 @@ class WheelProfile:
                 f"tread/flange split y={self.split_y_m * 1e3:.2f} mm, flange height {self.flange_height_m * 1e3:.2f} mm)")
 
 
-class RailProfile:
-    """A rail head profile in its profile frame (y to the field side, z down from the top), not inclined."""
+#: Inclinations a rail profile's data are recognised to contain (tan of the angle).
+STANDARD_CANTS = (0.0, 1.0 / 40.0, 1.0 / 30.0, 1.0 / 20.0)
 
-    def __init__(self, curve: ProfileCurve, name: str = "rail", canted_tan: float = 0.0):
+
+class RailProfile:
+    """A rail head profile in its profile frame (y to the field side, z down from the top).
+
+    ``canted_tan`` is the inclination the *data* already contain (tan of the angle; a canted point file such as
+    the Manchester UIC60).  ``None`` (default for files) detects it from the head's shape: on a vertical rail the
+    crown top lies on the head's centre line; tilted towards the track centre by alpha, the top moves towards the
+    field side by about (R_crown - d) tan(alpha), d being the depth where the head's centre is measured.  The
+    estimate is snapped to 0, 1:40, 1:30 or 1:20 (within 0.004); anything else is an error asking to state it,
+    so a canted file is never inclined twice without notice.
+    """
+
+    def __init__(self, curve: ProfileCurve, name: str = "rail", canted_tan: float | None = 0.0):
         self.curve = curve
         self.name = name
-        #: inclination already contained in the data (e.g. a canted point file), tan of the angle
+        self.estimated_cant_tan = self.estimate_cant_tan()
+        if canted_tan is None:
+            near = [c for c in STANDARD_CANTS if abs(c - self.estimated_cant_tan) < 0.004]
+            if not near:
+                raise ValueError(
+                    f"{name}: the rail head looks inclined by tan = {self.estimated_cant_tan:.4f} (crown top off the "
+                    "head centre line), which is not 0, 1:40, 1:30 or 1:20; state the inclination the data contain "
+                    "(canted_tan= / --rail-canted) — or check the profile's lateral orientation (y to the field side)")
+            canted_tan = near[0]
+        elif abs(float(canted_tan) - self.estimated_cant_tan) > 0.01:
+            raise ValueError(
+                f"{name}: stated inclination of the data tan = {float(canted_tan):.4f} but the head looks inclined by "
+                f"tan = {self.estimated_cant_tan:.4f}; check canted_tan / --rail-canted and the profile orientation")
+        #: inclination already contained in the data, tan of the angle
         self.canted_tan = float(canted_tan)
+
+    def estimate_cant_tan(self, depth_m: float = 0.010) -> float:
+        """Inclination contained in the data, from the crown top's offset to the head centre ``depth_m`` below it."""
+        s = np.linspace(self.curve.s_min, self.curve.s_max, 40001)
+        e = self.curve.evaluate(s)
+        i_top = int(np.argmin(e[:, 1]))
+        z_line = e[i_top, 1] + depth_m
+        left = np.flatnonzero(e[:i_top, 1] >= z_line)
+        right = np.flatnonzero(e[i_top:, 1] >= z_line)
+        if left.size == 0 or right.size == 0 or e[i_top, 6] <= 0:
+            return float("nan")
+        y_mid = 0.5 * (e[left[-1], 0] + e[i_top + right[0], 0])
+        radius = 1.0 / e[i_top, 6]
+        return float((e[i_top, 0] - y_mid) / (radius - depth_m))
 
     @classmethod
     def from_dense(cls, dense: DenseProfile, node_spacing_m: float = 2.5e-4, **kw) -> "RailProfile":
         kw.setdefault("name", dense.name)
-        return cls(_curve_from_dense(dense, "-z", node_spacing_m), **kw)
+        return cls(ProfileCurve.from_dense(dense, outward="-z", node_spacing_m=node_spacing_m), **kw)
 
     @classmethod
     def uic60(cls, **kw) -> "RailProfile":
@@ -151,9 +189,9 @@ class RailProfile:
         return cls.from_dense(uic60_dense(), **kw)
 
     @classmethod
-    def from_file(cls, path, smoothing=None, canted_tan: float = 0.0, **kw) -> "RailProfile":
-        """A rail profile from a SIMPACK ``.prr`` file or a y-z table; ``canted_tan`` states an inclination the
-        data already contain (the Manchester UIC60 file is canted 1:40), so it is not applied twice."""
+    def from_file(cls, path, smoothing=None, canted_tan: float | None = None, **kw) -> "RailProfile":
+        """A rail profile from a SIMPACK ``.prr`` file or a y-z table; ``canted_tan`` is the inclination the data
+        already contain (the Manchester UIC60 file is canted 1:40), detected when None, so it is not applied twice."""
         from .readers import load_profile
         kw.setdefault("name", Path(path).stem)
         return cls.from_dense(load_profile(path, kind="rail", smoothing=smoothing), canted_tan=canted_tan, **kw)
@@ -180,10 +218,10 @@ def resolve_wheel(spec) -> WheelProfile:
     return WheelProfile.from_file(spec)
 
 
-def resolve_rail(spec, canted_tan: float = 0.0) -> RailProfile:
+def resolve_rail(spec, canted_tan: float | None = None) -> RailProfile:
     """A :class:`RailProfile` from a profile object, the name 'UIC60'/'60E1' or a file path."""
     if isinstance(spec, RailProfile):
         return spec
     if str(spec).upper() in ("UIC60", "60E1"):
-        return RailProfile.uic60()
+        return RailProfile.uic60(canted_tan=0.0 if canted_tan is None else canted_tan)
     return RailProfile.from_file(spec, canted_tan=canted_tan)
