@@ -294,9 +294,9 @@ def _cone_curve():
 
 @pytest.fixture(scope="module")
 def cone_pair():
-    # WheelProfile.cone() cannot be built (see test_cone_factory_builds); the same straight profile is built here
-    # with an explicit tread/flange split 45 mm inside the tape circle, so the "flange" region is a short piece of
-    # the same line, > 30 mm away from every contact of these tests.
+    # The straight cone with an explicit tread/flange split 45 mm inside the tape circle: the "flange" region is a
+    # short piece of the same line, > 30 mm away from every contact of these tests, so both kernel regions are
+    # exercised (WheelProfile.cone() itself has no flange region; test_kernel_flangeless_wheel covers that path).
     wheel = WheelProfile(_cone_curve(), flange_back_y_m=-0.070, split_y_m=-0.045, name="cone")
     rail = RailProfile.circular_crown(CROWN_R, half_width_m=0.05)     # reaches 15 mm below its top
     return WheelRailPair(wheel, rail, gauge_m=CONE_GAUGE, inclination="none", back_to_back_m=CONE_B2B,

@@ -141,7 +141,6 @@ def _read_reference_table():
     return rows
 
 
-@pytest.mark.skipif(not REF_TABLE.exists(), reason="shared reference table not available")
 def test_m_n_against_classical_table():
     rows = _read_reference_table()
     assert len(rows) >= 10

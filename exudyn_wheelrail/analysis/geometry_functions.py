@@ -24,7 +24,12 @@ from ..contact.pair import WheelRailPair
 from ..contact.wheelset import REGIONS, SIDES, WheelsetContact
 
 CSV_COLUMNS = ("y_m", "side", "region", "y_rail_m", "y_wheel_m", "contact_angle_rad", "rolling_radius_m",
-               "roll_rad", "a_m", "b_m", "z_m", "delta_r_m", "gap_m")
+               "roll_rad", "a_m", "b_m", "z_m", "delta_r_m", "gap_m", "flags")
+
+#: meaning of the ``flags`` column (';'-separated): the contact is at an end of the wheel or rail profile data
+#: (it may lie beyond them), the Hertz curvatures were clamped (conformal contact), or the flange contact lies past
+#: the steepest point of the flank towards the tip (the wheel has ridden up its flange: rigid flange climbing).
+ROW_FLAGS = ("profile_end", "hertz_clamped", "beyond_flank")
 
 
 class RigidContactError(RuntimeError):
@@ -144,12 +149,19 @@ def contact_geometry_sweep(pair: WheelRailPair, y_values_m, wheel_load_N: float 
                 if r != state.deepest[w] and gap > two_point_tolerance_m:
                     continue
                 gamma = o[K.F_CONTACT_ANGLE]
-                _, a, b, _ = hertz_from_force(o[K.F_A_REL], o[K.F_B_REL], contact.E_star,
-                                              wheel_load_N / max(np.cos(gamma), 1e-3))
+                _, a, b, hertz_status = hertz_from_force(o[K.F_A_REL], o[K.F_B_REL], contact.E_star,
+                                                         wheel_load_N / max(np.cos(gamma), 1e-3))
                 y_wheel = float(pair.wheel.curve.position([o[K.F_S_WHEEL]])[0, 0])
+                flags = []
+                if int(o[K.F_FLAGS]) & K.FLAG_PROFILE_END:
+                    flags.append("profile_end")
+                if int(hertz_status) & 3:
+                    flags.append("hertz_clamped")
+                if region == "flange" and y_wheel < pair.wheel.flank_y_m - 1e-6:
+                    flags.append("beyond_flank")
                 y_rail = float(pair.rail.curve.position([o[K.F_S_RAIL]])[0, 0])
                 rows.append(dict(y_m=float(y), side=side, region=region, y_rail_m=y_rail, y_wheel_m=y_wheel,
                                  contact_angle_rad=float(gamma), rolling_radius_m=float(o[K.F_ROLLING_RADIUS]),
                                  roll_rad=float(roll), a_m=float(a), b_m=float(b), z_m=float(z),
-                                 delta_r_m=float(delta_r), gap_m=float(max(gap, 0.0))))
+                                 delta_r_m=float(delta_r), gap_m=float(max(gap, 0.0)), flags=";".join(flags)))
     return GeometrySweep(rows, np.array(ys), np.array(zs), np.array(rolls), np.array(drs))

@@ -28,7 +28,9 @@ class WheelProfile:
     flange_back_y_m : lateral coordinate of the flange back face in the profile frame.  Default -0.070 m: the tape
         circle lies 70 mm from the flange back for the EN 13715 profiles (S1002 and others).  It is a fixed datum
         of the profile frame, not inferred from the points (point files often stop short of the back face).
-    split_y_m : lateral coordinate of the tread/flange split; ``None`` finds it in the throat (see module doc).
+    split_y_m : lateral coordinate of the tread/flange split; ``None`` finds it in the throat (see module doc) and
+        checks that the flange is a plausible one (15-45 mm high, on the flange side): a profile in the wrong units
+        or frame is an error.  An explicit split is taken as stated.
     """
 
     def __init__(self, curve: ProfileCurve, flange_back_y_m: float | None = None, split_y_m: float | None = None,
@@ -55,6 +57,22 @@ class WheelProfile:
         if self.flange is not None:
             self.flange.end_flags = 1          # flange back end is a profile end, the split is not
             self.tread.end_flags = 2           # field-side end is a profile end, the split is not
+            if split_y_m is None and not (0.015 <= self.flange_height_m <= 0.045 and self.flange_tip_y_m < -0.020):
+                raise ValueError(
+                    f"{name}: flange height {self.flange_height_m * 1e3:.2f} mm with its tip at y = "
+                    f"{self.flange_tip_y_m * 1e3:.2f} mm; expected a wheel profile in metres with the origin at the "
+                    "tape circle, y to the field side and z = radius increase (flange 15-45 mm high, at y < -20 mm)")
+            # steepest point of the flange flank (largest contact angle); a contact beyond it towards the tip means
+            # the flange has ridden up past its flank (climbing)
+            s_f = np.linspace(self.flange.s_min, self.flange.s_max, 4001)
+            e_f = self.flange.evaluate(s_f)
+            tip_side = e_f[:, 0] > self.flange_tip_y_m
+            slope = np.abs(np.arctan2(e_f[:, 3], e_f[:, 2]))
+            self.flank_y_m = float(e_f[tip_side, 0][np.argmax(slope[tip_side])])
+            self.flank_angle_rad = float(np.max(slope[tip_side]))
+        else:
+            self.flank_y_m = float("nan")
+            self.flank_angle_rad = float("nan")
 
     @staticmethod
     def _find_split(s, p):
