@@ -208,7 +208,7 @@ def _piece(which, n, nodes, meta, mono, wheel, c_y, c_z, roll, s_r0, s_w0, s_lo,
                                                           int(params[K.P_N_CONCAVE_RAIL]), params[K.P_REFINE] > 0.0)
             acc += s_w
         else:
-            ok, s_w, s_r, d = nearest_by_normal_distance(nodes, meta, 0, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
+            ok, all_ok, s_w, s_r, d = nearest_by_normal_distance(nodes, meta, 0, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
                                                          n_scan, s_r0)
             acc += s_w
     return acc
