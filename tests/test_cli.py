@@ -3,9 +3,7 @@ import csv
 import re
 import subprocess
 import sys
-from pathlib import Path
 
-import numpy as np
 import pytest
 from reference_paths import PROFILES_DIR
 
