@@ -151,7 +151,7 @@ def contact_geometry_sweep(pair: WheelRailPair, y_values_m, wheel_load_N: float 
                 gamma = o[K.F_CONTACT_ANGLE]
                 _, a, b, hertz_status = hertz_from_force(o[K.F_A_REL], o[K.F_B_REL], contact.E_star,
                                                          wheel_load_N / max(np.cos(gamma), 1e-3))
-                y_wheel = float(pair.wheel.curve.position([o[K.F_S_WHEEL]])[0, 0])
+                y_wheel, y_rail = pair.profile_coordinates(o[K.F_S_WHEEL], o[K.F_S_RAIL])
                 flags = []
                 if int(o[K.F_FLAGS]) & K.FLAG_PROFILE_END:
                     flags.append("profile_end")
@@ -159,7 +159,6 @@ def contact_geometry_sweep(pair: WheelRailPair, y_values_m, wheel_load_N: float 
                     flags.append("hertz_clamped")
                 if region == "flange" and y_wheel < pair.wheel.flank_y_m - 1e-6:
                     flags.append("beyond_flank")
-                y_rail = float(pair.rail.curve.position([o[K.F_S_RAIL]])[0, 0])
                 rows.append(dict(y_m=float(y), side=side, region=region, y_rail_m=y_rail, y_wheel_m=y_wheel,
                                  contact_angle_rad=float(gamma), rolling_radius_m=float(o[K.F_ROLLING_RADIUS]),
                                  roll_rad=float(roll), a_m=float(a), b_m=float(b), z_m=float(z),

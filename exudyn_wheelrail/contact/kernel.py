@@ -322,8 +322,6 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
                                                                        sin_r, c_sr, c_sw, s_lo, s_hi, r_lo, r_hi,
                                                                        params)
         iters += it
-        warm[w, reg, W_S_RAIL] = c_sr
-        warm[w, reg, W_S_WHEEL] = c_sw
         if p_valid and p_convex and p_delta > 0.0 and abs(p_sw - c_sw) < 1e-3:
             warm[w, reg, W_S_RAIL] = p_sr
             warm[w, reg, W_S_WHEEL] = p_sw
@@ -347,6 +345,8 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
             if ok and interior and r_lo <= n_sr <= r_hi and d_min < (wy - ry) * rny + (wz - rz) * rnz:
                 c_sw = n_sw
                 c_sr = n_sr
+        warm[w, reg, W_S_RAIL] = c_sr
+        warm[w, reg, W_S_WHEEL] = c_sw
         _fill(out, w, reg, STATUS_CONCAVE, c_sw, c_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
               params)
         return
@@ -364,7 +364,7 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
         return
     warm[w, reg, W_S_RAIL] = g_sr
     warm[w, reg, W_S_WHEEL] = g_sw
-    # the sampled minimum can exceed the true one by at most h^2/8 x (curvature bound) between samples
+    # for step 1: the sampled minimum can exceed the true one by at most h^2/8 x (curvature bound) between samples
     h_scan = (s_hi - s_lo) / (n_scan - 1)
     gap_bound = gap - 0.125 * h_scan * h_scan * params[P_CURVATURE_BOUND]
     if gap_bound > 0.0 and all_ok:
@@ -372,12 +372,9 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
         warm[w, reg, W_POSE_Y] = c_y
         warm[w, reg, W_POSE_Z] = c_z
         warm[w, reg, W_POSE_ROLL] = roll
-        _fill(out, w, reg, STATUS_SEPARATED, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
-              params)
-    else:
-        # penetration where no vertical line meets the rail (the steep gauge face): a contact all the same
-        _fill(out, w, reg, STATUS_CONCAVE, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
-              params)
+    # a negative gap is a penetration where no vertical line meets the rail (the steep gauge face): a contact
+    status = STATUS_SEPARATED if gap > 0.0 else STATUS_CONCAVE
+    _fill(out, w, reg, status, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params)
 
 
 @njit(cache=True)

@@ -81,9 +81,11 @@ class WheelRailPair:
         """Axle centre z (negative: above the rail top) when the tape circles touch a flat rail top."""
         return -self.r0_m
 
-    def wheel_y_profile(self, y_side_m):
-        """Lateral coordinate in the wheel profile frame of a wheelset-frame (side convention) coordinate."""
-        return np.asarray(y_side_m) - self.wheel_offset_y_m
+    def profile_coordinates(self, s_wheel_m: float, s_rail_m: float) -> tuple[float, float]:
+        """Lateral coordinates of a contact in the wheel's and the rail's own profile frames, from the surface
+        parameters (the side-frame curves share the arc length of their profile curves)."""
+        return (float(self.wheel.curve.position([s_wheel_m])[0, 0]),
+                float(self.rail.curve.position([s_rail_m])[0, 0]))
 
     def __repr__(self) -> str:
         return (f"WheelRailPair({self.wheel.name} on {self.rail.name} 1:{1 / self.inclination_tan:.0f}, "

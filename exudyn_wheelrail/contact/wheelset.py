@@ -140,15 +140,13 @@ class WheelsetContact:
                 if status <= 0 and not (include_separated and status == K.STATUS_SEPARATED):
                     continue
                 s_w = o[K.F_S_WHEEL]
-                q = self.pair.tread_side if reg == 0 else self.pair.flange_side
-                y_wheelset = float(q.position([s_w])[0, 0])
+                y_wheel_profile, y_rail_profile = self.pair.profile_coordinates(s_w, o[K.F_S_RAIL])
                 points.append(ContactPoint(
                     side=side, region=region, method=STATUS_NAMES.get(status, "separated") if status > 0 else "separated",
                     p_wheel_in_track=np.array([mirror * o[K.F_PW_Y], o[K.F_PW_Z]]),
                     p_rail_in_track=np.array([mirror * o[K.F_PR_Y], o[K.F_PR_Z]]),
                     n_rail_in_track=np.array([mirror * o[K.F_NR_Y], o[K.F_NR_Z]]),
-                    y_wheel_profile_m=float(self.pair.wheel_y_profile(y_wheelset)),
-                    y_rail_profile_m=float(self.pair.rail.curve.position([o[K.F_S_RAIL]])[0, 0]),
+                    y_wheel_profile_m=y_wheel_profile, y_rail_profile_m=y_rail_profile,
                     s_wheel_m=float(s_w), s_rail_m=float(o[K.F_S_RAIL]),
                     penetration_m=float(o[K.F_PENETRATION]), contact_angle_rad=float(o[K.F_CONTACT_ANGLE]),
                     rolling_radius_m=float(o[K.F_ROLLING_RADIUS]),
