@@ -1,4 +1,4 @@
-"""Creep forces (issue #3): Kalker's linear-theory coefficients and FASTSIM.
+"""Creep forces (issue #3): Kalker's linear-theory coefficients, FASTSIM and Kalker's exact theory.
 
 Forces are on the wheel, ``a`` along rolling, issue-#3 signs: for small creepage ``Fx = -G c² C11 ξ``,
 ``Fy = -G c² (C22 η + c C23 φ)``, ``Mz = G c³ (C23 η - c C33 φ)``, ``c = √(ab)``.
@@ -12,9 +12,10 @@ from .linear import (
     linear_creep_forces,
 )
 from .fastsim import DEFAULT_NX, DEFAULT_NY, fastsim, fastsim_core, fastsim_flexibilities
+from .kalker_exact import KalkerSolution, kalker_exact, kalker_exact_extrapolated, kalker_exact_solution
 
 __all__ = [
     "A_OVER_B_MAX", "A_OVER_B_MIN", "kalker_coefficients", "kalker_coefficients_core", "linear_creep_forces",
     "fastsim_spin_moment_coefficient", "fastsim", "fastsim_core", "fastsim_flexibilities", "DEFAULT_NX",
-    "DEFAULT_NY",
+    "DEFAULT_NY", "KalkerSolution", "kalker_exact", "kalker_exact_extrapolated", "kalker_exact_solution",
 ]
