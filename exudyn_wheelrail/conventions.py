@@ -61,6 +61,12 @@ The **contact angle** ``gamma`` of a contact point is the angle between the rail
 side frame, positive when the normal leans towards the track centre (flange contact has a large positive angle):
 ``n_r = (-sin gamma, -cos gamma)`` in side-frame (y, z) components.  The **rolling radius** is the distance of the
 wheel contact point from the axle axis.
+
+Creepages
+---------
+Contact frame (``z_c`` from the wheel into the rail, ``x_c`` the rolling direction, ``y_c = z_c × x_c``, to the right
+on both wheels when running forward), the signs of ξ, η, φ, the rolling speed that normalises them, the standstill
+guard and the yaw lead of the contact point: :mod:`exudyn_wheelrail.contact.creepage` (``tests/test_creepage.py``).
 """
 
 #: Depth below the top of rail at which the track gauge is measured [m] (EN 13848-1).
