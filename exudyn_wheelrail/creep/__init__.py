@@ -12,10 +12,12 @@ from .linear import (
     linear_creep_forces,
 )
 from .fastsim import DEFAULT_NX, DEFAULT_NY, fastsim, fastsim_core, fastsim_flexibilities
+from .laws import polach, polach_core, she_core, shen_hedrick_elkins
 from .kalker_exact import KalkerSolution, kalker_exact, kalker_exact_extrapolated, kalker_exact_solution
 
 __all__ = [
     "A_OVER_B_MAX", "A_OVER_B_MIN", "kalker_coefficients", "kalker_coefficients_core", "linear_creep_forces",
     "fastsim_spin_moment_coefficient", "fastsim", "fastsim_core", "fastsim_flexibilities", "DEFAULT_NX",
     "DEFAULT_NY", "KalkerSolution", "kalker_exact", "kalker_exact_extrapolated", "kalker_exact_solution",
+    "shen_hedrick_elkins", "she_core", "polach", "polach_core",
 ]
