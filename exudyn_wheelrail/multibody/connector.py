@@ -1,7 +1,7 @@
 """The wheel–rail connector: one Exudyn item coupling every wheelset of a model to its rails.
 
 >>> model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=50.0)                        # doctest: +SKIP
->>> contact = add_wheel_rail_contact(mbs, model.wheelsets_nodes, WheelRailPair("S1002", "UIC60"),
+>>> contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, WheelRailPair("S1002", "UIC60"),
 ...                                  speed_m_s=50.0, track=RigidStraightTrack(irregularity))  # doctest: +SKIP
 
 What it is

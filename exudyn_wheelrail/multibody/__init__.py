@@ -1,0 +1,35 @@
+"""Exudyn coupling: vehicles from data files, the vehicle builder, and the track irregularities.
+
+::
+
+    from exudyn_wheelrail.multibody import load_vehicle, build_vehicle, SpanDeflection
+"""
+from .track import (
+    Harmonic,
+    Irregularity,
+    IrregularitySum,
+    NoIrregularity,
+    RigidStraightTrack,
+    SampledIrregularity,
+    SpanDeflection,
+    irregularity_at,
+    irregularity_many,
+)
+from .vehicle_builder import (
+    LongitudinalRestraint,
+    RailSprings,
+    VehicleModel,
+    WheelsetHandle,
+    build_vehicle,
+    simulation_settings,
+    static_load_path,
+)
+from .vehicle_data import VehicleData, VehicleDataError, load_vehicle, shipped_vehicles, vehicle_from_dict
+
+__all__ = [
+    "load_vehicle", "vehicle_from_dict", "shipped_vehicles", "VehicleData", "VehicleDataError",
+    "build_vehicle", "simulation_settings", "static_load_path", "RailSprings", "LongitudinalRestraint",
+    "VehicleModel", "WheelsetHandle",
+    "Irregularity", "NoIrregularity", "SpanDeflection", "Harmonic", "SampledIrregularity", "IrregularitySum",
+    "RigidStraightTrack", "irregularity_at", "irregularity_many",
+]

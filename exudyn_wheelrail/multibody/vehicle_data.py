@@ -1,0 +1,552 @@
+"""Vehicle data files (``vehicles/*.toml``): schema, loader, validation, and the dataclasses of the result.
+
+The schema is written out with examples in ``vehicles/README.md``; this docstring is its short form.
+Units are in the key names (SI): ``_kg``, ``_kg_m2``, ``_m``, ``_N``, ``_N_per_m``, ``_N_s_per_m``,
+``_N_m_per_rad``.  Frames and signs: :mod:`exudyn_wheelrail.conventions` (x forward, y right, z down); heights are
+measured **upwards from the top of rail** (a height h is the track-frame coordinate z = -h).
+
+Layouts (``[vehicle] layout``)
+------------------------------
+``"car"``       car body on two bogies, two wheelsets each (Manchester benchmark vehicle 1).
+``"bogie"``     one bogie frame on two wheelsets; the car body is replaced by a constant vertical load per side
+                (``[load]``) at the secondary spring points, and the secondary suspension's horizontal elements
+                (x, y, yaw, optional bump stop) connect the frame to the reference frame that moves with the
+                vehicle (a bogie test rig / roller rig).
+``"wheelset"``  one wheelset; a constant vertical load per side (``[load]``) at the axlebox points replaces the
+                sprung mass, the primary suspension's horizontal elements (x, y) connect the axle to the reference
+                frame.
+In the ``bogie`` and ``wheelset`` layouts the vertical elements of the layer replaced by the load (kz, cz, and
+the anti-roll bar) are not modelled, so those keys are rejected there: a dead load carries no stiffness.
+
+Tables and keys (all required unless marked optional; unknown keys are errors)
+----------------------------------------------------------------------------
+``schema_version = 1``
+``[vehicle]``      ``name``, ``layout``, ``source`` (citation of the numbers); ``description`` (optional).
+``[wheelset]``     ``mass_kg``, ``Ixx_kg_m2`` (roll), ``Iyy_kg_m2`` (spin, about the axle), ``Izz_kg_m2`` (yaw);
+                   the centre of mass is the axle centre, at height r0.
+``[bogie_frame]``  ``mass_kg``, ``Ixx_kg_m2``, ``Iyy_kg_m2``, ``Izz_kg_m2``, ``cg_height_m`` (CG on the bogie
+                   centre in x and y).  Layouts car, bogie.
+``[car_body]``     as the bogie frame, plus optional ``cg_x_m``, ``cg_y_m`` (offset of the CG from the vehicle
+                   centre = mid-point between the bogie centres; default 0).  Layout car.
+``[primary]``      **per axlebox** (one element at each axle end): ``kx_N_per_m``, ``ky_N_per_m``, ``kz_N_per_m``,
+                   ``cx_N_s_per_m``, ``cy_N_s_per_m``, ``cz_N_s_per_m`` (layout wheelset: x and y only).
+``[secondary]``    **per bogie side**: the same six keys, plus **per bogie** ``yaw_stiffness_N_m_per_rad`` (bogie
+                   rotation against the car body) and ``anti_roll_stiffness_N_m_per_rad`` (anti-roll bar, roll
+                   of the car body against the bogie).  Layout bogie: kx, ky, cx, cy and the yaw stiffness only.
+``[bump_stop]``    optional, lateral, **per bogie** (car body against bogie frame): ``clearance_m`` and the
+                   characteristic beyond it as two equally long arrays ``displacement_m`` (relative lateral
+                   displacement **measured from the centred position**, so every entry exceeds the clearance;
+                   strictly increasing) and ``force_N`` (non-decreasing, >= 0).  Force is 0 up to the clearance,
+                   linear between the points (the clearance point has force 0), linearly extrapolated with the
+                   last slope beyond the table, and antisymmetric.
+``[geometry]``     ``r0_m`` (nominal rolling radius = axle height), ``semi_wheelbase_m``,
+                   ``semi_bogie_centre_distance_m`` (car), ``primary_lateral_semi_spacing_m``,
+                   ``secondary_lateral_semi_spacing_m``, ``secondary_spring_height_m`` (car, bogie),
+                   ``back_to_back_m``, ``gauge_m``, ``rail_inclination`` ('1/40', '1/20', 'none' or the tangent),
+                   ``wheel_profile`` ('S1002' or a profile file), ``rail_profile`` ('UIC60'/'60E1' or a file);
+                   file paths are relative to the TOML file.
+``[load]``         layouts bogie and wheelset: ``vertical_force_per_side_N`` (>= 0, downwards).
+
+The primary suspension acts at the axle centre height (the wheelset end of each element lies on the spin axis,
+so the wheelset's spin cannot move it); the data files therefore carry no primary spring height.
+
+Validation raises :class:`VehicleDataError` (a ``ValueError``) naming the key (``table.key``) and the file:
+missing or unknown keys, wrong types, non-finite numbers, non-positive masses/inertias/lengths, negative
+stiffness or damping, inertias violating the triangle inequality, a non-monotonic bump-stop table, and
+inconsistent geometry (CG heights or the secondary springs at or below the axle, r0 <= 0, overlapping wheels,
+back-to-back not below the gauge, a car-body CG outside its supports, a profile file that does not exist).
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..conventions import parse_inclination
+
+__all__ = [
+    "SCHEMA_VERSION",
+    "LAYOUTS",
+    "VEHICLES_DIR",
+    "VehicleDataError",
+    "BodyData",
+    "SuspensionData",
+    "BumpStopData",
+    "GeometryData",
+    "VehicleData",
+    "load_vehicle",
+    "vehicle_from_dict",
+    "shipped_vehicles",
+]
+
+SCHEMA_VERSION = 1
+LAYOUTS = ("car", "bogie", "wheelset")
+
+#: The shipped vehicle files (``vehicles/`` at the repository root, beside the package).
+VEHICLES_DIR = Path(__file__).resolve().parents[2] / "vehicles"
+
+
+class VehicleDataError(ValueError):
+    """Bad vehicle data; the message names the key (``table.key``) and the file."""
+
+
+# ------------------------------------------------------------------------------------------------ dataclasses
+@dataclass(frozen=True)
+class BodyData:
+    """A rigid body: mass, principal inertias about its CG (axes parallel to the track frame), CG position.
+
+    ``cg_height_m`` is measured upwards from the top of rail; ``cg_x_m``/``cg_y_m`` are the CG offsets from the
+    body's nominal centre (only the car body may have them)."""
+
+    mass_kg: float
+    Ixx_kg_m2: float
+    Iyy_kg_m2: float
+    Izz_kg_m2: float
+    cg_height_m: float
+    cg_x_m: float = 0.0
+    cg_y_m: float = 0.0
+
+    @property
+    def inertia_kg_m2(self) -> np.ndarray:
+        """Diagonal inertia tensor about the CG (3, 3)."""
+        return np.diag([self.Ixx_kg_m2, self.Iyy_kg_m2, self.Izz_kg_m2])
+
+
+@dataclass(frozen=True)
+class SuspensionData:
+    """Linear spring–damper of one suspension element: stiffness and damping along track x, y, z.
+
+    Primary: per axlebox; secondary: per bogie side.  ``yaw_stiffness_N_m_per_rad`` and
+    ``anti_roll_stiffness_N_m_per_rad`` are per bogie (secondary only, 0 otherwise)."""
+
+    stiffness_N_per_m: tuple[float, float, float]
+    damping_N_s_per_m: tuple[float, float, float]
+    yaw_stiffness_N_m_per_rad: float = 0.0
+    anti_roll_stiffness_N_m_per_rad: float = 0.0
+
+
+@dataclass(frozen=True)
+class BumpStopData:
+    """Lateral bump stop (per bogie): zero force up to the clearance, then the piecewise-linear table.
+
+    ``displacement_m`` is measured from the centred position (includes the clearance).  Beyond the table the
+    force is extrapolated with the last slope; the characteristic is antisymmetric."""
+
+    clearance_m: float
+    displacement_m: tuple[float, ...]
+    force_N: tuple[float, ...]
+
+    def knots(self) -> tuple[np.ndarray, np.ndarray]:
+        """Table including the clearance point: ``(u_m, F_N)``, u from the clearance upwards, F(clearance) = 0."""
+        return (np.concatenate([[self.clearance_m], self.displacement_m]),
+                np.concatenate([[0.0], self.force_N]))
+
+    def ramps(self) -> tuple[np.ndarray, np.ndarray]:
+        """Equivalent sum of ramps: ``F(u) = sign(u) Σ_i dk_i max(|u| - u_i, 0)`` — returns ``(u_i, dk_i)``.
+
+        ``dk_i`` is the change of slope at knot ``u_i`` (the first is the first slope); the sum reproduces the
+        piecewise-linear table exactly and continues with the last slope beyond it."""
+        u, f = self.knots()
+        slopes = np.diff(f) / np.diff(u)
+        return u[:-1].copy(), np.diff(np.concatenate([[0.0], slopes]))
+
+    def force(self, u_m):
+        """Bump-stop force (N, same sign as the displacement) for relative lateral displacements ``u_m`` (m)."""
+        u = np.asarray(u_m, dtype=float)
+        knots, dk = self.ramps()
+        a = np.abs(u)[..., None]
+        return np.sign(u) * np.sum(dk * np.maximum(a - knots, 0.0), axis=-1)
+
+
+@dataclass(frozen=True)
+class GeometryData:
+    """Vehicle and wheel–rail geometry (metres; heights above the top of rail).  Keys a layout does not use are
+    ``None``."""
+
+    r0_m: float
+    back_to_back_m: float
+    gauge_m: float
+    rail_inclination_tan: float
+    wheel_profile: str
+    rail_profile: str
+    primary_lateral_semi_spacing_m: float
+    semi_wheelbase_m: float | None = None
+    semi_bogie_centre_distance_m: float | None = None
+    secondary_lateral_semi_spacing_m: float | None = None
+    secondary_spring_height_m: float | None = None
+
+
+@dataclass(frozen=True)
+class VehicleData:
+    """A validated vehicle description (see the module docstring for the schema)."""
+
+    name: str
+    layout: str
+    source: str
+    wheelset: BodyData
+    primary: SuspensionData
+    geometry: GeometryData
+    bogie_frame: BodyData | None = None
+    car_body: BodyData | None = None
+    secondary: SuspensionData | None = None
+    bump_stop: BumpStopData | None = None
+    vertical_force_per_side_N: float = 0.0
+    description: str = ""
+    path: Path | None = field(default=None, compare=False)
+
+    # ---------------------------------------------------------------------------------------- derived layout
+    @property
+    def n_bogies(self) -> int:
+        return {"car": 2, "bogie": 1, "wheelset": 0}[self.layout]
+
+    @property
+    def n_wheelsets(self) -> int:
+        return {"car": 4, "bogie": 2, "wheelset": 1}[self.layout]
+
+    def bogie_x_m(self) -> list[float]:
+        """Bogie centre x positions (vehicle frame: origin at the vehicle centre), front first."""
+        if self.layout == "car":
+            lb = self.geometry.semi_bogie_centre_distance_m
+            return [lb, -lb]
+        return [0.0] if self.layout == "bogie" else []
+
+    def wheelset_x_m(self) -> list[float]:
+        """Wheelset x positions, front (leading) first."""
+        if self.layout == "wheelset":
+            return [0.0]
+        a = self.geometry.semi_wheelbase_m
+        return [x for xb in self.bogie_x_m() for x in (xb + a, xb - a)]
+
+    def wheelset_bogie(self) -> list[int | None]:
+        """Index of the bogie each wheelset belongs to (``None`` in the wheelset layout)."""
+        return [None] if self.layout == "wheelset" else [i // 2 for i in range(self.n_wheelsets)]
+
+    @property
+    def total_mass_kg(self) -> float:
+        """Mass of all modelled bodies (the dead load of the bogie/wheelset layouts is not a mass)."""
+        m = self.n_wheelsets * self.wheelset.mass_kg
+        if self.bogie_frame is not None:
+            m += self.n_bogies * self.bogie_frame.mass_kg
+        if self.car_body is not None:
+            m += self.car_body.mass_kg
+        return m
+
+    def wheel_flange_back_y_m(self) -> float:
+        """Flange-back position in the wheel profile frame (negative; -0.070 m for S1002)."""
+        if self.geometry.wheel_profile.upper() == "S1002":
+            from ..profiles.standard import S1002_FLANGE_BACK_Y_M
+            return S1002_FLANGE_BACK_Y_M
+        from ..profiles.profiles import resolve_wheel
+        return float(resolve_wheel(self.geometry.wheel_profile).flange_back_y_m)
+
+    def tape_circle_semi_spacing_m(self) -> float:
+        """Lateral distance of each wheel's tape circle from the track centre line (0.75 m for S1002 at
+        back-to-back 1.360 m): back_to_back/2 - (flange-back position in the wheel profile frame)."""
+        return 0.5 * self.geometry.back_to_back_m - self.wheel_flange_back_y_m()
+
+
+# --------------------------------------------------------------------------------------------------- reading
+_BODY_KEYS = ("mass_kg", "Ixx_kg_m2", "Iyy_kg_m2", "Izz_kg_m2")
+_SPRING_KEYS = ("kx_N_per_m", "ky_N_per_m", "kz_N_per_m")
+_DAMPER_KEYS = ("cx_N_s_per_m", "cy_N_s_per_m", "cz_N_s_per_m")
+_SECONDARY_EXTRA = ("yaw_stiffness_N_m_per_rad", "anti_roll_stiffness_N_m_per_rad")
+_GEOMETRY_ALWAYS = ("r0_m", "primary_lateral_semi_spacing_m", "back_to_back_m", "gauge_m", "rail_inclination",
+                    "wheel_profile", "rail_profile")
+
+# required / optional keys per table and layout
+_REQUIRED = {
+    "car": {
+        "vehicle": ("name", "layout", "source"),
+        "wheelset": _BODY_KEYS,
+        "bogie_frame": _BODY_KEYS + ("cg_height_m",),
+        "car_body": _BODY_KEYS + ("cg_height_m",),
+        "primary": _SPRING_KEYS + _DAMPER_KEYS,
+        "secondary": _SPRING_KEYS + _DAMPER_KEYS + _SECONDARY_EXTRA,
+        "geometry": _GEOMETRY_ALWAYS + ("semi_wheelbase_m", "semi_bogie_centre_distance_m",
+                                        "secondary_lateral_semi_spacing_m", "secondary_spring_height_m"),
+    },
+    "bogie": {
+        "vehicle": ("name", "layout", "source"),
+        "wheelset": _BODY_KEYS,
+        "bogie_frame": _BODY_KEYS + ("cg_height_m",),
+        "primary": _SPRING_KEYS + _DAMPER_KEYS,
+        "secondary": ("kx_N_per_m", "ky_N_per_m", "cx_N_s_per_m", "cy_N_s_per_m", "yaw_stiffness_N_m_per_rad"),
+        "geometry": _GEOMETRY_ALWAYS + ("semi_wheelbase_m", "secondary_lateral_semi_spacing_m",
+                                        "secondary_spring_height_m"),
+        "load": ("vertical_force_per_side_N",),
+    },
+    "wheelset": {
+        "vehicle": ("name", "layout", "source"),
+        "wheelset": _BODY_KEYS,
+        "primary": ("kx_N_per_m", "ky_N_per_m", "cx_N_s_per_m", "cy_N_s_per_m"),
+        "geometry": _GEOMETRY_ALWAYS,
+        "load": ("vertical_force_per_side_N",),
+    },
+}
+_OPTIONAL = {
+    "vehicle": ("description",),
+    "car_body": ("cg_x_m", "cg_y_m"),
+    "bump_stop": ("clearance_m", "displacement_m", "force_N"),
+}
+_BUMP_STOP_LAYOUTS = ("car", "bogie")
+_WHY_ABSENT = {
+    "bogie": "in layout 'bogie' the car body is replaced by [load] (a dead load has no stiffness)",
+    "wheelset": "in layout 'wheelset' the sprung mass is replaced by [load] (a dead load has no stiffness)",
+}
+
+
+class _Reader:
+    """Typed access to the parsed TOML with errors naming the key and the file."""
+
+    def __init__(self, data: dict, where: str):
+        self.data = data
+        self.where = where
+
+    def error(self, key: str, message: str) -> VehicleDataError:
+        return VehicleDataError(f"{self.where}: {key}: {message}")
+
+    def table(self, name: str) -> dict:
+        value = self.data.get(name)
+        if value is None:
+            raise self.error(f"[{name}]", "missing table")
+        if not isinstance(value, dict):
+            raise self.error(name, f"expected a table [{name}], got {type(value).__name__}")
+        return value
+
+    def number(self, table: str, key: str, *, positive=False, non_negative=False, default=None) -> float:
+        tab = self.data.get(table, {})
+        if key not in tab:
+            if default is not None:
+                return float(default)
+            raise self.error(f"{table}.{key}", "missing key")
+        value = tab[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(f"{table}.{key}", f"expected a number, got {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise self.error(f"{table}.{key}", f"must be finite, got {value!r}")
+        if positive and not value > 0.0:
+            raise self.error(f"{table}.{key}", f"must be positive, got {value!r}")
+        if non_negative and value < 0.0:
+            raise self.error(f"{table}.{key}", f"must not be negative, got {value!r}")
+        return value
+
+    def string(self, table: str, key: str, default=None) -> str:
+        tab = self.data.get(table, {})
+        if key not in tab:
+            if default is not None:
+                return default
+            raise self.error(f"{table}.{key}", "missing key")
+        value = tab[key]
+        if not isinstance(value, str) or not value.strip():
+            raise self.error(f"{table}.{key}", f"expected a non-empty string, got {value!r}")
+        return value.strip()
+
+    def numbers(self, table: str, key: str) -> tuple[float, ...]:
+        tab = self.data.get(table, {})
+        if key not in tab:
+            raise self.error(f"{table}.{key}", "missing key")
+        value = tab[key]
+        if not isinstance(value, list) or not value:
+            raise self.error(f"{table}.{key}", f"expected a non-empty array of numbers, got {value!r}")
+        out = []
+        for v in value:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
+                raise self.error(f"{table}.{key}", f"expected finite numbers, got {v!r}")
+            out.append(float(v))
+        return tuple(out)
+
+
+def _check_keys(r: _Reader, layout: str) -> None:
+    required = _REQUIRED[layout]
+    allowed_tables = set(required) | {"bump_stop"} if layout in _BUMP_STOP_LAYOUTS else set(required)
+    for name, value in r.data.items():
+        if name == "schema_version":
+            continue
+        if name not in allowed_tables:
+            why = _WHY_ABSENT.get(layout, "")
+            raise r.error(f"[{name}]", f"table not used in layout {layout!r}" + (f" ({why})" if why else "") +
+                          f"; allowed tables: {', '.join(sorted(allowed_tables))}")
+        if not isinstance(value, dict):
+            raise r.error(name, f"expected a table [{name}], got {type(value).__name__}")
+        allowed = set(required.get(name, ())) | set(_OPTIONAL.get(name, ()))
+        for key in value:
+            if key not in allowed:
+                all_keys = set(_SPRING_KEYS + _DAMPER_KEYS + _SECONDARY_EXTRA)
+                hint = f" ({_WHY_ABSENT[layout]})" if key in all_keys and layout in _WHY_ABSENT else ""
+                raise r.error(f"{name}.{key}", f"unknown key for layout {layout!r}{hint}; allowed: "
+                                               f"{', '.join(sorted(allowed))}")
+    for name, keys in required.items():
+        tab = r.table(name)
+        for key in keys:
+            if key not in tab:
+                raise r.error(f"{name}.{key}", "missing key")
+    if "bump_stop" in r.data:
+        for key in _OPTIONAL["bump_stop"]:
+            if key not in r.data["bump_stop"]:
+                raise r.error(f"bump_stop.{key}", "missing key")
+
+
+def _body(r: _Reader, table: str, cg_height_m: float | None = None) -> BodyData:
+    m, ixx, iyy, izz = (r.number(table, k, positive=True) for k in _BODY_KEYS)
+    for a, b, c, names in ((ixx, iyy, izz, "Ixx + Iyy >= Izz"), (iyy, izz, ixx, "Iyy + Izz >= Ixx"),
+                           (izz, ixx, iyy, "Izz + Ixx >= Iyy")):
+        if a + b < c * (1.0 - 1e-12):
+            raise r.error(f"{table}.Ixx_kg_m2/Iyy_kg_m2/Izz_kg_m2",
+                          f"principal inertias ({ixx:g}, {iyy:g}, {izz:g}) violate {names} (no rigid body has them)")
+    h = cg_height_m if cg_height_m is not None else r.number(table, "cg_height_m", positive=True)
+    return BodyData(m, ixx, iyy, izz, h, r.number(table, "cg_x_m", default=0.0),
+                    r.number(table, "cg_y_m", default=0.0))
+
+
+def _suspension(r: _Reader, table: str, layout: str) -> SuspensionData:
+    tab = r.data[table]
+    k = tuple(r.number(table, key, non_negative=True) if key in tab else 0.0 for key in _SPRING_KEYS)
+    c = tuple(r.number(table, key, non_negative=True) if key in tab else 0.0 for key in _DAMPER_KEYS)
+    extra = [r.number(table, key, non_negative=True) if key in tab else 0.0 for key in _SECONDARY_EXTRA]
+    return SuspensionData(k, c, *extra)
+
+
+def _profile(r: _Reader, key: str, names: tuple[str, ...], base: Path | None) -> str:
+    value = r.string("geometry", key)
+    if value.upper() in names:
+        return value.upper()
+    path = Path(value)
+    if not path.is_absolute() and base is not None:
+        path = base / path
+    if not path.is_file():
+        raise r.error(f"geometry.{key}", f"{value!r} is neither one of {', '.join(names)} nor an existing profile "
+                                         f"file (looked for {path})")
+    return str(path)
+
+
+def _geometry(r: _Reader, layout: str, base: Path | None) -> GeometryData:
+    g = "geometry"
+    tab = r.data[g]
+    r0 = r.number(g, "r0_m")
+    if not r0 > 0.0:
+        raise r.error(f"{g}.r0_m", f"the nominal rolling radius must be positive, got {r0!r}")
+    if r0 > 1.0:
+        raise r.error(f"{g}.r0_m", f"r0 = {r0} m is not a railway wheel radius (expected below 1 m; units?)")
+    gauge = r.number(g, "gauge_m", positive=True)
+    b2b = r.number(g, "back_to_back_m", positive=True)
+    if not 0.5 <= gauge <= 2.0:
+        raise r.error(f"{g}.gauge_m", f"gauge {gauge} m is outside 0.5 ... 2.0 m (units?)")
+    if not 0.0 < gauge - b2b < 0.15:
+        raise r.error(f"{g}.back_to_back_m", f"back-to-back {b2b} m must be below the gauge {gauge} m by less than "
+                                             "0.15 m (flange clearance)")
+    raw_inclination = tab.get("rail_inclination")
+    if isinstance(raw_inclination, bool) or not isinstance(raw_inclination, (str, int, float)):
+        raise r.error(f"{g}.rail_inclination", f"expected '1/40', '1/20', 'none' or a number, got {raw_inclination!r}")
+    try:
+        inclination = parse_inclination(raw_inclination)
+    except ValueError as exc:
+        raise r.error(f"{g}.rail_inclination", str(exc)) from None
+    wheel = _profile(r, "wheel_profile", ("S1002",), base)
+    rail = _profile(r, "rail_profile", ("UIC60", "60E1"), base)
+    b1 = r.number(g, "primary_lateral_semi_spacing_m", positive=True)
+    a = r.number(g, "semi_wheelbase_m", positive=True) if "semi_wheelbase_m" in tab else None
+    lb = r.number(g, "semi_bogie_centre_distance_m", positive=True) if "semi_bogie_centre_distance_m" in tab else None
+    b2 = (r.number(g, "secondary_lateral_semi_spacing_m", positive=True)
+          if "secondary_lateral_semi_spacing_m" in tab else None)
+    hs = r.number(g, "secondary_spring_height_m", positive=True) if "secondary_spring_height_m" in tab else None
+    if a is not None and a <= r0:
+        raise r.error(f"{g}.semi_wheelbase_m", f"{a} m is not larger than r0 = {r0} m: the wheels of a bogie "
+                                               "would overlap")
+    if lb is not None and lb <= a + r0:
+        raise r.error(f"{g}.semi_bogie_centre_distance_m", f"{lb} m is not larger than semi_wheelbase + r0 = "
+                                                           f"{a + r0} m: the inner wheelsets would overlap")
+    if hs is not None and hs <= r0:
+        raise r.error(f"{g}.secondary_spring_height_m", f"{hs} m is not above the axle (r0 = {r0} m)")
+    return GeometryData(r0, b2b, gauge, inclination, wheel, rail, b1, a, lb, b2, hs)
+
+
+def _bump_stop(r: _Reader) -> BumpStopData:
+    t = "bump_stop"
+    clearance = r.number(t, "clearance_m", non_negative=True)
+    u = r.numbers(t, "displacement_m")
+    f = r.numbers(t, "force_N")
+    if len(u) != len(f):
+        raise r.error(f"{t}.displacement_m/force_N", f"arrays of different length ({len(u)} and {len(f)})")
+    if u[0] <= clearance:
+        raise r.error(f"{t}.displacement_m", f"first displacement {u[0]} m is not beyond the clearance {clearance} m "
+                                             "(displacements are measured from the centred position)")
+    if any(b <= a for a, b in zip(u, u[1:])):
+        raise r.error(f"{t}.displacement_m", f"not strictly increasing: {list(u)}")
+    if any(v < 0.0 for v in f):
+        raise r.error(f"{t}.force_N", f"forces must not be negative (the characteristic is antisymmetric): {list(f)}")
+    if any(b < a for a, b in zip(f, f[1:])):
+        raise r.error(f"{t}.force_N", f"not monotonic (must not decrease with the displacement): {list(f)}")
+    return BumpStopData(clearance, u, f)
+
+
+def vehicle_from_dict(data: dict, source: str | Path = "<dict>", base_dir: Path | None = None) -> VehicleData:
+    """Validate parsed TOML content; ``source`` names the file in error messages, ``base_dir`` resolves relative
+    profile paths."""
+    where = str(source)
+    r = _Reader(data, where)
+    version = data.get("schema_version")
+    if version is None:
+        raise r.error("schema_version", f"missing key (expected schema_version = {SCHEMA_VERSION})")
+    if isinstance(version, bool) or version != SCHEMA_VERSION:
+        raise r.error("schema_version", f"unsupported version {version!r} (this reader: {SCHEMA_VERSION})")
+    r.table("vehicle")
+    layout = r.string("vehicle", "layout")
+    if layout not in LAYOUTS:
+        raise r.error("vehicle.layout", f"{layout!r} is not one of {', '.join(LAYOUTS)}")
+    _check_keys(r, layout)
+    geometry = _geometry(r, layout, base_dir)
+    wheelset = _body(r, "wheelset", cg_height_m=geometry.r0_m)
+    bogie = car = secondary = None
+    if layout in ("car", "bogie"):
+        bogie = _body(r, "bogie_frame")
+        if bogie.cg_height_m <= geometry.r0_m:
+            raise r.error("bogie_frame.cg_height_m", f"{bogie.cg_height_m} m is not above the axle (r0 = "
+                                                     f"{geometry.r0_m} m)")
+        secondary = _suspension(r, "secondary", layout)
+    if layout == "car":
+        car = _body(r, "car_body")
+        if car.cg_height_m <= geometry.r0_m:
+            raise r.error("car_body.cg_height_m", f"{car.cg_height_m} m is not above the axle (r0 = {geometry.r0_m} m)")
+        if abs(car.cg_x_m) >= geometry.semi_bogie_centre_distance_m:
+            raise r.error("car_body.cg_x_m", f"{car.cg_x_m} m puts the CG outside the bogie centres "
+                                             f"(±{geometry.semi_bogie_centre_distance_m} m)")
+        if abs(car.cg_y_m) >= geometry.secondary_lateral_semi_spacing_m:
+            raise r.error("car_body.cg_y_m", f"{car.cg_y_m} m puts the CG outside the secondary springs "
+                                             f"(±{geometry.secondary_lateral_semi_spacing_m} m)")
+        for table in ("primary", "secondary"):
+            if not r.number(table, "kz_N_per_m") > 0.0:
+                raise r.error(f"{table}.kz_N_per_m", "must be positive in layout 'car' (it carries the weight)")
+    primary = _suspension(r, "primary", layout)
+    bump = _bump_stop(r) if "bump_stop" in data else None
+    load = r.number("load", "vertical_force_per_side_N", non_negative=True) if "load" in data else 0.0
+    return VehicleData(
+        name=r.string("vehicle", "name"), layout=layout, source=r.string("vehicle", "source"), wheelset=wheelset,
+        primary=primary, geometry=geometry, bogie_frame=bogie, car_body=car, secondary=secondary, bump_stop=bump,
+        vertical_force_per_side_N=load, description=r.string("vehicle", "description", default=""),
+        path=Path(source) if isinstance(source, Path) else None)
+
+
+def load_vehicle(source: str | Path) -> VehicleData:
+    """Load and validate a vehicle file: a path to a ``.toml`` file or the name of a shipped vehicle
+    (``'manchester_vehicle1'``, ``'single_bogie'``, ``'single_wheelset'``; see :func:`shipped_vehicles`)."""
+    path = Path(source)
+    if not path.suffix and not path.exists():
+        path = VEHICLES_DIR / f"{source}.toml"
+    if not path.is_file():
+        raise VehicleDataError(f"{source}: vehicle file not found (shipped vehicles: "
+                               f"{', '.join(shipped_vehicles()) or 'none'})")
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise VehicleDataError(f"{path}: not valid TOML: {exc}") from None
+    return vehicle_from_dict(data, path.resolve(), base_dir=path.resolve().parent)
+
+
+def shipped_vehicles() -> list[str]:
+    """Names of the vehicle files in ``vehicles/``."""
+    return sorted(p.stem for p in VEHICLES_DIR.glob("*.toml")) if VEHICLES_DIR.is_dir() else []

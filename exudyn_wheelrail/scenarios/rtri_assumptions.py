@@ -1,0 +1,96 @@
+"""Everything the rigid-rail RTRI validation case needs that is *not* published — in one place.
+
+Reference case: Montenegro, Neves, Calçada, Tanabe & Sogabe, EURODYN 2014 / Computers & Structures 152 (2015)
+200–214: a full-scale car on the rollers of RTRI's Rolling Stock Test Plant; the rollers move laterally to
+reproduce the lateral deflection of a bridge span (what is and is not known: ``shared/reference/rtri_scenario.md``).
+Every result computed with these values must be labelled as using them.
+
+Each field below states its origin: **published** (the paper, as summarised in rtri_scenario.md) or
+**ASSUMPTION** (with the reasoning).  The shape of the deviation (sine over the span, C2 end transitions) is
+:class:`exudyn_wheelrail.multibody.track.SpanDeflection`.
+
+Deviation amplitude δ = 10 mm (ASSUMPTION)
+    The shape's end slope is k = πδ/L: 1.57 mrad on the 20 m span, 0.79 mrad on the 40 m span.  That is the order
+    of magnitude design codes allow for the horizontal rotation of a deck end about a vertical axis (EN 1990
+    Annex A2, A2.4.4.2.3, as we read it: 1.5 to 3.5 mrad depending on the line speed — not re-checked against the
+    standard's text here), i.e. the largest deviation a bridge may show in service, which is what a running-safety
+    test reproduces.  It also exceeds the lateral wheel–rail clearance to flange contact of S1002 on UIC60 1:40
+    (6.25–6.5 mm, computed by this project, README "contact jumps"), consistent with the paper's finding that the
+    20 m span produces a flange impact while the 40 m span (half the slope, a quarter of the curvature) does not.
+Transition length l_t = 3 m (ASSUMPTION)
+    A continuous welded rail cannot follow a kink; it spreads it over the length on which the track bends as a
+    beam on an elastic lateral foundation, characteristic length λ = (4 EI / k)^(1/4).  With two UIC60 rails about
+    their vertical axes, EI = 2 · 210 GPa · 512 cm⁴ ≈ 2.15e6 N m² (I_z ≈ 512 cm⁴ for 60E1, EN 13674-1), and a
+    lateral track stiffness k ≈ 10 MN/m per metre of track (an ASSUMED order of magnitude for ballast + fastenings),
+    λ ≈ 0.96 m; the bending response to a concentrated kink is confined to about half a wavelength, πλ ≈ 3.0 m.
+    l_t/L = 0.15 (20 m) and 0.075 (40 m): the sine keeps most of the span.  l_t is the least certain input; studies
+    should vary it (1 ... 6 m).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..multibody.track import SpanDeflection
+
+__all__ = ["RtriAssumptions", "RTRI"]
+
+
+@dataclass(frozen=True)
+class RtriAssumptions:
+    """Inputs of the RTRI case; the origin of each value is written next to it (see the module docstring)."""
+
+    # --- published (Montenegro et al. 2015; rtri_scenario.md)
+    span_lengths_m: tuple[float, ...] = (20.0, 40.0)   #: published: the two spans compared
+    time_step_s: float = 1.0e-3                        #: published
+    n_steps_published: int = 2500                      #: published (2.5 s; see run_time_s for what a run needs)
+    newmark_beta: float = 0.25                         #: published (no numerical dissipation)
+    newmark_gamma: float = 0.5                         #: published
+    plant_max_speed_km_h: float = 250.0                #: published: the plant's limit
+    deviation_direction: str = "lateral"               #: published: a lateral irregularity of the rigid track
+
+    # --- ASSUMPTIONS (not published)
+    #: ASSUMPTION: substitute vehicle (rtri_scenario.md): Manchester vehicle 1, S1002 on UIC60 1:40, gauge 1435 mm
+    vehicle: str = "manchester_vehicle1"
+    #: ASSUMPTION δ: see the module docstring (of the order of the code limits for deck-end rotation)
+    deviation_amplitude_m: float = 0.010
+    #: ASSUMPTION l_t: see the module docstring (≈ π λ, the bending half-wavelength of the rails on their support)
+    transition_length_m: float = 3.0
+    #: ASSUMPTION: the span deflects towards +y (the right rail)
+    deviation_sign: float = +1.0
+    #: ASSUMPTION: a set of speeds up to the plant's limit
+    speeds_km_h: tuple[float, ...] = (100.0, 150.0, 200.0, 250.0)
+    #: ASSUMPTION: distance of the leading wheelset to the start of the first transition at t = 0
+    lead_in_m: float = 10.0
+    #: ASSUMPTION: distance run after the trailing wheelset has left the span (car-body response decays)
+    run_out_m: float = 10.0
+
+    def __post_init__(self):
+        if not self.deviation_amplitude_m > 0.0 or not self.transition_length_m >= 0.0:
+            raise ValueError("RtriAssumptions: the deviation amplitude must be positive and the transition length "
+                             "non-negative")
+        if any(self.transition_length_m >= L for L in self.span_lengths_m):
+            raise ValueError("RtriAssumptions: transition_length_m must be shorter than every span")
+
+    def span_deflection(self, span_length_m: float, start_m: float | None = None) -> SpanDeflection:
+        """The deviation of one span; by default the span starts ``lead_in_m + l_t/2`` ahead of s = 0 (the leading
+        wheelset's track distance at t = 0)."""
+        if start_m is None:
+            start_m = self.lead_in_m + 0.5 * self.transition_length_m
+        return SpanDeflection(span_length_m=span_length_m, amplitude_m=self.deviation_sign * self.deviation_amplitude_m,
+                              start_m=start_m, transition_length_m=self.transition_length_m,
+                              direction=self.deviation_direction)
+
+    def end_rotation_rad(self, span_length_m: float) -> float:
+        """Slope of the untransitioned shape at the span ends, πδ/L."""
+        return math.pi * self.deviation_amplitude_m / span_length_m
+
+    def run_time_s(self, speed_km_h: float, span_length_m: float, vehicle_extent_m: float) -> float:
+        """Time for the whole vehicle (leading to trailing wheelset: ``vehicle_extent_m``) to pass the span, with
+        the lead-in and run-out distances."""
+        distance = self.lead_in_m + span_length_m + self.transition_length_m + vehicle_extent_m + self.run_out_m
+        return distance / (speed_km_h / 3.6)
+
+
+#: The default assumptions.
+RTRI = RtriAssumptions()
