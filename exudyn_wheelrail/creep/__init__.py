@@ -12,6 +12,7 @@ from .linear import (
     linear_creep_forces,
 )
 from .fastsim import DEFAULT_NX, DEFAULT_NY, fastsim, fastsim_core, fastsim_flexibilities
+from .table import NU_TABLE, NU_TOLERANCE, CreepTable, load_table, table_core, table_forces
 from .laws import polach, polach_core, she_core, shen_hedrick_elkins
 from .kalker_exact import KalkerSolution, kalker_exact, kalker_exact_extrapolated, kalker_exact_solution
 
@@ -20,4 +21,5 @@ __all__ = [
     "fastsim_spin_moment_coefficient", "fastsim", "fastsim_core", "fastsim_flexibilities", "DEFAULT_NX",
     "DEFAULT_NY", "KalkerSolution", "kalker_exact", "kalker_exact_extrapolated", "kalker_exact_solution",
     "shen_hedrick_elkins", "she_core", "polach", "polach_core",
+    "table_forces", "load_table", "CreepTable", "table_core", "NU_TABLE", "NU_TOLERANCE",
 ]

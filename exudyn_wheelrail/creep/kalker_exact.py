@@ -443,11 +443,12 @@ def _check(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x, n_
 def kalker_exact_solution(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x: int = DEFAULT_N_X,
                           n_y: int = DEFAULT_N_Y, tol: float = DEFAULT_TOL,
                           max_sweeps: int = DEFAULT_MAX_SWEEPS, initial=None,
-                          max_inner: int = DEFAULT_MAX_INNER) -> KalkerSolution:
+                          max_inner: int = DEFAULT_MAX_INNER, initial_traction=None) -> KalkerSolution:
     """Solve the discretised steady rolling problem; return totals, traction field and slip area.
 
     Arguments as :func:`kalker_exact`.  ``initial``: a previous :class:`KalkerSolution` on the same grid
-    (same a/b, n_x, n_y) used as a warm start.  Raises ``RuntimeError`` when the iteration does not converge
+    (same a/b, n_x, n_y) used as a warm start; or ``initial_traction`` = ``(px_Pa, py_Pa)`` arrays (n_y, n_x) (the
+    traction fields of such a solution, e.g. after a change of N or G).  Raises ``RuntimeError`` when the iteration does not converge
     within ``max_sweeps``."""
     a, b, xi, eta, phi, N, mu, G, nu, n_x, n_y, tol, max_sweeps = _check(
         a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x, n_y, tol, max_sweeps)
@@ -465,6 +466,13 @@ def kalker_exact_solution(a, b, xi, eta, phi, normal_force, mu, shear_modulus, p
             px[:] = initial.px_Pa.ravel() / G
             py[:] = initial.py_Pa.ravel() / G
             slip[:] = initial.slipping.ravel()
+        elif initial_traction is not None:
+            px0 = np.asarray(initial_traction[0], dtype=float)
+            py0 = np.asarray(initial_traction[1], dtype=float)
+            if px0.shape != (n_y, n_x) or py0.shape != (n_y, n_x):
+                raise ValueError(f"initial_traction must be two ({n_y}, {n_x}) arrays (strips x elements)")
+            px[:] = px0.ravel() / G
+            py[:] = py0.ravel() / G
         Bxx, Bxy, Byy, Axx, Ayy, Lx, Ly = _operator(a / b, nu, n_x, n_y)
         # the operators are for c = 1 m: element coordinates scale with c, the spin creepage with 1/c
         g = mu * pn / G

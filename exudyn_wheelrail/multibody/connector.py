@@ -53,6 +53,8 @@ from ..contact.pair import WheelRailPair
 from ..contact.search import monotone_rows
 from ..creep import linear as _linear
 from ..creep.fastsim import DEFAULT_NX, DEFAULT_NY, fastsim_core
+from ..creep.laws import polach_core, she_core
+from ..creep.table import table_core
 from .track import RigidStraightTrack, irregularity_at
 
 __all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", "ContactStateError",
@@ -62,7 +64,11 @@ __all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", 
 LAW_FASTSIM = 0
 LAW_LINEAR = 1        # Kalker's linear theory, unsaturated (tests, small-creepage studies)
 LAW_NONE = 2          # normal forces only
-CREEP_LAWS = {"fastsim": LAW_FASTSIM, "linear": LAW_LINEAR, "none": LAW_NONE}
+LAW_TABLE = 3         # the USETAB-style table of Kalker's exact theory (creep.table)
+LAW_SHE = 4           # Shen-Hedrick-Elkins (creep.laws)
+LAW_POLACH = 5        # Polach (creep.laws), k_A = k_S = 1
+CREEP_LAWS = {"fastsim": LAW_FASTSIM, "linear": LAW_LINEAR, "none": LAW_NONE, "table": LAW_TABLE,
+              "shen_hedrick_elkins": LAW_SHE, "polach": LAW_POLACH}
 
 # creep parameters cp[]
 CP_MU = 0
@@ -129,8 +135,9 @@ def rotation_from_vector(rx, ry, rz, R):
 
 
 @njit(cache=True)
-def _creep(law, a, b, xi, eta, phi, N, cp, t_nodes, coef):
-    """Creep forces of the selected law (contract of :mod:`exudyn_wheelrail.creep`); returns (Fx, Fy, Mz, flag)."""
+def _creep(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
+    """Creep forces of the selected law (contract of :mod:`exudyn_wheelrail.creep`); returns (Fx, Fy, Mz, flag).
+    ``tab``: the table's padded arrays (:meth:`~exudyn_wheelrail.creep.table.CreepTable.core_arrays`)."""
     if law == LAW_NONE or N <= 0.0:
         return 0.0, 0.0, 0.0, 0
     flag = 0
@@ -144,9 +151,22 @@ def _creep(law, a, b, xi, eta, phi, N, cp, t_nodes, coef):
         flag = CREEP_AB_CLAMPED
     C11, C22, C23 = _linear.kalker_coefficients_core(math.log(ab), cp[CP_NU], t_nodes, coef, 0)
     G = cp[CP_G]
+    if law == LAW_TABLE:
+        Fx, Fy, Mz = table_core(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, tab[0], tab[1], tab[2], tab[3],
+                                tab[4], tab[5], 3)
+        return Fx, Fy, Mz, flag
+    if law == LAW_SHE or law == LAW_POLACH:
+        C33 = 32.0 / (15.0 * math.pi) * C23 * ab ** -1.5     # simplified-theory spin-moment coefficient
+        if law == LAW_SHE:
+            Fx, Fy, Mz = she_core(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, C23, C33)
+        else:
+            Fx, Fy, Mz = polach_core(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, C23, C33, 1.0, 1.0)
+        return Fx, Fy, Mz, flag
     if law == LAW_LINEAR:
         c = math.sqrt(a * b)
-        return -G * c * c * C11 * xi, -G * c * c * (C22 * eta + c * C23 * phi), G * c * c * c * C23 * eta, flag
+        C33 = 32.0 / (15.0 * math.pi) * C23 * ab ** -1.5     # as creep.linear_creep_forces
+        return (-G * c * c * C11 * xi, -G * c * c * (C22 * eta + c * C23 * phi),
+                G * c * c * c * (C23 * eta - c * C33 * phi), flag)
     Fx, Fy, Mz = fastsim_core(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, C23, int(cp[CP_NX]), int(cp[CP_NY]),
                               0)
     return Fx, Fy, Mz, flag
@@ -155,7 +175,7 @@ def _creep(law, a, b, xi, eta, phi, N, cp, t_nodes, coef):
 @njit(cache=True)
 def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                         nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                        f_out, res):
+                        tab, f_out, res):
     """All wheelsets in one call.  ``q``, ``q_t`` (6 n): per wheelset displacement (global), rotation vector,
     velocity (global) and body-frame angular velocity (Lie-group node coordinates); ``p_ref`` (n, 3) reference
     positions.  Fills ``f_out`` (6 n): force (global) and torque (body frame) per wheelset, and ``res``
@@ -262,7 +282,7 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 Mz = 0.0
                 if math.isfinite(xi) and (cstat & 12) == 0:     # no degenerate frame / invalid input
                     Fx, Fy, Mz, flag = _creep(law, ow[K.F_SEMI_A], ow[K.F_SEMI_B], xi, eta, phi, N, cp, t_nodes,
-                                              coef)
+                                              coef, tab)
                     cstat |= flag
                 else:
                     for i in range(3):
@@ -313,14 +333,14 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
 @njit(cache=True)
 def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                           nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                          f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
+                          tab, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core`;
     rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group update.  The warm-start
     state is restored after every perturbed call."""
     n = q.shape[0]
     warm0 = warm.copy()
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
-                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, f0, res)
+                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, f0, res)
     warm[:] = warm0
     f1 = np.empty(n)
     qp = q.copy()
@@ -347,7 +367,7 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
             _rotation_vector_from_matrix(Rn, qp, o + 3)
         contact_forces_core(qp, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                             nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                            f1, res)
+                            tab, f1, res)
         warm[:] = warm0
         for r in range(n):
             jac[r, j] = -(f1[r] - f0[r]) / h * f_odeq
@@ -356,14 +376,14 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
         vp[j] = q_t[j] + h_vel
         contact_forces_core(q, vp, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                             nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                            f1, res)
+                            tab, f1, res)
         warm[:] = warm0
         for r in range(n):
             jac[r, j] -= (f1[r] - f0[r]) / h_vel * f_odev
         vp[j] = q_t[j]
     # leave res/out describing the unperturbed state
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
-                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, f0, res)
+                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, f0, res)
     warm[:] = warm0
 
 
@@ -431,7 +451,14 @@ class WheelRailContact:
     s_start_m : track distance of the model frame's origin at t = 0.
     frame : ``"moving"`` (the model frame translates with V; default, as :func:`.vehicle_builder.build_vehicle`)
         or ``"track"`` (the frame is fixed to the track; wheelsets carry their forward speed themselves).
-    creep_law : ``"fastsim"`` (default), ``"linear"`` (Kalker's linear theory, no saturation) or ``"none"``.
+    creep_law : ``"fastsim"`` (default), ``"table"`` (the USETAB-style table of Kalker's exact theory,
+        :mod:`exudyn_wheelrail.creep.table`), ``"shen_hedrick_elkins"``, ``"polach"`` (cheap laws,
+        :mod:`exudyn_wheelrail.creep.laws`), ``"linear"`` (Kalker's linear theory, no saturation) or ``"none"``.
+        Outside a law's semi-axis-ratio range (Table E.3's 0.1–10 for the laws built on it, the table's own range
+        for ``"table"``) the law is evaluated for the ellipse of the same area at the nearest allowed ratio and the
+        point is flagged (``RES_CREEP_STATUS`` bit 64).
+    creep_table : a :class:`~exudyn_wheelrail.creep.table.CreepTable` or a table file for ``"table"`` (default:
+        the packaged table).
     mu : friction coefficient.  ``E_*``, ``nu_*``: materials (Hertz uses both; the creep laws use Kalker's
         quasi-identical combination).
     fastsim_grid : ``(n_x, n_y)`` of FASTSIM.
@@ -444,7 +471,7 @@ class WheelRailContact:
                  track: RigidStraightTrack | None = None, s_start_m: float = 0.0, frame: str = "moving",
                  creep_law: str = "fastsim", mu: float = 0.3, E_wheel_Pa: float = 2.1e11, nu_wheel: float = 0.28,
                  E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28, fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
-                 global_search: bool = False, jacobian: str | None = "numerical",
+                 creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
                  v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact"):
         import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
@@ -492,6 +519,23 @@ class WheelRailContact:
         cp[CP_AB_MAX] = _linear.A_OVER_B_MAX
         self.cp = cp
         self._law = CREEP_LAWS[creep_law]
+        if creep_law == "table":
+            from ..creep.table import NU_TOLERANCE, load_table
+            table = load_table(creep_table) if not hasattr(creep_table, "core_arrays") else creep_table
+            if abs(nu - table.poisson) > NU_TOLERANCE + 1e-12:
+                raise ValueError(f"creep table built for Poisson's ratio {table.poisson}, the materials give {nu:.3f} "
+                                 f"(accepted ±{NU_TOLERANCE}); build a table for this ν (python -m exudyn_wheelrail "
+                                 "creep-table --nu ...) or use creep_law='fastsim'")
+            t_nodes, t_breaks, r_pad, th_pad, ps_pad, values_pad = table.core_arrays()
+            self._tab = (np.ascontiguousarray(t_nodes, dtype=float), np.ascontiguousarray(t_breaks, dtype=np.int8),
+                         np.ascontiguousarray(r_pad, dtype=float), np.ascontiguousarray(th_pad, dtype=float),
+                         np.ascontiguousarray(ps_pad, dtype=float), np.ascontiguousarray(values_pad, dtype=float))
+            cp[CP_AB_MIN], cp[CP_AB_MAX] = table.ratio_nodes[0], table.ratio_nodes[-1]
+            self.creep_table = table
+        else:
+            self._tab = (np.zeros(2), np.zeros(2, np.int8), np.zeros(3), np.zeros(3), np.zeros(3),
+                         np.zeros((2, 3, 3, 3, 3)))
+            self.creep_table = None
         packed = self.track.packed()
         self._irr = (np.ascontiguousarray(packed.rows, dtype=float), np.ascontiguousarray(packed.knots, dtype=float),
                      np.ascontiguousarray(packed.coefs, dtype=float))
@@ -516,7 +560,7 @@ class WheelRailContact:
         kc = self._kc
         return (q, q_t, self.p_ref, t, self.speed_m_s, self.moving_frame, self.s_start_m, *self._irr, kc.nodes,
                 kc.meta, kc.mono, kc.curve_ids, kc.warm, kc.params, self._side_poses, kc.out, self._law, self.cp,
-                _linear._T_NODES, _linear._COEF)
+                _linear._T_NODES, _linear._COEF, self._tab)
 
     def forces(self, q, q_t, t: float) -> np.ndarray:
         """Generalized contact forces for the object coordinates (force global, torque body frame per wheelset);

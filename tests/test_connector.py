@@ -1,0 +1,273 @@
+"""The wheel–rail connector in Exudyn: static loads against the weight split, Klingel's kinematic wavelength of a
+free coned wheelset and of a rigid bogie, wheelset spin over > 2000 rad, separation and re-contact, force/moment
+bookkeeping, creep-law selection, bad states."""
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import exudyn as exu
+import numpy as np
+import pytest
+from exudyn.itemInterface import LoadTorqueVector, MarkerNodeRigid
+
+from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
+from exudyn_wheelrail.multibody import build_vehicle, simulation_settings, vehicle_from_dict
+from exudyn_wheelrail.multibody import connector as C
+from exudyn_wheelrail.profiles import WheelProfile
+
+VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
+G_M_S2 = 9.81
+
+
+def _pair(wheel="S1002"):
+    return WheelRailPair(wheel, "UIC60", inclination="1/40")
+
+
+def _solve(mbs, T, dt, solver="rk44"):
+    sim = simulation_settings(T, dt)
+    sim.timeIntegration.explicit.computeEndOfStepAccelerations = False
+    sim.timeIntegration.newton.useModifiedNewton = True
+    mbs.SolveDynamic(sim, solverType=exu.DynamicSolverType.RK44 if solver == "rk44"
+                     else exu.DynamicSolverType.GeneralizedAlpha)
+
+
+def test_static_wheel_loads_equal_the_weight_split():
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=30.0)
+    pair = _pair()
+    C.place_on_rails(mbs, model, pair)
+    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=30.0, creep_law="fastsim",
+                                       fastsim_grid=(16, 8))
+    mbs.Assemble()
+    _solve(mbs, 0.3, 1e-3)
+    contact.evaluate(mbs, 0.3)
+    Q = np.array([[-contact.wheel_force_N(w, s)[2] for s in ("right", "left")] for w in range(4)])
+    total_weight = model.vehicle.total_mass_kg * G_M_S2
+    assert Q.sum() == pytest.approx(total_weight, rel=2e-3)
+    # symmetric vehicle: every wheel carries an eighth (the lever rule of the builder's load path)
+    np.testing.assert_allclose(Q, total_weight / 8, rtol=2e-3)
+
+
+def _free_wheelset_data(kxy=0.0):
+    d = tomllib.loads((VEHICLES / "single_wheelset.toml").read_text())
+    d["primary"] = {"kx_N_per_m": kxy, "ky_N_per_m": kxy, "cx_N_s_per_m": 0.0, "cy_N_s_per_m": 0.0}
+    return vehicle_from_dict(d)
+
+
+def _zero_crossing_wavelength(t, y, speed):
+    zc = [t[i - 1] - y[i - 1] * (t[i] - t[i - 1]) / (y[i] - y[i - 1]) for i in range(1, len(y))
+          if (y[i - 1] > 0 >= y[i]) or (y[i - 1] < 0 <= y[i])]
+    return speed * 2 * np.diff(zc)
+
+
+def _klingel(pair, dz, conicity):
+    """λ = 2π √(r0 e / γ) with r0 and e (half the lateral distance of the contact points) of the centred pair."""
+    pts = WheelsetContact(pair, 1).contact_points(0.0, -0.46 + dz, 0.0)
+    r0 = float(np.mean([p.rolling_radius_m for p in pts]))
+    e = 0.5 * abs(pts[0].p_wheel_in_track[0] - pts[1].p_wheel_in_track[0])
+    return 2 * math.pi * math.sqrt(r0 * e / conicity), e
+
+
+def test_free_coned_wheelset_runs_at_klingels_wavelength():
+    conicity, speed = 0.05, 5.0
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, _free_wheelset_data(), speed_m_s=speed)
+    pair = _pair(WheelProfile.cone(conicity))
+    dz = C.place_on_rails(mbs, model, pair)
+    ws = model.wheelsets[0]
+    q0 = np.array(mbs.GetNodeParameter(ws.node, "initialCoordinates"))
+    q0[1] = 1e-3
+    mbs.SetNodeParameter(ws.node, "initialCoordinates", q0.tolist())
+    C.add_wheel_rail_contact(mbs, [ws.node], pair, speed_m_s=speed)
+    rec = []
+    mbs.SetPreStepUserFunction(lambda mbs, t: rec.append(
+        (t, mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Position)[1])) or True)
+    mbs.Assemble()
+    _solve(mbs, 8.0, 1e-3, "newmark")
+    t, y = np.array(rec).T
+    lam = _zero_crossing_wavelength(t, y, speed)
+    ref, _ = _klingel(pair, dz, conicity)
+    assert len(lam) >= 3
+    np.testing.assert_allclose(lam, ref, rtol=0.02)
+    assert np.std(lam) < 1e-3 * ref            # a clean periodic motion
+
+
+def test_rigid_bogie_runs_at_the_rigid_bogie_wavelength():
+    conicity, speed, kp = 0.05, 5.0, 1e9
+    d = tomllib.loads((VEHICLES / "single_bogie.toml").read_text())
+    d["primary"].update(kx_N_per_m=kp, ky_N_per_m=kp, kz_N_per_m=kp, cx_N_s_per_m=0.0, cy_N_s_per_m=0.0)
+    d["secondary"].update(kx_N_per_m=0.0, ky_N_per_m=0.0, cx_N_s_per_m=0.0, cy_N_s_per_m=0.0,
+                          yaw_stiffness_N_m_per_rad=0.0)
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, vehicle_from_dict(d), speed_m_s=speed, bump_stop="none")
+    pair = _pair(WheelProfile.cone(conicity))
+    dz = C.place_on_rails(mbs, model, pair)
+    for body in model.bodies:
+        q0 = np.array(mbs.GetNodeParameter(body.node, "initialCoordinates"))
+        q0[1] = 1e-3
+        mbs.SetNodeParameter(body.node, "initialCoordinates", q0.tolist())
+    C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=speed)
+    bogie = model.bogies[0]
+    rec = []
+    mbs.SetPreStepUserFunction(lambda mbs, t: rec.append(
+        (t, mbs.GetNodeOutput(bogie.node, exu.OutputVariableType.Position)[1])) or True)
+    mbs.Assemble()
+    _solve(mbs, 12.0, 1e-3, "newmark")
+    t, y = np.array(rec).T
+    lam = _zero_crossing_wavelength(t, y, speed)
+    lam_w, e = _klingel(pair, dz, conicity)
+    a = model.vehicle.geometry.semi_wheelbase_m
+    assert len(lam) >= 2
+    np.testing.assert_allclose(lam, lam_w * math.sqrt(1 + (a / e) ** 2), rtol=0.02)
+
+
+def test_spin_over_2000_rad_changes_nothing():
+    """A wheelset at 250 km/h held by its primary springs with a constant yaw moment (steady creep forces):
+    creepages and forces after more than 2000 rad of spin equal those after 1 s."""
+    speed = 250 / 3.6
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=speed)
+    pair = _pair()
+    C.place_on_rails(mbs, model, pair)
+    ws = model.wheelsets[0]
+    mbs.AddLoad(LoadTorqueVector(markerNumber=mbs.AddMarker(MarkerNodeRigid(nodeNumber=ws.node)),
+                                 loadVector=[0.0, 0.0, 3000.0]))
+    contact = C.add_wheel_rail_contact(mbs, [ws.node], pair, speed_m_s=speed, creep_law="fastsim",
+                                       fastsim_grid=(16, 8))
+    snapshots = {}
+    probe = (1.0, 2100 * pair.r0_m / speed)
+
+    def pre(mbs, t):
+        for tp in probe:
+            if abs(t - tp) < 0.5e-3 and tp not in snapshots:
+                snapshots[tp] = (contact.evaluate(mbs, t).copy(),
+                                 mbs.GetNodeOutput(ws.node, exu.OutputVariableType.AngularVelocity).copy(),
+                                 np.array(mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Coordinates)))
+        return True
+
+    mbs.SetPreStepUserFunction(pre)
+    mbs.Assemble()
+    _solve(mbs, probe[1] + 0.01, 1e-3)
+    (r1, w1, q1), (r2, w2, q2) = snapshots[probe[0]], snapshots[probe[1]]
+    assert abs(w2[1]) * probe[1] > 2000                      # the spin angle travelled
+    assert np.all(np.isfinite(q2)) and np.linalg.norm(q2[3:]) < 2 * math.pi + 1e-9   # bounded rotation vector
+    tread = (slice(None), 0)
+    for field, tol in ((C.RES_N, 1e-3 * 5e4), (C.RES_FY, 1.0), (C.RES_FX, 1.0)):
+        np.testing.assert_allclose(r2[tread][:, field], r1[tread][:, field], atol=tol)
+    np.testing.assert_allclose(r2[tread][:, C.RES_ETA], r1[tread][:, C.RES_ETA], atol=1e-7)
+    assert np.max(np.abs(r1[tread][:, C.RES_FY])) > 100.0      # the test has steady creep forces to compare
+
+
+def test_separation_gives_no_force_and_recontact_is_found():
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=20.0)
+    pair = _pair()
+    dz = C.place_on_rails(mbs, model, pair)
+    ws = model.wheelsets[0]
+    q0 = np.array(mbs.GetNodeParameter(ws.node, "initialCoordinates"))
+    q0[2] -= 1e-3                                       # lifted 1 mm above its equilibrium
+    mbs.SetNodeParameter(ws.node, "initialCoordinates", q0.tolist())
+    contact = C.add_wheel_rail_contact(mbs, [ws.node], pair, speed_m_s=20.0)
+    rec = []
+    mbs.SetPreStepUserFunction(lambda mbs, t: rec.append(
+        (t, contact.evaluate(mbs, t)[:, :, C.RES_N].sum(),
+         mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Position)[2])) or True)
+    mbs.Assemble()
+    _solve(mbs, 0.1, 2e-4)
+    t, N, z = np.array(rec).T
+    lifted = z < -0.46 + dz - 1.5e-4                    # clearly above the unloaded touching height
+    assert lifted[:5].all() and np.all(N[lifted] == 0.0)
+    assert N.max() > 5e4                                 # it lands
+
+
+def test_generalized_forces_match_the_contact_forces():
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=30.0)
+    pair = _pair()
+    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=30.0)
+    q = np.array([0.0, 2e-3, 4e-4, 0.0, 0.7, 0.0])
+    v = np.array([0.1, 0.05, 0.0, 0.0, -30 / 0.46, 0.01])
+    f = contact.forces(q, v, 0.0).copy()
+    r = contact.results
+    F = r[:, :, C.RES_F_TRACK_X:C.RES_F_TRACK_Z + 1].reshape(-1, 3)
+    P = r[:, :, C.RES_P_X:C.RES_P_Z + 1].reshape(-1, 3)
+    np.testing.assert_allclose(f[:3], F.sum(axis=0), rtol=1e-12)
+    # torque: Σ (p - c) × F + spin moments; f[3:] is it in the body frame
+    Rm = np.empty((3, 3))
+    C.rotation_from_vector(*q[3:], Rm)
+    c = np.array([0.0, 0.0, -0.46]) + q[:3]
+    tau_forces = np.cross(P - c, F).sum(axis=0)
+    tau = Rm @ f[3:]
+    Mz = r[:, :, C.RES_MZ].reshape(-1)
+    assert np.linalg.norm(tau - tau_forces) <= np.abs(Mz).sum() + 1e-9
+    assert (r[:, :, C.RES_STATUS] > 0).sum() >= 2
+
+
+def test_rotation_vector_round_trip():
+    rng = np.random.default_rng(3)
+    R = np.empty((3, 3))
+    v = np.empty(3)
+    for _ in range(50):
+        w = rng.normal(size=3)
+        w *= rng.uniform(0, math.pi - 1e-3) / np.linalg.norm(w)
+        C.rotation_from_vector(*w, R)
+        np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+        C._rotation_vector_from_matrix(R, v, 0)
+        np.testing.assert_allclose(v, w, atol=1e-9)
+
+
+@pytest.mark.parametrize("law", ["linear", "fastsim", "shen_hedrick_elkins", "polach"])
+def test_creep_law_dispatch_matches_the_creep_modules(law):
+    from exudyn_wheelrail import creep
+    from exudyn_wheelrail.creep import linear
+
+    funcs = {"fastsim": lambda *a: creep.fastsim(*a, n_x=16, n_y=8), "shen_hedrick_elkins": creep.shen_hedrick_elkins,
+             "polach": creep.polach,
+             "linear": lambda a, b, xi, eta, phi, N, mu, G, nu: creep.linear_creep_forces(a, b, xi, eta, phi, G, nu)}
+    cp = np.zeros(C.N_CP)
+    cp[[C.CP_MU, C.CP_G, C.CP_NU, C.CP_NX, C.CP_NY, C.CP_AB_MIN, C.CP_AB_MAX]] = [0.3, 8.1e10, 0.28, 16, 8, 0.1, 10]
+    tab = (np.zeros(2), np.zeros(2, np.int8), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((2, 3, 3, 3, 3)))
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        a, b = rng.uniform(2e-3, 8e-3, 2)
+        xi, eta = rng.normal(scale=5e-4, size=2)
+        phi = rng.normal(scale=0.5)
+        got = C._creep(C.CREEP_LAWS[law], a, b, xi, eta, phi, 4e4, cp, linear._T_NODES, linear._COEF, tab)
+        want = funcs[law](a, b, xi, eta, phi, 4e4, 0.3, 8.1e10, 0.28)
+        np.testing.assert_allclose(got[:3], want, rtol=1e-9, atol=1e-9)
+        assert got[3] == 0
+    # outside Table E.3's a/b range: evaluated at the limit with the same area, flagged
+    got = C._creep(C.CREEP_LAWS[law], 0.02, 1e-3, 1e-4, 0.0, 0.0, 4e4, cp, linear._T_NODES, linear._COEF, tab)
+    c = math.sqrt(0.02 * 1e-3)
+    want = funcs[law](c * math.sqrt(10), c / math.sqrt(10), 1e-4, 0.0, 0.0, 4e4, 0.3, 8.1e10, 0.28)
+    np.testing.assert_allclose(got[:2], want[:2], rtol=1e-9)
+    assert got[3] == C.CREEP_AB_CLAMPED
+
+
+def test_non_finite_state_raises_a_clear_error():
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=30.0)
+    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0)
+    q = np.zeros(6)
+    q[1] = np.nan
+    with pytest.raises(C.ContactStateError, match="wheelset 0"):
+        contact.forces(q, np.zeros(6), 1.5)
+
+
+def test_bad_options_raise():
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=30.0)
+    with pytest.raises(ValueError, match="creep_law"):
+        C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0, creep_law="magic")
+    with pytest.raises(ValueError, match="speed"):
+        C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=-1.0)
