@@ -271,3 +271,15 @@ def test_bad_options_raise():
         C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0, creep_law="magic")
     with pytest.raises(ValueError, match="speed"):
         C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=-1.0)
+
+
+def test_example_with_a_users_own_exudyn_model():
+    import importlib.util
+    path = Path(__file__).resolve().parents[1] / "examples" / "own_exudyn_model.py"
+    spec = importlib.util.spec_from_file_location("own_exudyn_model", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    t, y, contact = mod.main(["--time", "0.6"])
+    assert abs(y[0] - 0.003) < 1e-9 and abs(y[-1]) < 0.5e-3        # pulled back towards the centre
+    Q = [-contact.wheel_force_N(0, s)[2] for s in ("right", "left")]
+    assert sum(Q) == pytest.approx(2 * (45e3 + 1813.0 * 9.81 / 2), rel=5e-3)

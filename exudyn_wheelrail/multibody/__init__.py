@@ -2,8 +2,15 @@
 
 ::
 
-    from exudyn_wheelrail.multibody import load_vehicle, build_vehicle, SpanDeflection
+    from exudyn_wheelrail.multibody import load_vehicle, build_vehicle, SpanDeflection, add_wheel_rail_contact
 """
+from .connector import (
+    ContactStateError,
+    WheelRailContact,
+    add_wheel_rail_contact,
+    place_on_rails,
+    static_axle_offset_m,
+)
 from .track import (
     Harmonic,
     Irregularity,
@@ -32,4 +39,5 @@ __all__ = [
     "VehicleModel", "WheelsetHandle",
     "Irregularity", "NoIrregularity", "SpanDeflection", "Harmonic", "SampledIrregularity", "IrregularitySum",
     "RigidStraightTrack", "irregularity_at", "irregularity_many",
+    "add_wheel_rail_contact", "WheelRailContact", "ContactStateError", "place_on_rails", "static_axle_offset_m",
 ]
