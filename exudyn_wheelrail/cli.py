@@ -4,6 +4,9 @@ Commands
 --------
 geometry   contact-geometry functions of a wheelset lateral sweep -> CSV (and an optional plot)
 conicity   equivalent conicity (EN 15302 definitions) for an amplitude
+creep-table  build a USETAB-style creep table (npz) with Kalker's exact theory or FASTSIM
+rtri       the rigid-rail RTRI validation case (one span, one speed): time series, summary, Figs. 5/6
+rtri-sweep the RTRI case over spans x speeds in parallel processes: table and Fig. 7
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 """
@@ -111,6 +114,106 @@ def cmd_conicity(args):
     return 0
 
 
+def _parse_option(text):
+    if "=" not in text:
+        raise argparse.ArgumentTypeError(f"--option expects KEY=VALUE, got {text!r}")
+    key, value = text.split("=", 1)
+    for conv in (int, float):
+        try:
+            return key.strip(), conv(value)
+        except ValueError:
+            pass
+    return key.strip(), value.strip()
+
+
+def cmd_creep_table(args):
+    from .creep.build_table import build_table, grid_summary
+    print(grid_summary(args.grid))
+    build_table(args.out, generator=args.generator, grid=args.grid, workers=args.workers, poisson=args.nu,
+                options=dict(args.option or []), keep_parts=args.keep_parts, progress=None if args.quiet else print)
+    return 0
+
+
+def _steps_arg(text):
+    if text == "auto":
+        return text
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--steps expects a positive integer or 'auto', got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"--steps expects a positive integer or 'auto', got {text!r}")
+    return n
+
+
+def _rtri_deviation(args):
+    delta = None if args.delta_mm is None else args.delta_mm * 1e-3
+    return delta, args.transition_m
+
+
+def _print_rtri_summary(summary):
+    import json
+    p = summary.get("peaks_passage", {})
+    rtf = summary["real_time_factor"] or 0.0
+    print(f"status: {summary['status']}; solve {summary['solve_seconds']:.2f} s for "
+          f"{summary['simulated_time_s']:.3f} s simulated (real-time factor {rtf:.2f})")
+    if p:
+        print(f"passage peaks: max |Y| w1 right {p['max_abs_lateral_contact_force_w1_right_N'] / 1e3:.2f} kN, max "
+              f"|a| car body rear {p['max_abs_carbody_lateral_acceleration_rear_m_s2']:.3f} m/s^2, flange contact "
+              f"w1 right: {'yes' if p['flange_contact_w1_right'] else 'no'} "
+              f"({p['flange_contact_w1_right_duration_s'] * 1e3:.0f} ms)")
+    for note in summary["notes"]:
+        print("note:", note)
+    print("assumptions (value, origin):")
+    for group, items in summary["assumptions"].items():
+        for name, item in items.items():
+            if isinstance(item, dict):
+                print(f"  {group}.{name} = {json.dumps(item['value'])}  [{item['origin']}]")
+            else:
+                print(f"  {group}.{name}: {item}")
+
+
+def cmd_rtri(args):
+    from .scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
+    delta, lt = _rtri_deviation(args)
+    case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver=args.solver, dt_s=args.dt, steps=args.steps,
+                    creep_law=args.creep_law, deviation_amplitude_m=delta, transition_length_m=lt)
+    result = run_rtri(case, progress=print)
+    paths = write_rtri_outputs(result, args.out, plots=not args.no_plots)
+    _print_rtri_summary(result.summary)
+    print("wrote " + ", ".join(str(p) for p in paths.values()))
+    return 0 if result.summary["status"] == "ok" else 1
+
+
+def cmd_rtri_sweep(args):
+    from .scenarios.rtri import RTRI, run_sweep
+    delta, lt = _rtri_deviation(args)
+    speeds = args.speeds_kmh if args.speeds_kmh else list(RTRI.speeds_km_h)
+    spans = args.spans if args.spans else list(RTRI.span_lengths_m)
+    print(f"RTRI sweep: spans {spans} m, speeds {speeds} km/h, {args.solver}, dt {args.dt} s, steps {args.steps}")
+    summaries = run_sweep(spans, speeds, args.out, workers=args.workers, solver=args.solver, dt_s=args.dt,
+                          steps=args.steps, creep_law=args.creep_law, deviation_amplitude_m=delta,
+                          transition_length_m=lt, write_cases=not args.no_case_outputs)
+    print(f"wrote {args.out}/sweep.csv, sweep.json, fig7_max_carbody_acceleration.png")
+    return 0 if all(s["status"] == "ok" for s in summaries) else 1
+
+
+def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
+    p.add_argument("--solver", default="newmark", choices=("newmark", "rk44"),
+                   help="newmark: trapezoidal rule (beta 1/4, gamma 1/2, the paper's; default); rk44: explicit")
+    p.add_argument("--dt", type=float, default=1e-3, help="time step [s] (default 0.001, the paper's)")
+    p.add_argument("--steps", type=_steps_arg, default=steps_default,
+                   help=f"number of steps or 'auto' (enough for the whole car to pass the span; default "
+                        f"{steps_default})")
+    p.add_argument("--creep-law", default="fastsim", help="creep law of the connector (default fastsim)")
+    p.add_argument("--delta-mm", type=float, default=None,
+                   help="deviation amplitude [mm] (default: RtriAssumptions, 10 mm; an override is marked in the "
+                        "summary)")
+    p.add_argument("--transition-m", type=float, default=None,
+                   help="end-transition length [m] (default: RtriAssumptions, 3 m)")
+    p.add_argument("--out", required=True, help="output directory")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -126,6 +229,41 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--contact-distance", type=float, default=None,
                    help="distance between the nominal contact points 2e [m] (default back-to-back + 140 mm)")
     c.set_defaults(func=cmd_conicity)
+    t = sub.add_parser("creep-table", help="build a creep table (Kalker exact theory or FASTSIM) into an npz file",
+                       description="Build a USETAB-style creep table (exudyn_wheelrail.creep.table): parallel, "
+                                   "chunked, resumable (re-run the same command to continue), deterministic.")
+    t.add_argument("--out", required=True, help="npz file to write (the package table: "
+                                                "exudyn_wheelrail/data/creep_table.npz, exact generator only)")
+    t.add_argument("--generator", default="exact", choices=("exact", "fastsim"),
+                   help="exact: Kalker's exact theory (default); fastsim: FASTSIM stand-in (development)")
+    t.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    t.add_argument("--grid", default="default", choices=("coarse", "default"), help="node set (default: default)")
+    t.add_argument("--nu", type=float, default=0.28, help="Poisson's ratio of the table (default 0.28, steel)")
+    t.add_argument("--option", action="append", type=_parse_option, metavar="KEY=VALUE",
+                   help="generator option, repeatable (FASTSIM: n_x, n_y, flexibility; exact: the solver's "
+                        "keyword options, warm_start=1)")
+    t.add_argument("--keep-parts", action="store_true", help="keep the per-chunk results after assembling")
+    t.add_argument("--quiet", action="store_true", help="no progress output")
+    t.set_defaults(func=cmd_creep_table)
+    r = sub.add_parser("rtri", help="the rigid-rail RTRI validation case (substitute inputs, see summary.json)",
+                       description="RTRI rigid-rail case: Manchester vehicle 1 (substitute) on a rigid track with a "
+                                   "span-deflection lateral deviation at constant speed; writes timeseries.csv, "
+                                   "summary.json, fig5_carbody_acceleration.png, fig6_lateral_force.png")
+    r.add_argument("--span", type=float, default=20.0, help="span length L [m] (default 20)")
+    r.add_argument("--speed-kmh", type=float, default=250.0, help="running speed [km/h] (default 250)")
+    _add_rtri_common(r, 2500)
+    r.add_argument("--no-plots", action="store_true", help="do not write the PNG figures")
+    r.set_defaults(func=cmd_rtri)
+    w = sub.add_parser("rtri-sweep", help="the RTRI case over spans and speeds in parallel (Fig. 7)",
+                       description="Runs the RTRI case for every span x speed in parallel processes; writes "
+                                   "sweep.csv, sweep.json, fig7_max_carbody_acceleration.png and cases/L*_V*/")
+    w.add_argument("--spans", type=float, nargs="+", default=None, help="span lengths [m] (default 20 40)")
+    w.add_argument("--speeds-kmh", type=float, nargs="+", default=None,
+                   help="speeds [km/h] (default RtriAssumptions.speeds_km_h: 100 150 200 250)")
+    w.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    w.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
+    _add_rtri_common(w, "auto")
+    w.set_defaults(func=cmd_rtri_sweep)
     return parser
 
 

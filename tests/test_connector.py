@@ -279,7 +279,8 @@ def test_example_with_a_users_own_exudyn_model():
     spec = importlib.util.spec_from_file_location("own_exudyn_model", path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    t, y, contact = mod.main(["--time", "0.6"])
+    t, y, q_sum, contact = mod.main(["--time", "0.6"])
     assert abs(y[0] - 0.003) < 1e-9 and abs(y[-1]) < 0.5e-3        # pulled back towards the centre
-    Q = [-contact.wheel_force_N(0, s)[2] for s in ("right", "left")]
-    assert sum(Q) == pytest.approx(2 * (45e3 + 1813.0 * 9.81 / 2), rel=5e-3)
+    # no vertical damping in the sketch: the loads oscillate about the weight; their time average is the weight
+    late = t > 0.3
+    assert np.mean(q_sum[late]) == pytest.approx(2 * (45e3 + 1813.0 * 9.81 / 2), rel=0.02)

@@ -187,8 +187,9 @@ def test_warm_start_equals_global_search(s1002, y_range):
                     np.testing.assert_allclose(ow[w, r, fields], og[w, r, fields], rtol=0, atol=1e-10)
                     np.testing.assert_allclose(ow[w, r, K.F_CONTACT_ANGLE], og[w, r, K.F_CONTACT_ANGLE], atol=1e-9)
                     if i > 0:
-                        # warm: a few Newton steps from the previous solution
-                        assert ow[w, r, K.F_ITERATIONS] <= 4, (i, w, r, ow[w, r, K.F_ITERATIONS])
+                        # warm: a few Newton steps from the previous solution, and as many from the region's other
+                        # tracked zone (if it has one)
+                        assert ow[w, r, K.F_ITERATIONS] <= 12, (i, w, r, ow[w, r, K.F_ITERATIONS])
     assert n_contacts >= len(poses) * 2      # both wheels in contact along the whole path
 
 
@@ -338,9 +339,9 @@ def test_kernel_flangeless_wheel(cone_pair):
     mono = np.array([monotone_rows(nodes[int(m[0]):int(m[0] + m[1])], int(m[0])) for m in meta], dtype=np.int64)
     params = K.default_params(1e11, global_search=True)
     pose = (2e-3, -CONE_R0 + 50e-6, 1e-3)
-    out = np.zeros((1, 2, K.N_FIELDS))
+    out = np.zeros((1, K.N_SLOTS, K.N_FIELDS))
     K.evaluate_wheels(nodes, meta, mono, np.array([[0, 1, -1]], dtype=np.int64), np.array([pose]),
-                      np.full((1, 2, 2), np.nan), params, out)
+                      np.full((1, 2, K.N_WARM), np.nan), params, out)
     delta, p_w, _, r_roll, _ = cone_on_crown(*pose)
     assert out[0, 0, K.F_STATUS] == K.STATUS_CONVEX
     assert out[0, 0, K.F_PENETRATION] == pytest.approx(delta, abs=1e-9)
@@ -397,3 +398,30 @@ def test_nan_pose_raises(s1002):
 def test_absurd_pair_raises(kwargs, match):
     with pytest.raises(ValueError, match=match):
         WheelRailPair(**kwargs)
+
+
+def test_two_tread_maxima_warm_equals_global_and_the_total_force_is_continuous():
+    """S1002/UIC60 1:40 near the centre: the tread has two penetration maxima ~10 mm apart within one overlap zone
+    (the contact 'jump' at |y| ~ 0.21 mm).  Warm mode must report what global mode reports (it tracks the other
+    maximum), and the wheel's total normal force must not jump when their depths cross (blending)."""
+    from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
+    pair = WheelRailPair()
+    touch = contact_geometry_sweep(pair, [0.0])
+    z = touch.z_m[0] + 60e-6
+    ys = np.r_[np.linspace(-0.5e-3, 0.5e-3, 201), np.linspace(0.5e-3, -0.5e-3, 201)]
+    warm = WheelsetContact(pair, 1, global_search=False)
+    glob = WheelsetContact(pair, 1, global_search=True)
+    totals = []
+    for y in ys:
+        ow = warm.evaluate([[y, z, 0.0]]).copy()
+        og = glob.evaluate([[y, z, 0.0]])
+        nw = (ow[:, :, K.F_NORMAL_FORCE] * (ow[:, :, K.F_STATUS] > 0)).sum(axis=1)
+        ng = (og[:, :, K.F_NORMAL_FORCE] * (og[:, :, K.F_STATUS] > 0)).sum(axis=1)
+        np.testing.assert_allclose(nw, ng, rtol=1e-6)
+        totals.append(nw)
+    totals = np.array(totals)
+    # 5 µm lateral steps: a jump of the one-point model is ~30 kN; the blended total moves by < 2 kN per step
+    assert np.max(np.abs(np.diff(totals[:201], axis=0))) < 2e3
+    blended = [(o[:, :, K.F_FLAGS].astype(int) & K.FLAG_BLENDED).any() for o in
+               (glob.evaluate([[y, z, 0.0]]).copy() for y in (0.15e-3, 0.2e-3, 0.25e-3))]
+    assert all(blended)

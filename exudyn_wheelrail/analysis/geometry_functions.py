@@ -21,7 +21,7 @@ import numpy as np
 from ..contact import kernel as K
 from ..contact.normal import hertz_from_force
 from ..contact.pair import WheelRailPair
-from ..contact.wheelset import REGIONS, SIDES, WheelsetContact
+from ..contact.wheelset import REGIONS, SIDES, SLOT_REGIONS, WheelsetContact
 
 CSV_COLUMNS = ("y_m", "side", "region", "y_rail_m", "y_wheel_m", "contact_angle_rad", "rolling_radius_m",
                "roll_rad", "a_m", "b_m", "z_m", "delta_r_m", "gap_m", "flags")
@@ -43,7 +43,7 @@ class RigidContactState:
     y_m: float
     z_m: float
     roll_rad: float
-    out: np.ndarray                      # kernel output (2, 2, N_FIELDS) in side frames
+    out: np.ndarray                      # kernel output (2, N_SLOTS, N_FIELDS) in side frames
     iterations: int
     deepest: tuple = field(default=(0, 0))   # region index of the touching point per side
 
@@ -141,7 +141,7 @@ def contact_geometry_sweep(pair: WheelRailPair, y_values_m, wheel_load_N: float 
         delta_r = r_main[0] - r_main[1]
         ys.append(y); zs.append(z); rolls.append(roll); drs.append(delta_r)
         for w, side in enumerate(SIDES):
-            for r, region in enumerate(REGIONS):
+            for r, region in enumerate(SLOT_REGIONS):
                 o = out[w, r]
                 if o[K.F_STATUS] == K.STATUS_NO_OVERLAP:
                     continue

@@ -59,7 +59,7 @@ from ..contact import kernel as K
 from ..contact.creepage import (DEFAULT_V_MIN_M_S, creep_status_names, creepages_core, wheelset_axis,
                                 yawed_contact_point_core)
 from ..contact.normal import hertz_from_force
-from ..contact.wheelset import E_STEEL_PA, NU_STEEL, REGIONS, SIDES, STATUS_NAMES, WheelsetContact
+from ..contact.wheelset import E_STEEL_PA, NU_STEEL, REGIONS, SIDES, SLOT_REGIONS, STATUS_NAMES, WheelsetContact
 from .geometry_functions import RigidContactError, solve_rigid_contact
 
 __all__ = ["QuasiStaticPoint", "QuasiStaticResult", "QuasiStaticError", "solve_quasi_static", "creep_law_by_name",
@@ -224,7 +224,7 @@ class _Evaluator:
         points = []
         for w, side in enumerate(SIDES):
             mirror = 1.0 if side == "right" else -1.0
-            for reg, region in enumerate(REGIONS):
+            for reg, region in enumerate(SLOT_REGIONS):
                 o = out[w, reg]
                 status = int(o[K.F_STATUS])
                 n_force = o[K.F_NORMAL_FORCE]

@@ -32,9 +32,20 @@ split is reported once: a region whose maximum sits at its split end is the tail
 dropped, and so is the shallower of two points closer than P_DEDUP_DISTANCE.  Two separate local maxima of the
 penetration (e.g. flange flank and tread, even with the throat between them in overlap) stay two contacts.
 
-Known limitation (documented, tested): a region holds ONE contact point.  Where a region has two separate
-penetrating zones (S1002/UIC60 near the centred position), global mode takes the deeper one (and jumps when the
-depths cross), warm mode follows the zone it is on.
+Several zones on one region (S1002/UIC60 has two tread zones ~10 mm apart near the centred position):
+
+* **tracking**: a region remembers its other local optimum of the last scan (``W_ALT_*``) and in warm mode runs
+  Newton from it too, so a deeper zone is never missed (warm mode = global mode); a region in contact is rescanned
+  after ``P_RESCAN_DISTANCE`` of lateral motion to discover zones that appear;
+* **two patches** (the surfaces separate between the two points): the second zone is reported in the extra output
+  slot ``SLOT_TREAD_2`` — a two-point contact on the tread;
+* **one zone with two maxima** (the surfaces overlap all the way between them — a conformal zone): Hertz at either
+  maximum gives very different forces (S1002/UIC60: 37 vs 67 kN at the same pose), so picking the deeper one makes
+  the normal force jump by a factor of two when the depths cross, which excites a wheelset bounce.  Where the two
+  depths differ by less than ``P_BLEND_DEPTH`` × the deeper one, both are reported (slots tread and tread-2) with
+  their normal forces weighted by a smoothstep of the depth difference (½–½ at equal depth), flag
+  ``FLAG_BLENDED``: the total force is continuous.  This is a regularisation of the one-Hertz-point model, not a
+  conformal-contact theory (a semi-Hertzian model would be the remedy).
 """
 from __future__ import annotations
 
@@ -43,7 +54,7 @@ from numba import njit
 
 from ..profiles.curve import curve_eval
 from .normal import hertz_from_penetration
-from .search import (convex_newton, nearest_by_normal_distance, nearest_start, normal_foot,
+from .search import (_overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start, normal_foot,
                      overlap_peaks, vertical_overlap_search, wheel_point)
 
 # ---- output fields --------------------------------------------------------------------------------------------
@@ -77,6 +88,7 @@ N_FIELDS = 25
 FLAG_PROFILE_END = 1        # the wheel or rail point is at an end of its profile: the contact may lie beyond the data
 FLAG_DEEP_PENETRATION = 2   # penetration above P_MAX_PENETRATION: far outside elastic contact (climbing, bad pose)
 FLAG_HERTZ_CLAMPED = 4      # relative curvature clamped (conformal contact): Hertz is an approximation there
+FLAG_BLENDED = 8            # one of two blended penetration maxima of one overlap zone (normal force weighted)
 
 STATUS_SEPARATED = 0  # a solution was found, no penetration
 STATUS_CONVEX = 1     # contact from the convex search
@@ -85,6 +97,12 @@ STATUS_NO_OVERLAP = -1  # the region does not face the rail (no vertical overlap
 STATUS_MERGED = -2      # penetrating, but the tail of the other region's contact zone (reported there, no force)
 STATUS_INVALID_POSE = -3  # the pose contains NaN or infinity: every other output field is NaN
 
+# ---- output slots per wheel: out[w, slot, field] ----------------------------------------------------------------
+SLOT_TREAD = 0        # the tread region's (deepest) contact
+SLOT_FLANGE = 1       # the flange region's contact
+SLOT_TREAD_2 = 2      # the tread region's second, separate contact zone (two-point contact on the tread)
+N_SLOTS = 3
+
 # ---- warm-start state per wheel and region: warm[w, reg, :] ---------------------------------------------------
 W_S_RAIL = 0          # last rail parameter (NaN: none)
 W_S_WHEEL = 1         # last wheel parameter
@@ -92,7 +110,10 @@ W_GAP = 2             # region's smallest gap [m] at the reference pose (global 
 W_POSE_Y = 3          # reference pose at which W_GAP was computed
 W_POSE_Z = 4
 W_POSE_ROLL = 5
-N_WARM = 6
+W_ALT_S_RAIL = 6      # the region's other penetration zone (second-deepest local optimum of the last scan)
+W_ALT_S_WHEEL = 7
+W_SCAN_Y = 8          # c_y at the last global scan of the region
+N_WARM = 9
 
 # ---- parameters -----------------------------------------------------------------------------------------------
 P_E_STAR = 0
@@ -112,14 +133,17 @@ P_WHEEL_LEVER = 13            # [m] largest distance of a wheel curve point from
 P_CURVATURE_BOUND = 14        # [1/m] bound of |kappa_w| + |kappa_r| (sampling margin of the gap bound)
 P_N_STARTS = 15               # Newton starts from the scan's deepest local maxima
 P_CONCAVE_NORMAL_WINDOW = 16  # [m] half-width around the concave maximum searched for the deepest normal point
-N_PARAMS = 17
+P_RESCAN_DISTANCE = 17        # [m] warm mode: rescan a region in contact after this lateral motion since its last scan
+P_BLEND_DEPTH = 18            # [-] blend two maxima of one overlap zone whose depths differ by less than this x depth
+N_PARAMS = 19
 
 
 def default_params(E_star: float, global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100,
                    n_concave_rail: int = 100, refine: bool = True, newton_tol_m: float = 1e-11,
                    newton_max_iter: int = 30, min_curvature: float = 0.1, dedup_distance_m: float = 1e-3,
                    convex_min_curvature: float = 0.5, max_penetration_m: float = 2e-3, wheel_lever_m: float = 2.0,
-                   curvature_bound: float = 200.0, n_starts: int = 3, concave_normal_window_m: float = 5e-3):
+                   curvature_bound: float = 200.0, n_starts: int = 3, concave_normal_window_m: float = 5e-3,
+                   rescan_distance_m: float = 0.2e-3, blend_depth: float = 0.1):
     """Parameter vector for :func:`evaluate_wheels` (see the P_* indices)."""
     p = np.zeros(N_PARAMS)
     p[P_E_STAR] = E_star
@@ -139,6 +163,8 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 200
     p[P_CURVATURE_BOUND] = curvature_bound
     p[P_N_STARTS] = n_starts
     p[P_CONCAVE_NORMAL_WINDOW] = concave_normal_window_m
+    p[P_RESCAN_DISTANCE] = rescan_distance_m
+    p[P_BLEND_DEPTH] = blend_depth
     return p
 
 
@@ -240,8 +266,10 @@ def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w
 
 
 @njit(cache=True)
-def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, out, w, reg):
-    """Contact of one wheel region with the rail (steps in the module docstring); updates ``warm[w, reg]``."""
+def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, out, w, reg, slot2=-1):
+    """Contact of one wheel region with the rail (steps in the module docstring); updates ``warm[w, reg]``.
+    ``slot2`` >= 0: the output slot for the region's second, separate contact zone (filled when a distinct convex
+    optimum also penetrates and the surfaces separate between the two points), else left untouched."""
     if wheel < 0:                                   # the profile has no such region (e.g. a flangeless cone)
         _no_overlap(out, w, reg)
         return
@@ -269,15 +297,35 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
             out[w, reg, F_PENETRATION] = -(warm[w, reg, W_GAP] - motion)    # a guaranteed lower bound of the gap
             return
     warm[w, reg, W_GAP] = -1.0
+    if not scanned and not abs(c_y - warm[w, reg, W_SCAN_Y]) <= params[P_RESCAN_DISTANCE]:
+        scanned = True          # moved far since the last scan (or never scanned): look for other zones again
     starts_sw = np.empty(8)
     starts_sr = np.empty(8)
     n_starts = 1
     if scanned:
         n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
                                 int(params[P_N_STARTS]), starts_sw, starts_sr)
+        warm[w, reg, W_SCAN_Y] = c_y
     else:
         starts_sw[0] = s_w
         starts_sr[0] = s_r
+        # the region's other penetration zone (tracked from the last scan): a deeper zone is never missed
+        a_sw = warm[w, reg, W_ALT_S_WHEEL]
+        a_sr = warm[w, reg, W_ALT_S_RAIL]
+        if np.isfinite(a_sw) and np.isfinite(a_sr):
+            starts_sw[1] = a_sw
+            starts_sr[1] = a_sr
+            n_starts = 2
+    dedup = params[P_DEDUP_DISTANCE]
+    alt_ok = False          # the best other converged convex optimum (distinct from the reported point)
+    alt_sw = 0.0
+    alt_sr = 0.0
+    alt_delta = -np.inf
+    cand_sw = np.empty(8)
+    cand_sr = np.empty(8)
+    cand_delta = np.empty(8)
+    cand_convex = np.zeros(8, dtype=np.bool_)
+    n_cand = 0
     iters = 0
     sep_ok = False          # a convex, separated Newton solution from the global start (exact gap candidate)
     sep_sw = 0.0
@@ -293,6 +341,12 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
                                                                    starts_sr[k], starts_sw[k], s_lo, s_hi, r_lo,
                                                                    r_hi, params)
             iters += it
+            if valid and n_cand < 8:       # any converged optimum marks a zone worth tracking
+                cand_sw[n_cand] = s_w
+                cand_sr[n_cand] = s_r
+                cand_delta[n_cand] = delta
+                cand_convex[n_cand] = convex
+                n_cand += 1
             if valid and convex and delta > best_delta:
                 best_delta = delta
                 best_sw = s_w
@@ -305,8 +359,52 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
         if best_delta > 0.0:
             warm[w, reg, W_S_RAIL] = best_sr
             warm[w, reg, W_S_WHEEL] = best_sw
+            # remember the deepest other optimum, distinct from the reported one, as the alternative zone
+            for k in range(n_cand):
+                if abs(cand_sw[k] - best_sw) > dedup and cand_delta[k] > alt_delta:
+                    alt_ok = True
+                    alt_delta = cand_delta[k]
+                    alt_sw = cand_sw[k]
+                    alt_sr = cand_sr[k]
+            fill2 = False
+            blend = 1.0
+            if alt_ok:
+                warm[w, reg, W_ALT_S_WHEEL] = alt_sw
+                warm[w, reg, W_ALT_S_RAIL] = alt_sr
+                k2 = -1
+                for k in range(n_cand):
+                    if cand_sw[k] == alt_sw and cand_sr[k] == alt_sr:
+                        k2 = k
+                if slot2 >= 0 and alt_delta > 0.0 and k2 >= 0:
+                    mid_ok, mid_dv, mid_sr = _overlap_at_wheel(nodes, meta, mono, rail, wheel,
+                                                               0.5 * (alt_sw + best_sw), c_y, c_z, cos_r, sin_r)
+                    if mid_ok and mid_dv < 0.0:
+                        fill2 = cand_convex[k2]  # two separate patches: a true two-point contact on the tread
+                    else:
+                        # one overlap zone with two penetration maxima (a conformal zone, e.g. S1002/UIC60 near
+                        # the centre): Hertz at either maximum jumps when their depths cross, so the two are
+                        # blended over a depth difference of P_BLEND_DEPTH x the deeper penetration
+                        width = params[P_BLEND_DEPTH] * best_delta
+                        u = 1.0 - (best_delta - alt_delta) / width if width > 0.0 else 0.0
+                        if u > 0.0:
+                            u = min(u, 1.0)
+                            fill2 = True
+                            blend = 0.5 * u * u * (3.0 - 2.0 * u)     # weight of the shallower maximum, <= 1/2
+            elif scanned or abs(warm[w, reg, W_ALT_S_WHEEL] - best_sw) <= dedup:
+                warm[w, reg, W_ALT_S_WHEEL] = np.nan       # no other zone (or it merged into this one)
+                warm[w, reg, W_ALT_S_RAIL] = np.nan
             _fill(out, w, reg, STATUS_CONVEX, best_sw, best_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
                   iters, params)
+            if fill2:
+                _fill(out, w, slot2, STATUS_CONVEX, alt_sw, alt_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r,
+                      sin_r, 0, params)
+                if blend < 1.0:
+                    out[w, slot2, F_NORMAL_FORCE] *= blend
+                    out[w, slot2, F_DN_DDELTA] *= blend
+                    out[w, reg, F_NORMAL_FORCE] *= 1.0 - blend
+                    out[w, reg, F_DN_DDELTA] *= 1.0 - blend
+                    out[w, slot2, F_FLAGS] = int(out[w, slot2, F_FLAGS]) | FLAG_BLENDED
+                    out[w, reg, F_FLAGS] = int(out[w, reg, F_FLAGS]) | FLAG_BLENDED
             return
         if scanned:
             break
@@ -389,7 +487,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
     poses : (n_wheels, 3) — wheel (wheelset) pose relative to its rail in the side frame: c_y, c_z [m], roll [rad].
     warm : (n_wheels, 2, N_WARM) — warm-start state (W_* fields; s NaN for none); updated in place.
     params : :func:`default_params`.
-    out : (n_wheels, 2, N_FIELDS) — filled.
+    out : (n_wheels, N_SLOTS, N_FIELDS) — filled: slots tread, flange and the tread's second zone.
     """
     n_wheels = poses.shape[0]
     for w in range(n_wheels):
@@ -398,9 +496,14 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
             out[w, :, :] = np.nan
             out[w, :, F_STATUS] = STATUS_INVALID_POSE
             continue
+        _no_overlap(out, w, SLOT_TREAD_2)
         for reg in range(2):
             solve_region(nodes, meta, mono, rail, curve_ids[w, 1 + reg], poses[w, 0], poses[w, 1], poses[w, 2],
-                         warm, params, out, w, reg)
+                         warm, params, out, w, reg, SLOT_TREAD_2 if reg == 0 else -1)
+        t2 = out[w, SLOT_TREAD_2]
+        if t2[F_STATUS] > 0 and out[w, 1, F_STATUS] > 0 and np.hypot(
+                t2[F_PW_Y] - out[w, 1, F_PW_Y], t2[F_PW_Z] - out[w, 1, F_PW_Z]) < params[P_DEDUP_DISTANCE]:
+            _no_overlap(out, w, SLOT_TREAD_2)        # the flange's contact, seen from the tread: one contact
         t = out[w, 0]
         f = out[w, 1]
         if t[F_STATUS] > 0 and f[F_STATUS] > 0:

@@ -22,6 +22,8 @@ E_STEEL_PA = 2.1e11
 NU_STEEL = 0.28
 
 REGIONS = ("tread", "flange")
+#: region of each kernel output slot (K.SLOT_*): tread, flange, and the tread's second zone (two-point tread contact)
+SLOT_REGIONS = ("tread", "flange", "tread")
 SIDES = ("right", "left")
 STATUS_NAMES = {K.STATUS_SEPARATED: "separated", K.STATUS_CONVEX: "convex", K.STATUS_CONCAVE: "concave",
                 K.STATUS_NO_OVERLAP: "no-overlap", K.STATUS_MERGED: "merged", K.STATUS_INVALID_POSE: "invalid-pose"}
@@ -90,7 +92,7 @@ class WheelsetContact:
                                        n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine,
                                        wheel_lever_m=lever, curvature_bound=1.25 * kappa_max)
         self.warm = np.full((n_wheels, 2, K.N_WARM), np.nan)
-        self.out = np.zeros((n_wheels, 2, K.N_FIELDS))
+        self.out = np.zeros((n_wheels, K.N_SLOTS, K.N_FIELDS))
         self._side_poses = np.zeros((n_wheels, 3))
         #: last evaluated wheelset poses (y, z, roll); nominal height at start
         self.poses = np.tile([0.0, pair.nominal_axle_height_m(), 0.0], (self.n_wheelsets, 1))
@@ -110,7 +112,7 @@ class WheelsetContact:
         return sp
 
     def evaluate(self, poses) -> np.ndarray:
-        """Raw kernel output (2n, 2, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
+        """Raw kernel output (2n, N_SLOTS, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
         poses = np.asarray(poses, dtype=float).reshape(-1, 3)
         if poses.shape[0] != self.n_wheelsets:
             raise ValueError(f"expected {self.n_wheelsets} wheelset poses, got {poses.shape[0]}")
@@ -134,7 +136,7 @@ class WheelsetContact:
         for side_index, side in enumerate(SIDES):
             w = 2 * wheelset + side_index
             mirror = 1.0 if side == "right" else -1.0
-            for reg, region in enumerate(REGIONS):
+            for reg, region in enumerate(SLOT_REGIONS):
                 o = out[w, reg]
                 status = int(o[K.F_STATUS])
                 if status <= 0 and not (include_separated and status == K.STATUS_SEPARATED):

@@ -33,8 +33,9 @@ Lie-group tangent), with the warm-start state saved and restored.
 
 Outputs
 -------
-:attr:`WheelRailContact.results` ``(n_wheels, 2, N_RES)`` holds the last evaluation per wheel (``2k`` right,
-``2k+1`` left) and region (0 tread, 1 flange); fields ``RES_*``.  Forces are **on the wheel**; ``RES_F_TRACK_*``
+:attr:`WheelRailContact.results` ``(n_wheels, 3, N_RES)`` holds the last evaluation per wheel (``2k`` right,
+``2k+1`` left) and kernel slot (0 tread, 1 flange, 2 the tread's second zone in two-point tread contact); fields
+``RES_*``.  Forces are **on the wheel**; ``RES_F_TRACK_*``
 is the total contact force (normal + creep) in the track/model frame (y right, z down: a wheel load Q is
 ``-RES_F_TRACK_Z``).  Invalid states (NaN coordinates) raise :class:`ContactStateError` naming the wheelset and the
 time, instead of returning numbers.
@@ -179,7 +180,7 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
     """All wheelsets in one call.  ``q``, ``q_t`` (6 n): per wheelset displacement (global), rotation vector,
     velocity (global) and body-frame angular velocity (Lie-group node coordinates); ``p_ref`` (n, 3) reference
     positions.  Fills ``f_out`` (6 n): force (global) and torque (body frame) per wheelset, and ``res``
-    (2 n, 2, N_RES).  Returns the index of the first wheelset with a non-finite state, or -1."""
+    (2 n, N_SLOTS, N_RES).  Returns the index of the first wheelset with a non-finite state, or -1."""
     n_ws = p_ref.shape[0]
     R = np.empty((3, 3))
     frame = np.empty((3, 3))
@@ -252,7 +253,7 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         for side in range(2):
             w = 2 * k + side
             mirror = 1.0 if side == 0 else -1.0
-            for reg in range(2):
+            for reg in range(out.shape[1]):
                 ow = out[w, reg]
                 r = res[w, reg]
                 r[RES_STATUS] = ow[K.F_STATUS]
@@ -542,7 +543,7 @@ class WheelRailContact:
         n = 6 * n_ws
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
-        self.results = np.zeros((2 * n_ws, 2, N_RES))
+        self.results = np.zeros((2 * n_ws, K.N_SLOTS, N_RES))
         self._side_poses = np.zeros((2 * n_ws, 3))
         self.n_calls = 0
         kwargs = dict(name=name, nodeNumbers=self.nodes_exu, massMatrix=np.zeros((n, n)),

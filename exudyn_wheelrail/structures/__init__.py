@@ -1,0 +1,32 @@
+"""Flexible structures under the track: railway bridges as modally reduced 3-D beams.
+
+::
+
+    from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge
+
+See :mod:`exudyn_wheelrail.structures.bridge` (the model, its modes, the rail kinematics and force projection for
+the wheel–rail coupling, the Exudyn formulations and Frýba's moving-force reference solution).
+"""
+from .bridge import (
+    BridgeModel,
+    BridgeModes,
+    DeckSection,
+    ExudynBridge,
+    FORMULATIONS,
+    MovingForces,
+    ShapeTable,
+    add_bridge,
+    add_projected_force,
+    benchmark_formulations,
+    fryba_moving_force,
+    modal_shape_and_slope_at,
+    modal_shape_at,
+    rail_state_at,
+    simulate_moving_forces,
+)
+
+__all__ = [
+    "BridgeModel", "BridgeModes", "DeckSection", "ExudynBridge", "FORMULATIONS", "MovingForces", "ShapeTable",
+    "add_bridge", "add_projected_force", "benchmark_formulations", "fryba_moving_force", "modal_shape_and_slope_at",
+    "modal_shape_at", "rail_state_at", "simulate_moving_forces",
+]
