@@ -40,13 +40,13 @@ def contact_call_us(span_m: float, speed_km_h: float, n: int = 2000) -> float:
     h = build_rtri(RtriCase(span_m=span_m, speed_km_h=speed_km_h, steps=1, record=False))
     c = h.contact
     q, v = c.coordinates(h.mbs)
-    warm = c._kc.warm.copy()
+    warm = c.save_warm_start()
     c.forces(q, v, 0.0)
     t0 = time.perf_counter()
     for _ in range(n):
         c.forces(q, v, 0.0)
     dt = (time.perf_counter() - t0) / n
-    c._kc.warm[:] = warm
+    c.restore_warm_start(warm)
     return dt * 1e6
 
 

@@ -21,7 +21,7 @@ import numpy as np
 from ..contact import kernel as K
 from ..contact.normal import hertz_from_force
 from ..contact.pair import WheelRailPair
-from ..contact.wheelset import REGIONS, SIDES, SLOT_REGIONS, WheelsetContact
+from ..contact.wheelset import SIDES, SLOT_REGIONS, WheelsetContact
 
 CSV_COLUMNS = ("y_m", "side", "region", "y_rail_m", "y_wheel_m", "contact_angle_rad", "rolling_radius_m",
                "roll_rad", "a_m", "b_m", "z_m", "delta_r_m", "gap_m", "flags")

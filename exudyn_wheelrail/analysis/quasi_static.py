@@ -59,7 +59,7 @@ from ..contact import kernel as K
 from ..contact.creepage import (DEFAULT_V_MIN_M_S, creep_status_names, creepages_core, wheelset_axis,
                                 yawed_contact_point_core)
 from ..contact.normal import hertz_from_force
-from ..contact.wheelset import E_STEEL_PA, NU_STEEL, REGIONS, SIDES, SLOT_REGIONS, STATUS_NAMES, WheelsetContact
+from ..contact.wheelset import E_STEEL_PA, NU_STEEL, SIDES, SLOT_REGIONS, STATUS_NAMES, WheelsetContact
 from .geometry_functions import RigidContactError, solve_rigid_contact
 
 __all__ = ["QuasiStaticPoint", "QuasiStaticResult", "QuasiStaticError", "solve_quasi_static", "creep_law_by_name",

@@ -42,6 +42,7 @@ import math
 from numba import njit
 
 from .linear import kalker_coefficients
+from ._inputs import check_contact_inputs
 
 __all__ = ["DEFAULT_NX", "DEFAULT_NY", "fastsim", "fastsim_core", "fastsim_flexibilities"]
 
@@ -125,12 +126,6 @@ def fastsim_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, 
     return Fx, Fy, Mz
 
 
-def _finite(name, v):
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {v}")
-    return v
-
 
 def fastsim(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x: int = DEFAULT_NX,
             n_y: int = DEFAULT_NY, nu_interpolation: str = "quadratic", flexibility: str = "three"):
@@ -148,22 +143,7 @@ def fastsim(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x: i
     ``flexibility="weighted"``: Kalker's (1982) single flexibility
     ``L = (|ξ| L1 + |η| L2 + c |φ| L3)/√(ξ² + η² + c² φ²)`` — exact slopes for each pure creepage and a full-slip
     force opposite to the creepage, but not linear for combined creepages."""
-    a = _finite("a", a)
-    b = _finite("b", b)
-    if a <= 0.0 or b <= 0.0:
-        raise ValueError(f"semi-axes must be > 0, got a={a}, b={b}")
-    xi = _finite("xi", xi)
-    eta = _finite("eta", eta)
-    phi = _finite("phi", phi)
-    N = _finite("normal_force", normal_force)
-    if N < 0.0:
-        raise ValueError(f"normal_force must be >= 0, got {N}")
-    mu = _finite("mu", mu)
-    if mu < 0.0:
-        raise ValueError(f"mu must be >= 0, got {mu}")
-    G = _finite("shear_modulus", shear_modulus)
-    if G <= 0.0:
-        raise ValueError(f"shear_modulus must be > 0, got {G}")
+    a, b, xi, eta, phi, N, mu, G = check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus)
     if int(n_x) != n_x or int(n_y) != n_y or n_x < 1 or n_y < 1:
         raise ValueError(f"n_x and n_y must be integers >= 1, got {n_x}, {n_y}")
     if flexibility not in ("three", "weighted"):

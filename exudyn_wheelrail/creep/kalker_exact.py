@@ -71,6 +71,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from ._inputs import check_contact_inputs, finite as _finite
+
 __all__ = [
     "DEFAULT_N_X", "DEFAULT_N_Y", "DEFAULT_TOL", "DEFAULT_MAX_SWEEPS", "DEFAULT_MAX_INNER", "KalkerSolution",
     "kalker_exact", "element_grid", "slip_operator", "line_influence",
@@ -405,28 +407,8 @@ class KalkerSolution:
         return float((w * self.slipping).sum() / w.sum())
 
 
-def _finite(name, v):
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {v}")
-    return v
-
-
 def _check(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x, n_y, tol, max_sweeps):
-    a = _finite("a", a)
-    b = _finite("b", b)
-    if a <= 0.0 or b <= 0.0:
-        raise ValueError(f"semi-axes must be > 0, got a={a}, b={b}")
-    xi, eta, phi = _finite("xi", xi), _finite("eta", eta), _finite("phi", phi)
-    N = _finite("normal_force", normal_force)
-    if N < 0.0:
-        raise ValueError(f"normal_force must be >= 0, got {N}")
-    mu = _finite("mu", mu)
-    if mu < 0.0:
-        raise ValueError(f"mu must be >= 0, got {mu}")
-    G = _finite("shear_modulus", shear_modulus)
-    if G <= 0.0:
-        raise ValueError(f"shear_modulus must be > 0, got {G}")
+    a, b, xi, eta, phi, N, mu, G = check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus)
     nu = _finite("poisson", poisson)
     if not 0.0 <= nu <= 0.5:
         raise ValueError(f"poisson must lie in [0, 0.5], got {nu}")

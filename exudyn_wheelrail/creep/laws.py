@@ -120,6 +120,7 @@ import math
 from numba import njit
 
 from .linear import fastsim_spin_moment_coefficient, kalker_coefficients
+from ._inputs import check_contact_inputs, finite as _finite
 
 __all__ = ["shen_hedrick_elkins", "she_core", "polach", "polach_core"]
 
@@ -213,31 +214,8 @@ def polach_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, C
     return fx, fy, mz
 
 
-def _finite(name, v):
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {v}")
-    return v
-
-
 def _check_common(a, b, xi, eta, phi, normal_force, mu, shear_modulus):
-    a = _finite("a", a)
-    b = _finite("b", b)
-    if a <= 0.0 or b <= 0.0:
-        raise ValueError(f"semi-axes must be > 0, got a={a}, b={b}")
-    xi = _finite("xi", xi)
-    eta = _finite("eta", eta)
-    phi = _finite("phi", phi)
-    N = _finite("normal_force", normal_force)
-    if N < 0.0:
-        raise ValueError(f"normal_force must be >= 0, got {N}")
-    mu = _finite("mu", mu)
-    if mu < 0.0:
-        raise ValueError(f"mu must be >= 0, got {mu}")
-    G = _finite("shear_modulus", shear_modulus)
-    if G <= 0.0:
-        raise ValueError(f"shear_modulus must be > 0, got {G}")
-    return a, b, xi, eta, phi, N, mu, G
+    return check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus)
 
 
 def _coefficients(a, b, poisson, nu_interpolation):

@@ -122,6 +122,7 @@ import numpy as np
 from numba import njit
 
 from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients
+from ._inputs import check_contact_inputs, finite as _finite
 
 __all__ = [
     "TABLE_PATH", "FASTSIM_TABLE_PATH", "FORMAT", "FORMAT_VERSION", "NU_TABLE", "NU_TOLERANCE",
@@ -533,12 +534,6 @@ def _default_table(path=None) -> CreepTable:
 # ----------------------------------------------------------------------------------------------------------------
 # public lookup
 # ----------------------------------------------------------------------------------------------------------------
-def _finite(name, v):
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {v}")
-    return v
-
 
 def table_forces(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, table=None,
                  interpolation: str = "cubic"):
@@ -554,22 +549,7 @@ def table_forces(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, t
     Raises ``ValueError`` for non-finite input, a, b <= 0, N < 0, μ < 0, G <= 0, a/b outside the table's range,
     or ``|ν - ν_table| > NU_TOLERANCE``.  ``normal_force == 0`` or ``mu == 0`` gives zeros.  Creepages beyond the
     table are scaled back onto its edge keeping their direction (module docstring)."""
-    a = _finite("a", a)
-    b = _finite("b", b)
-    if a <= 0.0 or b <= 0.0:
-        raise ValueError(f"semi-axes must be > 0, got a={a}, b={b}")
-    xi = _finite("xi", xi)
-    eta = _finite("eta", eta)
-    phi = _finite("phi", phi)
-    N = _finite("normal_force", normal_force)
-    if N < 0.0:
-        raise ValueError(f"normal_force must be >= 0, got {N}")
-    mu = _finite("mu", mu)
-    if mu < 0.0:
-        raise ValueError(f"mu must be >= 0, got {mu}")
-    G = _finite("shear_modulus", shear_modulus)
-    if G <= 0.0:
-        raise ValueError(f"shear_modulus must be > 0, got {G}")
+    a, b, xi, eta, phi, N, mu, G = check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus)
     nu = _finite("poisson", poisson)
     if interpolation == "cubic":
         order = ORDER_CUBIC

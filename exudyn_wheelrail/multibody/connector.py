@@ -48,10 +48,8 @@ import numpy as np
 from numba import njit
 
 from ..contact import kernel as K
-from ..contact.creepage import CREEP_OK, DEFAULT_V_MIN_M_S, creepages_core, yawed_contact_point_core
-from ..contact.normal import effective_modulus
+from ..contact.creepage import DEFAULT_V_MIN_M_S, creepages_core, yawed_contact_point_core
 from ..contact.pair import WheelRailPair
-from ..contact.search import monotone_rows
 from ..creep import linear as _linear
 from ..creep.fastsim import DEFAULT_NX, DEFAULT_NY, fastsim_core
 from ..creep.laws import polach_core, she_core
@@ -596,7 +594,9 @@ class WheelRailContact:
 
     def evaluate(self, mbs, t: float) -> np.ndarray:
         """Evaluate the contact at the model's current state (e.g. after a step, for outputs) without changing the
-        warm start; returns :attr:`results`."""
+        warm start; returns :attr:`results`.  ``t`` must be the time *of that state* (the track irregularity is
+        evaluated at ``s_start + V t + x``): Exudyn calls a pre-step user function with the time at the *end* of the
+        coming step while the state is still at its start — pass the previous step's time there."""
         q, v = self.coordinates(mbs)
         warm = self._kc.warm.copy()
         try:
@@ -604,6 +604,26 @@ class WheelRailContact:
         finally:
             self._kc.warm[:] = warm
         return self.results
+
+    def warm_up(self, mbs, jacobian: bool = True) -> None:
+        """Load (or compile) the compiled code outside a timed solve: one force and, with ``jacobian``, one
+        Jacobian evaluation at the model's current state; the warm start is left as it was."""
+        q, v = self.coordinates(mbs)
+        warm = self._kc.warm.copy()
+        try:
+            self.forces(q, v, 0.0)
+            if jacobian:
+                self._jacobian_uf(mbs, 0.0, self.object, q, v, 1.0, 0.0)
+        finally:
+            self._kc.warm[:] = warm
+            self.n_calls = 0
+
+    def save_warm_start(self) -> np.ndarray:
+        """A copy of the contact search's warm-start state (restore with :meth:`restore_warm_start`)."""
+        return self._kc.warm.copy()
+
+    def restore_warm_start(self, state: np.ndarray) -> None:
+        self._kc.warm[:] = state
 
     # -- readable results ------------------------------------------------------------------------------------------
     def wheel_force_N(self, wheelset: int, side: str) -> np.ndarray:

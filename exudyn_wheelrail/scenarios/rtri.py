@@ -594,15 +594,7 @@ def _warm_up(h: RtriModel):
     c = h.contact
     if c is None:
         return
-    t0 = 0.0
-    c.evaluate(h.mbs, t0)
-    if h.case.solver == "newmark":
-        q, v = c.coordinates(h.mbs)
-        jac = getattr(c, "_jacobian_uf", None)    # no public warm-up in the connector (see the report)
-        if jac is not None:
-            warm = c._kc.warm.copy()
-            jac(h.mbs, t0, 0, q, v, 1.0, 0.0)
-            c._kc.warm[:] = warm
+    c.warm_up(h.mbs, jacobian=h.case.solver == "newmark")
 
 
 def _peaks(ts: dict, dt: float, t_max: float | None = None) -> dict:
