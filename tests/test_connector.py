@@ -284,3 +284,31 @@ def test_example_with_a_users_own_exudyn_model():
     # no vertical damping in the sketch: the loads oscillate about the weight; their time average is the weight
     late = t > 0.3
     assert np.mean(q_sum[late]) == pytest.approx(2 * (45e3 + 1813.0 * 9.81 / 2), rel=0.02)
+
+
+def test_structured_jacobian_equals_column_by_column_differences():
+    """The Jacobian user function perturbs the same coordinate of all wheelsets at once (block-diagonal structure):
+    its columns equal one-coordinate-at-a-time forward differences of the force function."""
+    SC = exu.SystemContainer()
+    mbs = SC.AddSystem()
+    model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=30.0)
+    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0)
+    q = np.zeros(24)
+    v = np.zeros(24)
+    for k in range(4):
+        q[6 * k + 1], q[6 * k + 2] = 1e-3 * (k - 1.5), 2.5e-4
+        v[6 * k + 1], v[6 * k + 4] = 0.01, -30 / 0.46 * (1 + 1e-4 * k)
+    J = contact._jacobian_uf(mbs, 0.0, 0, q, v, 1.0, 0.5).copy()
+    f0 = contact.forces(q, v, 0.0).copy()
+    state = contact.save_warm_start()
+    for j in (1, 2, 7, 13, 19, 20):
+        qp, vp = q.copy(), v.copy()
+        qp[j] += 1e-7
+        vp[j] += 1e-5
+        contact.restore_warm_start(state)
+        dq = (contact.forces(qp, v, 0.0) - f0) / 1e-7
+        contact.restore_warm_start(state)
+        dv = (contact.forces(q, vp, 0.0) - f0) / 1e-5
+        contact.restore_warm_start(state)
+        ref = -(dq + 0.5 * dv)
+        np.testing.assert_allclose(J[:, j], ref, atol=1e-6 * np.abs(ref).max())

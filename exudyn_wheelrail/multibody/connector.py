@@ -29,7 +29,8 @@ Separation gives no force; re-contact is found by the kernel's separation bound 
 
 Implicit solvers: a Jacobian user function returns ``-∂f/∂q fODE2 - ∂f/∂q_t fODE2_t`` by forward differences of
 the same compiled call (position and velocity perturbations; rotations perturbed by body-frame increments, the
-Lie-group tangent), with the warm-start state saved and restored.
+Lie-group tangent), with the warm-start state saved and restored; block diagonal per wheelset, so 12 calls
+whatever the number of wheelsets.
 
 Outputs
 -------
@@ -334,8 +335,10 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
                           nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
                           tab, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core`;
-    rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group update.  The warm-start
-    state is restored after every perturbed call."""
+    rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group update.  Structured: the
+    Jacobian is block diagonal per wheelset (a wheelset's contact forces depend on its own coordinates only), so
+    the same coordinate of all wheelsets is perturbed in one call — 12 calls whatever the number of wheelsets.
+    The warm-start state is restored after every perturbed call."""
     n = q.shape[0]
     warm0 = warm.copy()
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
@@ -347,39 +350,49 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
     R = np.empty((3, 3))
     Rd = np.empty((3, 3))
     Rn = np.empty((3, 3))
-    for j in range(n):
+    n_ws = n // 6
+    for r in range(n):
+        for c in range(n):
+            jac[r, c] = 0.0
+    # the contact forces of a wheelset depend on its own coordinates only: the Jacobian is block diagonal, so the
+    # i-th coordinate of every wheelset is perturbed in the same call (6 + 6 calls for any number of wheelsets)
+    for i in range(6):
         # ---- coordinates
-        k = j // 6
-        i = j % 6
-        o = 6 * k
-        if i < 3:
-            qp[j] = q[j] + h_pos
-            h = h_pos
-        else:
-            # body-frame increment: R' = R exp(h e_i) -> new rotation vector
-            h = h_rot
-            rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
-            rotation_from_vector(h if i == 3 else 0.0, h if i == 4 else 0.0, h if i == 5 else 0.0, Rd)
-            for a in range(3):
-                for b in range(3):
-                    Rn[a, b] = R[a, 0] * Rd[0, b] + R[a, 1] * Rd[1, b] + R[a, 2] * Rd[2, b]
-            _rotation_vector_from_matrix(Rn, qp, o + 3)
+        h = h_pos if i < 3 else h_rot
+        for k in range(n_ws):
+            o = 6 * k
+            if i < 3:
+                qp[o + i] = q[o + i] + h_pos
+            else:
+                # body-frame increment: R' = R exp(h e_i) -> new rotation vector
+                rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
+                rotation_from_vector(h if i == 3 else 0.0, h if i == 4 else 0.0, h if i == 5 else 0.0, Rd)
+                for a in range(3):
+                    for b in range(3):
+                        Rn[a, b] = R[a, 0] * Rd[0, b] + R[a, 1] * Rd[1, b] + R[a, 2] * Rd[2, b]
+                _rotation_vector_from_matrix(Rn, qp, o + 3)
         contact_forces_core(qp, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                             nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
                             tab, f1, res)
         warm[:] = warm0
-        for r in range(n):
-            jac[r, j] = -(f1[r] - f0[r]) / h * f_odeq
-        qp[o:o + 6] = q[o:o + 6]
+        for k in range(n_ws):
+            o = 6 * k
+            for r in range(6):
+                jac[o + r, o + i] = -(f1[o + r] - f0[o + r]) / h * f_odeq
+            for m in range(6):
+                qp[o + m] = q[o + m]
         # ---- velocities
-        vp[j] = q_t[j] + h_vel
+        for k in range(n_ws):
+            vp[6 * k + i] = q_t[6 * k + i] + h_vel
         contact_forces_core(q, vp, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                             nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
                             tab, f1, res)
         warm[:] = warm0
-        for r in range(n):
-            jac[r, j] -= (f1[r] - f0[r]) / h_vel * f_odev
-        vp[j] = q_t[j]
+        for k in range(n_ws):
+            o = 6 * k
+            for r in range(6):
+                jac[o + r, o + i] -= (f1[o + r] - f0[o + r]) / h_vel * f_odev
+            vp[o + i] = q_t[o + i]
     # leave res/out describing the unperturbed state
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
                         meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, f0, res)
