@@ -19,8 +19,8 @@ with no mass of its own and a force user function.  Each right-hand-side evaluat
 3. places each contact point in 3-D (the yaw lead of :func:`~exudyn_wheelrail.contact.creepage.yawed_contact_point_core`),
    computes the creepages from the wheelset's velocity and angular velocity and the rail material velocity
    (``(-V, 0, 0)`` in the moving frame, zero on a fixed track) (:mod:`exudyn_wheelrail.contact.creepage`);
-4. evaluates the creep law (FASTSIM by default, the USETAB-style table of Kalker's exact theory, or a cheap
-   law) in the contact frame;
+4. evaluates the creep law (by default the USETAB-style table of Kalker's exact theory; FASTSIM or a cheap law
+   on request) in the contact frame;
 5. applies ``N n_rail + Fx x_c + Fy y_c`` at the contact point and the spin moment ``Mz z_c`` to the wheelset
    (generalized forces: force in the global frame, torque in the body frame — the Lie-group node's velocity
    coordinates are the body-frame angular velocity), and records the equal and opposite force on the rail.
@@ -30,7 +30,45 @@ Separation gives no force; re-contact is found by the kernel's separation bound 
 Implicit solvers: a Jacobian user function returns ``-∂f/∂q fODE2 - ∂f/∂q_t fODE2_t`` by forward differences of
 the same compiled call (position and velocity perturbations; rotations perturbed by body-frame increments, the
 Lie-group tangent), with the warm-start state saved and restored; block diagonal per wheelset, so 12 calls
-whatever the number of wheelsets.
+whatever the number of wheelsets (plus 6 with a bridge, below).
+
+Flexible bridge (``bridge=``)
+-----------------------------
+With an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` the object also spans the bridge's modal node:
+coordinates ``[6 per wheelset..., n_m modal]``, forces ``[force, torque per wheelset..., Q]``, still one compiled
+call per evaluation.  Frames and signs are those of :mod:`exudyn_wheelrail.structures.bridge` (track frame, y
+right, z down; θ right-handed about +x, so θ > 0 lowers the right rail).  For wheelset k at track distance
+``s_k = s_start + V t + x_k`` (the axle centre; the same s as the irregularity):
+
+* **deck state** ``(y_b, z_b, θ_b) = Φ(s_k) q`` and ``(ẏ_b, ż_b, θ̇_b) = Φ(s_k) q̇`` (:func:`~exudyn_wheelrail.
+  structures.bridge.rail_state_at`; zero when s_k is off the deck): displacement and material velocity of the
+  rails' centre line at rail-top level, roll of the rail pair about it;
+* **rails** = the irregularity plus the deck: centre line at ``y_r = y_irr + y_b``, ``z_r = z_irr + z_b``, rolled
+  by ``θ_b``.  The kernel gets the wheelset pose relative to the rail pair, ``y_rel = (p_y - y_r) cos θ_b + (p_z -
+  z_r) sin θ_b``, ``z_rel = -(p_y - y_r) sin θ_b + (p_z - z_r) cos θ_b``, ``roll_rel = roll - θ_b`` (mirrored for
+  the left side as before), and its contact points and rail normals are rotated back by ``R_x(θ_b)`` and shifted
+  by ``(y_r, z_r)``;
+* **creepages**: the rail material velocity at the contact point p is ``(-V, 0, 0) + (0, ẏ_b, ż_b) + θ̇_b e_x ×
+  (p - (0, y_b, z_b))`` (i.e. ``v_y -= θ̇_b (p_z - z_b)``, ``v_z += θ̇_b (p_y - y_b)``) and the rail angular
+  velocity ``(θ̇_b, 0, 0)`` (spin creepage).  The convective rate ``V Φ' q`` of the geometry under the moving
+  wheel enters through the position dependence only;
+* **forces on the deck**: on the rails act minus the wheel forces; per wheelset ``F_ry = -Σ F_y``, ``F_rz = -Σ
+  F_z``, ``M_rx = -Σ [(p_y - y_b) F_z - (p_z - z_b) F_y] - Σ M_spin n_x`` (sums over both wheels and all contact
+  regions; moments about the deck's deflected rail-top centre line; the spin moment's x component, zero on a
+  straight track), and ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)``
+  (:func:`~exudyn_wheelrail.structures.bridge.add_projected_force`) — the virtual work of the rail forces on the
+  rail displacement the kinematics used, so the coupling is energy-consistent.  Longitudinal forces are not
+  projected (the bridge model has no x row).
+
+Wheels off the deck see the rigid track (``Φ = 0``; their results are identical to a model without bridge).
+Jacobian: the wheelset columns as above (their modal rows are the change of ``Φ(s_k)^T F_r,k``, including the
+change of ``Φ`` when the x coordinate moves s_k); the modal columns by the chain rule — the contact depends on
+``q`` and ``q̇`` only through the deck state under each wheelset, so the three offsets and three rates of all
+wheelsets on the deck are perturbed together (6 calls for any number of modes and wheelsets):
+``∂f_k/∂q = (∂f_k/∂u_k) Φ(s_k)``, ``∂Q/∂q = Σ_k Φ(s_k)^T (∂F_r,k/∂u_k) Φ(s_k)`` (tested against column-by-column
+differences).  Results: ``RES_DECK_Y``, ``RES_DECK_Z``, ``RES_DECK_ROLL`` (the deck offset used, without the
+irregularity) and ``RES_ON_DECK`` per wheel; :meth:`WheelRailContact.modal_forces_N`,
+:meth:`~WheelRailContact.rail_forces_N`, :meth:`~WheelRailContact.deck_state`.
 
 Outputs
 -------
@@ -55,6 +93,7 @@ from ..creep import linear as _linear
 from ..creep.fastsim import DEFAULT_NX, DEFAULT_NY, fastsim_core
 from ..creep.laws import polach_core, she_core
 from ..creep.table import table_core
+from ..structures.bridge import add_projected_force, rail_state_at
 from .track import RigidStraightTrack, irregularity_at
 
 __all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", "ContactStateError",
@@ -104,7 +143,14 @@ RES_V = 18            # rolling speed [m/s]
 RES_CREEP_STATUS = 19  # contact.creepage CREEP_* bits (+ 64: a/b clamped for the creep law)
 RES_FLAGS = 20        # kernel FLAG_* bits
 RES_S_TRACK = 21      # track distance of the wheelset [m]
-N_RES = 22
+RES_DECK_Y = 22       # deck (bridge) displacement of the rails' centre line at rail top under the wheelset, used for
+RES_DECK_Z = 23       # the contact: lateral y, vertical z (down) [m], roll about x [rad] (0 off the deck / no bridge);
+RES_DECK_ROLL = 24    # the track irregularity comes on top
+RES_ON_DECK = 25      # 1 when the wheelset's track distance lies on the deck, else 0
+N_RES = 26
+
+# per-wheelset deck state (deck_state rows): displacement y, z, roll, material velocity y, z, roll rate, on-deck flag
+N_DECK_STATE = 7
 
 CREEP_AB_CLAMPED = 64
 
@@ -175,12 +221,31 @@ def _creep(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
 @njit(cache=True)
 def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                         nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                        tab, f_out, res):
-    """All wheelsets in one call.  ``q``, ``q_t`` (6 n): per wheelset displacement (global), rotation vector,
-    velocity (global) and body-frame angular velocity (Lie-group node coordinates); ``p_ref`` (n, 3) reference
-    positions.  Fills ``f_out`` (6 n): force (global) and torque (body frame) per wheelset, and ``res``
-    (2 n, N_SLOTS, N_RES).  Returns the index of the first wheelset with a non-finite state, or -1."""
+                        tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
+                        deck_state, f_out, res):
+    """All wheelsets in one call.  ``q``, ``q_t`` (6 n + n_m): per wheelset displacement (global), rotation vector,
+    velocity (global) and body-frame angular velocity (Lie-group node coordinates), then the n_m modal coordinates
+    of the bridge (none without a bridge); ``p_ref`` (n, 3) reference positions.  Fills ``f_out`` (6 n + n_m):
+    force (global) and torque (body frame) per wheelset, then the generalized modal forces of the deck; ``res``
+    (2 n, N_SLOTS, N_RES).  Returns the index of the first wheelset with a non-finite state, n for non-finite modal
+    coordinates, or -1.
+
+    Bridge (module docstring, "Flexible bridge"): ``deck_par`` = (start_m, rail_height_m) and ``deck_x0``,
+    ``deck_len``, ``deck_nodes``, ``deck_shapes`` the arrays of the deck's
+    :class:`~exudyn_wheelrail.structures.bridge.ShapeTable` (empty arrays, n_m = 0: no bridge).  ``rail_delta``
+    (n, 6): increments added to the deck state of every wheelset on the deck (zero; the Jacobian perturbs it).
+    Outputs per wheelset: ``phi_ws`` (n, 3, n_m) ``Φ(s)``, ``rail_f`` (n, 3) the force on the rails (Fy, Fz, Mx
+    about the deck's rail-top centre line) that is projected, ``deck_state`` (n, N_DECK_STATE)."""
     n_ws = p_ref.shape[0]
+    n_w6 = 6 * n_ws
+    n_m = q.shape[0] - n_w6
+    q_m = q[n_w6:]
+    q_m_t = q_t[n_w6:]
+    f_m = f_out[n_w6:]
+    d_start = deck_par[0]
+    d_ez = deck_par[1]
+    work_ds = np.empty((3, n_m))
+    st = np.zeros(9)
     R = np.empty((3, 3))
     frame = np.empty((3, 3))
     pc = np.empty(3)
@@ -221,16 +286,44 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         s_ws[k] = s
         rolls[k] = roll
         yaws[k] = yaw
-        irr[k, 0] = y_irr
-        irr[k, 1] = z_irr
-        side_poses[2 * k, 0] = py - y_irr
-        side_poses[2 * k, 1] = pz - z_irr
-        side_poses[2 * k, 2] = roll
-        side_poses[2 * k + 1, 0] = -(py - y_irr)
-        side_poses[2 * k + 1, 1] = pz - z_irr
-        side_poses[2 * k + 1, 2] = -roll
+        # deck state under the wheelset: displacement Φ(s) q and material velocity Φ(s) q̇ (zero off the deck)
+        on = False
+        if n_m > 0:
+            on = rail_state_at(s, speed, d_start, d_ez, deck_x0, deck_len, deck_nodes, deck_shapes, q_m, q_m_t,
+                               phi_ws[k], work_ds, st)
+        for i in range(6):
+            deck_state[k, i] = st[i] + rail_delta[k, i] if on else 0.0
+        deck_state[k, 6] = 1.0 if on else 0.0
+        # rails: the irregularity plus the deck, rolled by θ about the centre line at rail top; the pose relative to
+        # the rail pair is R_x(-θ) (p - p_rail), roll - θ (without a bridge: p - p_irr, roll)
+        y_r = y_irr + deck_state[k, 0]
+        z_r = z_irr + deck_state[k, 1]
+        th = deck_state[k, 2]
+        c_th = math.cos(th)
+        s_th = math.sin(th)
+        irr[k, 0] = y_r
+        irr[k, 1] = z_r
+        dy = py - y_r
+        dz = pz - z_r
+        y_rel = c_th * dy + s_th * dz
+        z_rel = -s_th * dy + c_th * dz
+        side_poses[2 * k, 0] = y_rel
+        side_poses[2 * k, 1] = z_rel
+        side_poses[2 * k, 2] = roll - th
+        side_poses[2 * k + 1, 0] = -y_rel
+        side_poses[2 * k + 1, 1] = z_rel
+        side_poses[2 * k + 1, 2] = -(roll - th)
+    if n_m > 0:
+        for i in range(n_m):
+            if not (math.isfinite(q_m[i]) and math.isfinite(q_m_t[i])):
+                if bad < 0:
+                    bad = n_ws
     for i in range(f_out.shape[0]):
         f_out[i] = 0.0
+    for k in range(n_ws):
+        rail_f[k, 0] = 0.0
+        rail_f[k, 1] = 0.0
+        rail_f[k, 2] = 0.0
     res[:, :, :] = 0.0
     if bad >= 0:
         return bad
@@ -249,6 +342,22 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         tx = 0.0
         ty = 0.0
         tz = 0.0
+        # deck under this wheelset: rail centre line (incl. irregularity) y_r, z_r, roll th; deck line yb, zb; the
+        # deck's material velocity (vyb, vzb) of the centre line at rail top and roll rate wb
+        y_r = irr[k, 0]
+        z_r = irr[k, 1]
+        yb = deck_state[k, 0]
+        zb = deck_state[k, 1]
+        th = deck_state[k, 2]
+        vyb = deck_state[k, 3]
+        vzb = deck_state[k, 4]
+        wb = deck_state[k, 5]
+        c_th = math.cos(th)
+        s_th = math.sin(th)
+        omega_rail[0] = wb
+        rfy = 0.0
+        rfz = 0.0
+        rmx = 0.0
         for side in range(2):
             w = 2 * k + side
             mirror = 1.0 if side == 0 else -1.0
@@ -258,13 +367,22 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 r[RES_STATUS] = ow[K.F_STATUS]
                 r[RES_FLAGS] = ow[K.F_FLAGS]
                 r[RES_S_TRACK] = s_ws[k]
+                r[RES_DECK_Y] = yb
+                r[RES_DECK_Z] = zb
+                r[RES_DECK_ROLL] = th
+                r[RES_ON_DECK] = deck_state[k, 6]
                 if ow[K.F_STATUS] <= 0:
                     continue
                 N = ow[K.F_NORMAL_FORCE]
-                y_t = mirror * ow[K.F_PW_Y] + irr[k, 0]
-                z_t = ow[K.F_PW_Z] + irr[k, 1]
-                ny = mirror * ow[K.F_NR_Y]
-                nz = ow[K.F_NR_Z]
+                # contact point and rail normal from the rail pair's frame to the track frame
+                y_l = mirror * ow[K.F_PW_Y]
+                z_l = ow[K.F_PW_Z]
+                ny_l = mirror * ow[K.F_NR_Y]
+                nz_l = ow[K.F_NR_Z]
+                y_t = y_r + c_th * y_l - s_th * z_l
+                z_t = z_r + s_th * y_l + c_th * z_l
+                ny = c_th * ny_l - s_th * nz_l
+                nz = s_th * ny_l + c_th * nz_l
                 x_c, y_c, z_c, _, ok = yawed_contact_point_core(y_t, z_t, ny, nz, p_centre[0], p_centre[1],
                                                                  p_centre[2], rolls[k], yaws[k])
                 if not ok:
@@ -275,6 +393,9 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 nr[0] = 0.0
                 nr[1] = ny
                 nr[2] = nz
+                # rail material velocity at the contact point: (-V, 0, 0) + deck velocity + θ̇ e_x × (p - deck line)
+                v_rail[1] = vyb - wb * (z_c - zb)
+                v_rail[2] = vzb + wb * (y_c - yb)
                 xi, eta, phi, V, cstat = creepages_core(pc, nr, e_axle, p_centre, v_centre, omega, v_rail,
                                                          omega_rail, cp[CP_V_MIN], frame)
                 Fx = 0.0
@@ -301,6 +422,11 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 tx += dy * Fgz - dz * Fgy + Mz * frame[2, 0]
                 ty += dz * Fgx - dx * Fgz + Mz * frame[2, 1]
                 tz += dx * Fgy - dy * Fgx + Mz * frame[2, 2]
+                # on the rail: minus the force on the wheel, its moment about the deck's rail-top centre line and
+                # the x component of minus the spin moment
+                rfy -= Fgy
+                rfz -= Fgz
+                rmx -= (y_c - yb) * Fgz - (z_c - zb) * Fgy + Mz * frame[2, 0]
                 r[RES_N] = N
                 r[RES_FX] = Fx
                 r[RES_FY] = Fy
@@ -327,30 +453,53 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         f_out[o + 3] = R[0, 0] * tx + R[1, 0] * ty + R[2, 0] * tz
         f_out[o + 4] = R[0, 1] * tx + R[1, 1] * ty + R[2, 1] * tz
         f_out[o + 5] = R[0, 2] * tx + R[1, 2] * ty + R[2, 2] * tz
+        rail_f[k, 0] = rfy
+        rail_f[k, 1] = rfz
+        rail_f[k, 2] = rmx
+        if deck_state[k, 6] > 0.5:
+            # generalized modal forces Φ(s)^T (Fy, Fz, Mx) of the force on the rails (bridge.add_projected_force)
+            add_projected_force(s_ws[k], rfy, rfz, rmx, d_start, d_ez, deck_x0, deck_len, deck_nodes, deck_shapes,
+                                work_ds, f_m)
     return -1
 
 
 @njit(cache=True)
 def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                           nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                          tab, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
+                          tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
+                          deck_state, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core`;
-    rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group update.  Structured: the
-    Jacobian is block diagonal per wheelset (a wheelset's contact forces depend on its own coordinates only), so
-    the same coordinate of all wheelsets is perturbed in one call — 12 calls whatever the number of wheelsets.
+    rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group update.  Structured: a
+    wheelset's contact forces depend on its own coordinates (and the deck under it) only, so the same coordinate of
+    all wheelsets is perturbed in one call — 12 calls whatever the number of wheelsets; the modal rows of those
+    columns are ``Φ(s_k)^T`` times the change of wheelset k's rail force (and of ``Φ(s_k)`` when s moves).
+    Bridge columns (chain rule): the contact depends on the modal coordinates only through the deck state under
+    each wheelset, ``u_k = Φ(s_k) q_m`` and ``u̇_k = Φ(s_k) q̇_m`` (rows y, z, θ), so the three offsets and three
+    rates of every wheelset on the deck are perturbed together (``rail_delta``: 6 calls for any number of modes and
+    wheelsets): ``∂f_k/∂q_m = (∂f_k/∂u_k) Φ(s_k)``, ``∂Q/∂q_m = Σ_k Φ(s_k)^T (∂F_rail,k/∂u_k) Φ(s_k)``.
     The warm-start state is restored after every perturbed call."""
     n = q.shape[0]
+    n_ws = p_ref.shape[0]
+    n_w6 = 6 * n_ws
+    n_m = n - n_w6
     warm0 = warm.copy()
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
-                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, f0, res)
+                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, deck_par,
+                        deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f, deck_state, f0, res)
     warm[:] = warm0
+    phi0 = phi_ws.copy()
+    rf0 = rail_f.copy()
+    on_deck = np.empty(n_ws, dtype=np.bool_)
+    any_on = False
+    for k in range(n_ws):
+        on_deck[k] = deck_state[k, 6] > 0.5
+        any_on = any_on or on_deck[k]
     f1 = np.empty(n)
     qp = q.copy()
     vp = q_t.copy()
     R = np.empty((3, 3))
     Rd = np.empty((3, 3))
     Rn = np.empty((3, 3))
-    n_ws = n // 6
     for r in range(n):
         for c in range(n):
             jac[r, c] = 0.0
@@ -373,7 +522,8 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
                 _rotation_vector_from_matrix(Rn, qp, o + 3)
         contact_forces_core(qp, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                             nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                            tab, f1, res)
+                            tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
+                            deck_state, f1, res)
         warm[:] = warm0
         for k in range(n_ws):
             o = 6 * k
@@ -381,21 +531,71 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
                 jac[o + r, o + i] = -(f1[o + r] - f0[o + r]) / h * f_odeq
             for m in range(6):
                 qp[o + m] = q[o + m]
+            # modal rows: change of Φ(s_k)^T F_rail,k (s_k moves with the x coordinate)
+            for j in range(n_m):
+                d = 0.0
+                for a in range(3):
+                    d += phi_ws[k, a, j] * rail_f[k, a] - phi0[k, a, j] * rf0[k, a]
+                jac[n_w6 + j, o + i] = -d / h * f_odeq
         # ---- velocities
         for k in range(n_ws):
             vp[6 * k + i] = q_t[6 * k + i] + h_vel
         contact_forces_core(q, vp, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
                             nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
-                            tab, f1, res)
+                            tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
+                            deck_state, f1, res)
         warm[:] = warm0
         for k in range(n_ws):
             o = 6 * k
             for r in range(6):
                 jac[o + r, o + i] -= (f1[o + r] - f0[o + r]) / h_vel * f_odev
             vp[o + i] = q_t[o + i]
+            for j in range(n_m):
+                d = 0.0
+                for a in range(3):
+                    d += phi0[k, a, j] * (rail_f[k, a] - rf0[k, a])
+                jac[n_w6 + j, o + i] -= d / h_vel * f_odev
+    # ---- bridge columns by the chain rule through the deck state under each wheelset (6 calls)
+    if n_m > 0 and any_on:
+        g = np.empty(n_m)
+        for a in range(6):
+            if a < 2:
+                h = h_pos
+            elif a == 2:
+                h = h_rot
+            else:
+                h = h_vel
+            scale = f_odeq if a < 3 else f_odev
+            row = a % 3                                  # the row of Φ the perturbed quantity belongs to
+            for k in range(n_ws):
+                rail_delta[k, a] = h
+            contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
+                                nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
+                                tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws,
+                                rail_f, deck_state, f1, res)
+            warm[:] = warm0
+            for k in range(n_ws):
+                rail_delta[k, a] = 0.0
+            for k in range(n_ws):
+                if not on_deck[k]:
+                    continue
+                o = 6 * k
+                for r in range(6):
+                    d = (f1[o + r] - f0[o + r]) / h * scale
+                    for j in range(n_m):
+                        jac[o + r, n_w6 + j] -= d * phi0[k, row, j]
+                for i2 in range(n_m):
+                    d = 0.0
+                    for b in range(3):
+                        d += phi0[k, b, i2] * (rail_f[k, b] - rf0[k, b])
+                    g[i2] = d / h * scale
+                for i2 in range(n_m):
+                    for j in range(n_m):
+                        jac[n_w6 + i2, n_w6 + j] -= g[i2] * phi0[k, row, j]
     # leave res/out describing the unperturbed state
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
-                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, f0, res)
+                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, deck_par,
+                        deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f, deck_state, f0, res)
     warm[:] = warm0
 
 
@@ -463,8 +663,8 @@ class WheelRailContact:
     s_start_m : track distance of the model frame's origin at t = 0.
     frame : ``"moving"`` (the model frame translates with V; default, as :func:`.vehicle_builder.build_vehicle`)
         or ``"track"`` (the frame is fixed to the track; wheelsets carry their forward speed themselves).
-    creep_law : ``"fastsim"`` (default), ``"table"`` (the USETAB-style table of Kalker's exact theory,
-        :mod:`exudyn_wheelrail.creep.table`), ``"shen_hedrick_elkins"``, ``"polach"`` (cheap laws,
+    creep_law : ``"table"`` (default: the USETAB-style table of Kalker's exact theory, as in the paper,
+        :mod:`exudyn_wheelrail.creep.table`), ``"fastsim"``, ``"shen_hedrick_elkins"``, ``"polach"`` (cheap laws,
         :mod:`exudyn_wheelrail.creep.laws`), ``"linear"`` (Kalker's linear theory, no saturation) or ``"none"``.
         Outside a law's semi-axis-ratio range (Table E.3's 0.1–10 for the laws built on it, the table's own range
         for ``"table"``) the law is evaluated for the ellipse of the same area at the nearest allowed ratio and the
@@ -477,19 +677,27 @@ class WheelRailContact:
     global_search : run the kernel's global scan at every evaluation (slower; follows jumps without warm start).
     jacobian : ``"numerical"`` — a compiled forward-difference Jacobian user function for implicit solvers
         (default); ``None`` — none (Exudyn's own handling).
+    bridge : an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` (:func:`~exudyn_wheelrail.structures.
+        bridge.add_bridge` in the same ``mbs``) or ``None`` (rigid track).  The object then also spans the bridge's
+        modal node: wheels on the deck see the deck's rail displacement and velocity, and the forces on the rails
+        go to the modal coordinates (module docstring, "Flexible bridge").  The deck's track distances are those
+        of the track (``BridgeModel.start_m``), the same s as the irregularity.
     """
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
                  track: RigidStraightTrack | None = None, s_start_m: float = 0.0, frame: str = "moving",
-                 creep_law: str = "fastsim", mu: float = 0.3, E_wheel_Pa: float = 2.1e11, nu_wheel: float = 0.28,
+                 creep_law: str = "table", mu: float = 0.3, E_wheel_Pa: float = 2.1e11, nu_wheel: float = 0.28,
                  E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28, fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
-                 v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact"):
+                 v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", bridge=None):
         import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 
         from ..contact.wheelset import WheelsetContact
+        from ..structures.bridge import ExudynBridge
 
+        if bridge is not None and not isinstance(bridge, ExudynBridge):
+            raise TypeError(f"bridge={bridge!r}: expected an ExudynBridge (structures.bridge.add_bridge) or None")
         if frame not in ("moving", "track"):
             raise ValueError(f"frame={frame!r}: expected 'moving' or 'track'")
         if creep_law not in CREEP_LAWS:
@@ -551,13 +759,32 @@ class WheelRailContact:
         packed = self.track.packed()
         self._irr = (np.ascontiguousarray(packed.rows, dtype=float), np.ascontiguousarray(packed.knots, dtype=float),
                      np.ascontiguousarray(packed.coefs, dtype=float))
-        n = 6 * n_ws
+        # the bridge: its shape table (empty arrays, no modal coordinates, without a bridge)
+        self.bridge = bridge
+        if bridge is not None:
+            tb = bridge.modes.table
+            self.n_modes = int(bridge.modes.n_modes)
+            self._deck = (np.array([tb.start_m, tb.rail_height_m], dtype=float),
+                          np.ascontiguousarray(tb.elem_x0, dtype=float), np.ascontiguousarray(tb.elem_len, dtype=float),
+                          np.ascontiguousarray(tb.elem_nodes, dtype=np.int64),
+                          np.ascontiguousarray(tb.node_shapes, dtype=float))
+        else:
+            self.n_modes = 0
+            self._deck = (np.zeros(2), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64),
+                          np.zeros((0, 5, 0)))
+        self._rail_delta = np.zeros((n_ws, 6))
+        self._phi_ws = np.zeros((n_ws, 3, self.n_modes))
+        self._rail_f = np.zeros((n_ws, 3))
+        self._deck_state = np.zeros((n_ws, N_DECK_STATE))
+        n = 6 * n_ws + self.n_modes
+        self.n_coordinates = n
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.results = np.zeros((2 * n_ws, K.N_SLOTS, N_RES))
         self._side_poses = np.zeros((2 * n_ws, 3))
         self.n_calls = 0
-        kwargs = dict(name=name, nodeNumbers=self.nodes_exu, massMatrix=np.zeros((n, n)),
+        node_numbers = self.nodes_exu + ([bridge.modal_node] if bridge is not None else [])
+        kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=np.zeros((n, n)),
                       forceUserFunction=self._force_uf, visualization=VObjectGenericODE2(show=False))
         if jacobian == "numerical":
             kwargs["jacobianUserFunction"] = self._jacobian_uf
@@ -572,15 +799,23 @@ class WheelRailContact:
         kc = self._kc
         return (q, q_t, self.p_ref, t, self.speed_m_s, self.moving_frame, self.s_start_m, *self._irr, kc.nodes,
                 kc.meta, kc.mono, kc.curve_ids, kc.warm, kc.params, self._side_poses, kc.out, self._law, self.cp,
-                _linear._T_NODES, _linear._COEF, self._tab)
+                _linear._T_NODES, _linear._COEF, self._tab, *self._deck, self._rail_delta, self._phi_ws, self._rail_f,
+                self._deck_state)
 
     def forces(self, q, q_t, t: float) -> np.ndarray:
-        """Generalized contact forces for the object coordinates (force global, torque body frame per wheelset);
-        updates :attr:`results`.  Raises :class:`ContactStateError` for non-finite coordinates."""
+        """Generalized contact forces for the object coordinates (force global, torque body frame per wheelset, then
+        the generalized modal forces of the bridge, if any); updates :attr:`results`.  Raises
+        :class:`ContactStateError` for non-finite coordinates."""
         q = np.ascontiguousarray(q, dtype=float)
         q_t = np.ascontiguousarray(q_t, dtype=float)
+        if q.shape != (self.n_coordinates,) or q_t.shape != (self.n_coordinates,):
+            raise ValueError(f"coordinates of shapes {q.shape}, {q_t.shape}: expected ({self.n_coordinates},) each "
+                             f"(6 per wheelset{f' + {self.n_modes} modal' if self.n_modes else ''})")
         bad = contact_forces_core(*self._args(q, q_t, float(t)), self._f, self.results)
         self.n_calls += 1
+        if bad == len(self.nodes_exu):
+            raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's modal coordinates are "
+                                    "non-finite — the simulation diverged (time step too large?)")
         if bad >= 0:
             raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: wheelset {bad} (node "
                                     f"{self.nodes_exu[bad]}) has non-finite coordinates — the simulation diverged "
@@ -599,10 +834,12 @@ class WheelRailContact:
 
     # -- state of the model ----------------------------------------------------------------------------------------
     def coordinates(self, mbs):
-        """Current (q, q_t) of the wheelset nodes from the Exudyn system."""
+        """Current (q, q_t) of the object's nodes from the Exudyn system: the wheelset nodes, then the bridge's
+        modal node (if any)."""
         exu = self._exu
-        q = np.concatenate([mbs.GetNodeOutput(n, exu.OutputVariableType.Coordinates) for n in self.nodes_exu])
-        v = np.concatenate([mbs.GetNodeOutput(n, exu.OutputVariableType.Coordinates_t) for n in self.nodes_exu])
+        nodes = self.nodes_exu + ([self.bridge.modal_node] if self.bridge is not None else [])
+        q = np.concatenate([np.atleast_1d(mbs.GetNodeOutput(n, exu.OutputVariableType.Coordinates)) for n in nodes])
+        v = np.concatenate([np.atleast_1d(mbs.GetNodeOutput(n, exu.OutputVariableType.Coordinates_t)) for n in nodes])
         return q, v
 
     def evaluate(self, mbs, t: float) -> np.ndarray:
@@ -643,6 +880,21 @@ class WheelRailContact:
         """Total contact force (both regions) on a wheel, model frame, from the last evaluation."""
         w = 2 * wheelset + (0 if side == "right" else 1)
         return self.results[w, :, RES_F_TRACK_X:RES_F_TRACK_Z + 1].sum(axis=0)
+
+    def modal_forces_N(self) -> np.ndarray:
+        """Generalized modal forces on the bridge from the last evaluation (a copy; empty without a bridge)."""
+        return self._f[6 * len(self.nodes_exu):].copy()
+
+    def rail_forces_N(self) -> np.ndarray:
+        """Per wheelset the force on the rails that was projected on the deck (last evaluation): rows
+        ``(Fy, Fz, Mx)`` — minus the contact forces on the wheels, y right, z down, Mx about the deck's deflected
+        rail-top centre line (z down: positive turns +y towards +z); filled on and off the deck."""
+        return self._rail_f.copy()
+
+    def deck_state(self) -> np.ndarray:
+        """Per wheelset the deck state under it (last evaluation): displacement ``(y, z, θ)`` of the rails' centre
+        line at rail top, its material velocity ``(ẏ, ż, θ̇)`` and a 0/1 on-deck flag (zero off the deck)."""
+        return self._deck_state.copy()
 
     def flange_contact(self, wheelset: int, side: str) -> bool:
         """Whether the flange region carries a contact (last evaluation)."""
