@@ -205,7 +205,7 @@ def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
     p.add_argument("--steps", type=_steps_arg, default=steps_default,
                    help=f"number of steps or 'auto' (enough for the whole car to pass the span; default "
                         f"{steps_default})")
-    p.add_argument("--creep-law", default="fastsim", help="creep law of the connector (default fastsim)")
+    p.add_argument("--creep-law", default="table", help="creep law of the connector: table (default: Kalker's exact theory, tabulated), fastsim, shen_hedrick_elkins, polach")
     p.add_argument("--delta-mm", type=float, default=None,
                    help="deviation amplitude [mm] (default: RtriAssumptions, 10 mm; an override is marked in the "
                         "summary)")

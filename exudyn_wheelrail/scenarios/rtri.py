@@ -172,7 +172,7 @@ class RtriCaseAssumptions:
     #: ASSUMPTION: wheel–rail friction coefficient (dry steel on steel)
     friction_coefficient: float = 0.3
     #: ASSUMPTION (project default for now): creep law and its grid
-    creep_law: str = "fastsim"
+    creep_law: str = "table"
     fastsim_grid: tuple[int, int] = (24, 8)
 
     def __post_init__(self):
@@ -212,8 +212,9 @@ _CASE_ORIGINS = {
     "representative_speed_km_h": "ASSUMPTION (rtri.py): the plant's maximum speed, the most severe test condition; "
                                  "chosen before any run",
     "friction_coefficient": "ASSUMPTION (rtri.py): dry steel on steel, the connector's default",
-    "creep_law": "ASSUMPTION (rtri.py): FASTSIM until the exact-theory table is available",
-    "fastsim_grid": "ASSUMPTION (rtri.py): FASTSIM discretisation (n_x, n_y)",
+    "creep_law": "published method (Montenegro et al. 2015): creep forces interpolated in a table of Kalker's exact "
+                 "theory (our exudyn_wheelrail.creep.table)",
+    "fastsim_grid": "ASSUMPTION (rtri.py): FASTSIM discretisation (n_x, n_y), used only with --creep-law fastsim",
 }
 _OTHER_MODEL_CHOICES = {
     "wheel_rail_pair": "S1002 on UIC60 1:40, gauge and back-to-back from the vehicle file (substitutes, "
