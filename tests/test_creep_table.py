@@ -445,12 +445,6 @@ def test_shipped_table_metadata():
     assert F[0] < 0.0
 
 
-def test_fastsim_development_table_if_present():
-    if not FASTSIM_TABLE_PATH.is_file():
-        pytest.skip(f"no FASTSIM development table at {FASTSIM_TABLE_PATH} (optional)")
-    assert load_table(FASTSIM_TABLE_PATH).generator == "fastsim"
-
-
 def test_shipped_table_reproduces_the_exact_solver_off_grid():
     """The package table against ``kalker_exact`` run with the table's own solver options at random off-grid
     points (a/b 0.2–5, normalised creepages from linear to saturated, with spin): the interpolation error, within
