@@ -11,7 +11,7 @@ import pytest
 
 from exudyn_wheelrail.creep import fastsim, kalker_coefficients, linear_creep_forces
 from exudyn_wheelrail.creep.build_table import build_table, case_count, chunk_cases, make_grid
-from exudyn_wheelrail.creep.table import (FASTSIM_TABLE_PATH, NU_TABLE, NU_TOLERANCE, TABLE_PATH, CreepTable,
+from exudyn_wheelrail.creep.table import (NU_TABLE, NU_TOLERANCE, TABLE_PATH, CreepTable,
                                           load_table, normalisation_coefficients, normalised_creepages,
                                           physical_creepages, table_core, table_forces)
 
