@@ -61,14 +61,26 @@ right, z down; θ right-handed about +x, so θ > 0 lowers the right rail).  For 
   projected (the bridge model has no x row).
 
 Wheels off the deck see the rigid track (``Φ = 0``; their results are identical to a model without bridge).
+
+*Lateral support motion* (:meth:`~exudyn_wheelrail.structures.bridge.ExudynBridge.add_support_motion`,
+:mod:`exudyn_wheelrail.structures.support_motion`): the modal coordinates are then the deck's motion relative to its
+supports, and the ground displacement ``y_g(t)`` and velocity ``ẏ_g(t)`` of the bridge's support motion come on top
+for **every** wheelset, on the deck and off it (synchronous ground motion: the track off the deck moves with the
+ground): rails at ``y_r = y_irr + y_g + y_b``, material velocity ``v_y = ẏ_g + ẏ_b - θ̇_b (p_z - z_b)``, deck line
+(moment arm, roll velocity) at ``y_g + y_b``.  They depend on time only (no Jacobian columns); they are evaluated
+in Python once per force or Jacobian call and passed to the compiled call in ``deck_par``.  Results
+``RES_GROUND_Y``, ``RES_GROUND_VY``; the wheelset pose relative to its rail pair (what the kernel solves for:
+lateral wheelset–rail displacement) is :meth:`WheelRailContact.wheelset_rail_pose`.
+
 Jacobian: the wheelset columns as above (their modal rows are the change of ``Φ(s_k)^T F_r,k``, including the
 change of ``Φ`` when the x coordinate moves s_k); the modal columns by the chain rule — the contact depends on
 ``q`` and ``q̇`` only through the deck state under each wheelset, so the three offsets and three rates of all
 wheelsets on the deck are perturbed together (6 calls for any number of modes and wheelsets):
 ``∂f_k/∂q = (∂f_k/∂u_k) Φ(s_k)``, ``∂Q/∂q = Σ_k Φ(s_k)^T (∂F_r,k/∂u_k) Φ(s_k)`` (tested against column-by-column
-differences).  Results: ``RES_DECK_Y``, ``RES_DECK_Z``, ``RES_DECK_ROLL`` (the deck offset used, without the
-irregularity) and ``RES_ON_DECK`` per wheel; :meth:`WheelRailContact.modal_forces_N`,
-:meth:`~WheelRailContact.rail_forces_N`, :meth:`~WheelRailContact.deck_state`.
+differences).  Results: ``RES_DECK_Y``, ``RES_DECK_Z``, ``RES_DECK_ROLL`` (the deck offset used, relative to the
+supports: without the irregularity and the ground motion) and ``RES_ON_DECK`` per wheel;
+:meth:`WheelRailContact.modal_forces_N`, :meth:`~WheelRailContact.rail_forces_N`,
+:meth:`~WheelRailContact.deck_state`.
 
 Outputs
 -------
@@ -147,7 +159,9 @@ RES_DECK_Y = 22       # deck (bridge) displacement of the rails' centre line at 
 RES_DECK_Z = 23       # the contact: lateral y, vertical z (down) [m], roll about x [rad] (0 off the deck / no bridge);
 RES_DECK_ROLL = 24    # the track irregularity comes on top
 RES_ON_DECK = 25      # 1 when the wheelset's track distance lies on the deck, else 0
-N_RES = 26
+RES_GROUND_Y = 26     # lateral ground (support) motion y_g [m] and its velocity [m/s] added to the rails (bridge
+RES_GROUND_VY = 27    # support motion; 0 without), on and off the deck
+N_RES = 28
 
 # per-wheelset deck state (deck_state rows): displacement y, z, roll, material velocity y, z, roll rate, on-deck flag
 N_DECK_STATE = 7
@@ -230,7 +244,9 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
     (2 n, N_SLOTS, N_RES).  Returns the index of the first wheelset with a non-finite state, n for non-finite modal
     coordinates, or -1.
 
-    Bridge (module docstring, "Flexible bridge"): ``deck_par`` = (start_m, rail_height_m) and ``deck_x0``,
+    Bridge (module docstring, "Flexible bridge"): ``deck_par`` = (start_m, rail_height_m, y_g, ẏ_g) — the last two
+    the lateral ground (support) motion at t, added to every wheelset's rails (zero: none; a 2-entry ``deck_par``
+    means none) — and ``deck_x0``,
     ``deck_len``, ``deck_nodes``, ``deck_shapes`` the arrays of the deck's
     :class:`~exudyn_wheelrail.structures.bridge.ShapeTable` (empty arrays, n_m = 0: no bridge).  ``rail_delta``
     (n, 6): increments added to the deck state of every wheelset on the deck (zero; the Jacobian perturbs it).
@@ -244,6 +260,11 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
     f_m = f_out[n_w6:]
     d_start = deck_par[0]
     d_ez = deck_par[1]
+    y_g = 0.0
+    v_g = 0.0
+    if deck_par.shape[0] >= 4:
+        y_g = deck_par[2]
+        v_g = deck_par[3]
     work_ds = np.empty((3, n_m))
     st = np.zeros(9)
     R = np.empty((3, 3))
@@ -294,9 +315,10 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         for i in range(6):
             deck_state[k, i] = st[i] + rail_delta[k, i] if on else 0.0
         deck_state[k, 6] = 1.0 if on else 0.0
-        # rails: the irregularity plus the deck, rolled by θ about the centre line at rail top; the pose relative to
-        # the rail pair is R_x(-θ) (p - p_rail), roll - θ (without a bridge: p - p_irr, roll)
-        y_r = y_irr + deck_state[k, 0]
+        # rails: the irregularity plus the ground motion plus the deck, rolled by θ about the centre line at rail
+        # top; the pose relative to the rail pair is R_x(-θ) (p - p_rail), roll - θ (without a bridge: p - p_irr,
+        # roll)
+        y_r = y_irr + y_g + deck_state[k, 0]
         z_r = z_irr + deck_state[k, 1]
         th = deck_state[k, 2]
         c_th = math.cos(th)
@@ -342,11 +364,13 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         tx = 0.0
         ty = 0.0
         tz = 0.0
-        # deck under this wheelset: rail centre line (incl. irregularity) y_r, z_r, roll th; deck line yb, zb; the
-        # deck's material velocity (vyb, vzb) of the centre line at rail top and roll rate wb
+        # deck under this wheelset: rail centre line (incl. irregularity and ground motion) y_r, z_r, roll th; deck
+        # displacement yb, zb relative to the supports (the deck line is at y_g + yb, zb); the deck's material
+        # velocity (vyb, vzb) of the centre line at rail top relative to the supports and roll rate wb
         y_r = irr[k, 0]
         z_r = irr[k, 1]
         yb = deck_state[k, 0]
+        yb_line = y_g + yb
         zb = deck_state[k, 1]
         th = deck_state[k, 2]
         vyb = deck_state[k, 3]
@@ -371,6 +395,8 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 r[RES_DECK_Z] = zb
                 r[RES_DECK_ROLL] = th
                 r[RES_ON_DECK] = deck_state[k, 6]
+                r[RES_GROUND_Y] = y_g
+                r[RES_GROUND_VY] = v_g
                 if ow[K.F_STATUS] <= 0:
                     continue
                 N = ow[K.F_NORMAL_FORCE]
@@ -393,9 +419,10 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 nr[0] = 0.0
                 nr[1] = ny
                 nr[2] = nz
-                # rail material velocity at the contact point: (-V, 0, 0) + deck velocity + θ̇ e_x × (p - deck line)
-                v_rail[1] = vyb - wb * (z_c - zb)
-                v_rail[2] = vzb + wb * (y_c - yb)
+                # rail material velocity at the contact point: (-V, 0, 0) + ground velocity + deck velocity
+                # + θ̇ e_x × (p - deck line)
+                v_rail[1] = v_g + vyb - wb * (z_c - zb)
+                v_rail[2] = vzb + wb * (y_c - yb_line)
                 xi, eta, phi, V, cstat = creepages_core(pc, nr, e_axle, p_centre, v_centre, omega, v_rail,
                                                          omega_rail, cp[CP_V_MIN], frame)
                 Fx = 0.0
@@ -426,7 +453,7 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
                 # the x component of minus the spin moment
                 rfy -= Fgy
                 rfz -= Fgz
-                rmx -= (y_c - yb) * Fgz - (z_c - zb) * Fgy + Mz * frame[2, 0]
+                rmx -= (y_c - yb_line) * Fgz - (z_c - zb) * Fgy + Mz * frame[2, 0]
                 r[RES_N] = N
                 r[RES_FX] = Fx
                 r[RES_FY] = Fy
@@ -681,7 +708,9 @@ class WheelRailContact:
         bridge.add_bridge` in the same ``mbs``) or ``None`` (rigid track).  The object then also spans the bridge's
         modal node: wheels on the deck see the deck's rail displacement and velocity, and the forces on the rails
         go to the modal coordinates (module docstring, "Flexible bridge").  The deck's track distances are those
-        of the track (``BridgeModel.start_m``), the same s as the irregularity.
+        of the track (``BridgeModel.start_m``), the same s as the irregularity.  A support motion of the bridge
+        (``bridge.add_support_motion``, before or after this call) moves the rails of every wheelset laterally
+        by the ground displacement and velocity as well.
     """
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
@@ -764,13 +793,13 @@ class WheelRailContact:
         if bridge is not None:
             tb = bridge.modes.table
             self.n_modes = int(bridge.modes.n_modes)
-            self._deck = (np.array([tb.start_m, tb.rail_height_m], dtype=float),
+            self._deck = (np.array([tb.start_m, tb.rail_height_m, 0.0, 0.0], dtype=float),
                           np.ascontiguousarray(tb.elem_x0, dtype=float), np.ascontiguousarray(tb.elem_len, dtype=float),
                           np.ascontiguousarray(tb.elem_nodes, dtype=np.int64),
                           np.ascontiguousarray(tb.node_shapes, dtype=float))
         else:
             self.n_modes = 0
-            self._deck = (np.zeros(2), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64),
+            self._deck = (np.zeros(4), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64),
                           np.zeros((0, 5, 0)))
         self._rail_delta = np.zeros((n_ws, 6))
         self._phi_ws = np.zeros((n_ws, 3, self.n_modes))
@@ -795,6 +824,28 @@ class WheelRailContact:
         self._exu = exu
 
     # -- the compiled call -------------------------------------------------------------------------------------
+    def _set_ground(self, t: float) -> None:
+        """Ground (support) motion of the bridge at t into ``deck_par[2:4]`` (zero without one)."""
+        motion = self.bridge.support_motion if self.bridge is not None else None
+        par = self._deck[0]
+        if motion is None:
+            par[2] = par[3] = 0.0
+            return
+        y, v, _ = motion.state(t)
+        if not (math.isfinite(y) and math.isfinite(v)):
+            raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's support motion gives a "
+                                    f"non-finite ground state (y = {y!r}, v = {v!r})")
+        par[2] = y
+        par[3] = v
+
+    def ground_state(self, t: float) -> tuple[float, float]:
+        """``(y_g, ẏ_g)`` added to the rails at t (the bridge's support motion; zeros without one)."""
+        motion = self.bridge.support_motion if self.bridge is not None else None
+        if motion is None:
+            return 0.0, 0.0
+        y, v, _ = motion.state(float(t))
+        return float(y), float(v)
+
     def _args(self, q, q_t, t):
         kc = self._kc
         return (q, q_t, self.p_ref, t, self.speed_m_s, self.moving_frame, self.s_start_m, *self._irr, kc.nodes,
@@ -811,6 +862,7 @@ class WheelRailContact:
         if q.shape != (self.n_coordinates,) or q_t.shape != (self.n_coordinates,):
             raise ValueError(f"coordinates of shapes {q.shape}, {q_t.shape}: expected ({self.n_coordinates},) each "
                              f"(6 per wheelset{f' + {self.n_modes} modal' if self.n_modes else ''})")
+        self._set_ground(float(t))
         bad = contact_forces_core(*self._args(q, q_t, float(t)), self._f, self.results)
         self.n_calls += 1
         if bad == len(self.nodes_exu):
@@ -828,6 +880,7 @@ class WheelRailContact:
     def _jacobian_uf(self, mbs, t, itemIndex, q, q_t, fODE2, fODE2_t):
         q = np.ascontiguousarray(q, dtype=float)
         q_t = np.ascontiguousarray(q_t, dtype=float)
+        self._set_ground(float(t))
         contact_jacobian_core(*self._args(q, q_t, float(t)), self._f, self.results, float(fODE2), float(fODE2_t),
                               self._jac, 1e-7, 1e-7, 1e-5)
         return self._jac
@@ -893,8 +946,16 @@ class WheelRailContact:
 
     def deck_state(self) -> np.ndarray:
         """Per wheelset the deck state under it (last evaluation): displacement ``(y, z, θ)`` of the rails' centre
-        line at rail top, its material velocity ``(ẏ, ż, θ̇)`` and a 0/1 on-deck flag (zero off the deck)."""
+        line at rail top, its material velocity ``(ẏ, ż, θ̇)`` and a 0/1 on-deck flag (zero off the deck) — relative
+        to the supports (a support motion's ``y_g``, ``ẏ_g`` come on top: :meth:`ground_state`)."""
         return self._deck_state.copy()
+
+    def wheelset_rail_pose(self) -> np.ndarray:
+        """Per wheelset the pose relative to its rail pair that the contact search used (last evaluation): rows
+        ``(y_rel, z_rel, roll_rel)`` — lateral and vertical displacement of the axle centre from the rails' centre
+        line at rail top (irregularity, ground motion and deck included; in the rail pair's frame, rolled with the
+        deck) [m] and roll relative to the rails [rad].  ``y_rel`` is the lateral wheelset–rail displacement."""
+        return self._side_poses[0::2].copy()
 
     def flange_contact(self, wheelset: int, side: str) -> bool:
         """Whether the flange region carries a contact (last evaluation)."""

@@ -24,8 +24,10 @@ from .bridge import (
     rail_state_at,
     simulate_moving_forces,
 )
+from .support_motion import SmoothHarmonicSupportMotion, SupportMotion, SupportMotionLoad
 
 __all__ = [
+    "SupportMotion", "SmoothHarmonicSupportMotion", "SupportMotionLoad",
     "BridgeModel", "BridgeModes", "DeckSection", "ExudynBridge", "FORMULATIONS", "MovingForces", "ShapeTable",
     "add_bridge", "add_projected_force", "benchmark_formulations", "fryba_moving_force", "modal_shape_and_slope_at",
     "modal_shape_at", "rail_state_at", "simulate_moving_forces",
