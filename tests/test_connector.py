@@ -259,8 +259,9 @@ def test_non_finite_state_raises_a_clear_error():
     contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0)
     q = np.zeros(6)
     q[1] = np.nan
-    with pytest.raises(C.ContactStateError, match="wheelset 0"):
+    with pytest.raises(C.ContactStateError, match="wheelset 0") as info:
         contact.forces(q, np.zeros(6), 1.5)
+    assert info.value.wheelset == 0 and info.value.time_s == 1.5
 
 
 def test_bad_options_raise():
@@ -312,3 +313,21 @@ def test_structured_jacobian_equals_column_by_column_differences():
         contact.restore_warm_start(state)
         ref = -(dq + 0.5 * dv)
         np.testing.assert_allclose(J[:, j], ref, atol=1e-6 * np.abs(ref).max())
+
+
+
+def test_connector_creep_forces_never_exceed_coulomb():
+    """Found by the stress tests: near full sliding the table's cubic interpolation gave 1.002 μN and FASTSIM
+    1.0006 μN; the connector holds every law's resultant on the friction bound."""
+    from exudyn_wheelrail.creep import linear, load_table
+
+    cp = np.zeros(C.N_CP)
+    cp[[C.CP_MU, C.CP_G, C.CP_NU, C.CP_NX, C.CP_NY, C.CP_AB_MIN, C.CP_AB_MAX]] = [0.3, 8.1e10, 0.28, 16, 8, 0.05, 20]
+    t = load_table()
+    tab = tuple(np.ascontiguousarray(x) for x in t.core_arrays())
+    a, b = 6.554e-3, 2.674e-3
+    for law in ("table", "fastsim", "shen_hedrick_elkins", "polach"):
+        for xi, eta, phi in [(6.19e-4, 4.17e-3, 0.1445), (5e-3, 5e-3, 0.0), (2e-3, -1e-2, -3.0), (0.05, 0.0, 0.0)]:
+            Fx, Fy, Mz, _ = C._creep(C.CREEP_LAWS[law], a, b, xi, eta, phi, 5e4, cp, linear._T_NODES,
+                                     linear._COEF, tab)
+            assert np.hypot(Fx, Fy) <= 0.3 * 5e4 * (1 + 1e-12), law

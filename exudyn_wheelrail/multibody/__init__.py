@@ -11,6 +11,7 @@ from .connector import (
     place_on_rails,
     static_axle_offset_m,
 )
+from .monitor import RunMonitor, Status, run_monitored
 from .track import (
     Harmonic,
     Irregularity,
@@ -40,4 +41,5 @@ __all__ = [
     "Irregularity", "NoIrregularity", "SpanDeflection", "Harmonic", "SampledIrregularity", "IrregularitySum",
     "RigidStraightTrack", "irregularity_at", "irregularity_many",
     "add_wheel_rail_contact", "WheelRailContact", "ContactStateError", "place_on_rails", "static_axle_offset_m",
+    "RunMonitor", "Status", "run_monitored",
 ]

@@ -170,7 +170,13 @@ CREEP_AB_CLAMPED = 64
 
 
 class ContactStateError(RuntimeError):
-    """The multibody state handed to the contact is not usable (NaN/inf coordinates)."""
+    """The multibody state handed to the contact is not usable (NaN/inf coordinates).  ``time_s`` and
+    ``wheelset`` (None when the bridge's coordinates are the bad ones) say where."""
+
+    def __init__(self, message: str, time_s: float | None = None, wheelset: int | None = None):
+        super().__init__(message)
+        self.time_s = time_s
+        self.wheelset = wheelset
 
 
 @njit(cache=True)
@@ -198,6 +204,21 @@ def rotation_from_vector(rx, ry, rz, R):
 def _creep(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     """Creep forces of the selected law (contract of :mod:`exudyn_wheelrail.creep`); returns (Fx, Fy, Mz, flag).
     ``tab``: the table's padded arrays (:meth:`~exudyn_wheelrail.creep.table.CreepTable.core_arrays`)."""
+    Fx, Fy, Mz, flag = _creep_law(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab)
+    if law != LAW_LINEAR:
+        # Coulomb: no law may exceed μN (the table's cubic interpolation overshoots by up to ~0.2 % near full
+        # sliding, FASTSIM's discrete pressure by ~0.05 %): the resultant is held on the friction bound
+        f_t = math.sqrt(Fx * Fx + Fy * Fy)
+        bound = cp[CP_MU] * N
+        if f_t > bound > 0.0:
+            Fx *= bound / f_t
+            Fy *= bound / f_t
+    return Fx, Fy, Mz, flag
+
+
+@njit(cache=True)
+def _creep_law(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
+    """The selected law without the Coulomb guard of :func:`_creep`."""
     if law == LAW_NONE or N <= 0.0:
         return 0.0, 0.0, 0.0, 0
     flag = 0
@@ -834,7 +855,7 @@ class WheelRailContact:
         y, v, _ = motion.state(t)
         if not (math.isfinite(y) and math.isfinite(v)):
             raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's support motion gives a "
-                                    f"non-finite ground state (y = {y!r}, v = {v!r})")
+                                    f"non-finite ground state (y = {y!r}, v = {v!r})", time_s=float(t))
         par[2] = y
         par[3] = v
 
@@ -867,11 +888,11 @@ class WheelRailContact:
         self.n_calls += 1
         if bad == len(self.nodes_exu):
             raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's modal coordinates are "
-                                    "non-finite — the simulation diverged (time step too large?)")
+                                    "non-finite — the simulation diverged (time step too large?)", time_s=float(t))
         if bad >= 0:
             raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: wheelset {bad} (node "
                                     f"{self.nodes_exu[bad]}) has non-finite coordinates — the simulation diverged "
-                                    "(time step too large?)")
+                                    "(time step too large?)", time_s=float(t), wheelset=int(bad))
         return self._f
 
     def _force_uf(self, mbs, t, itemIndex, q, q_t):
