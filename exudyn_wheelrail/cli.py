@@ -7,6 +7,8 @@ conicity   equivalent conicity (EN 15302 definitions) for an amplitude
 creep-table  build a USETAB-style creep table (npz) with Kalker's exact theory or FASTSIM
 rtri       the rigid-rail RTRI validation case (one span, one speed): time series, summary, Figs. 5/6
 rtri-sweep the RTRI case over spans x speeds in parallel processes: table and Fig. 7
+run        a scenario file (TOML: vehicle, track, optional bridge, run, outputs): time series, summary, criteria
+sweep      a scenario over the cartesian product of parameter values (--param KEY=V1,V2,...) in parallel
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 """
@@ -214,6 +216,107 @@ def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
     p.add_argument("--out", required=True, help="output directory")
 
 
+def _split_values(text: str) -> list[str]:
+    """Split ``V1,V2,...`` at the commas outside brackets and quotes (``[20, 40],[30]`` is two values)."""
+    out, cur, depth, quote = [], [], 0, None
+    for ch in text:
+        if quote:
+            quote = None if ch == quote else quote
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            out.append("".join(cur))
+            cur = []
+            continue
+        cur.append(ch)
+    out.append("".join(cur))
+    return out
+
+
+def _key_values(text: str, option: str, many: bool):
+    from .scenarios.scenario import parse_value
+    if "=" not in text:
+        raise argparse.ArgumentTypeError(f"{option} expects KEY={'V1,V2,...' if many else 'VALUE'}, got {text!r}")
+    key, value = text.split("=", 1)
+    key = key.strip()
+    if not key:
+        raise argparse.ArgumentTypeError(f"{option} {text!r}: empty key")
+    if not many:
+        return key, parse_value(value)
+    values = _split_values(value)
+    if any(not v.strip() for v in values):
+        raise argparse.ArgumentTypeError(f"{option} {text!r}: empty value in the list")
+    return key, [parse_value(v) for v in values]
+
+
+def _overrides(pairs, option: str) -> dict:
+    out = {}
+    for key, value in pairs or []:
+        if key in out:
+            raise ValueError(f"{option} {key}: given twice")
+        out[key] = value
+    return out
+
+
+def cmd_run_scenario(args):
+    from .scenarios.scenario import apply_overrides, load_scenario, run_scenario
+    scn = load_scenario(args.scenario)
+    overrides = _overrides(args.set, "--set")
+    if overrides:
+        scn = apply_overrides(scn, overrides, source=f"{args.scenario} with --set")
+    print(f"scenario {scn['scenario']['name']}: {scn['vehicle'].get('name') or scn['vehicle']['file']}, "
+          f"{scn['run']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
+          f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")
+    result = run_scenario(scn, args.out, progress=not args.no_progress)
+    s = result.summary
+    rtf = s["real_time_factor"] or 0.0
+    print(f"status: {s['status']}; {s['steps']} steps, solve {s['solve_seconds']:.2f} s for "
+          f"{s['simulated_time_s']:.3f} s simulated (real-time factor {rtf:.2f})")
+    sc = s["scalars"]
+    if sc.get("max_abs_Y_any_wheel_N") is not None:
+        print(f"max |Y| any wheel {sc['max_abs_Y_any_wheel_N'] / 1e3:.2f} kN, max Y/Q {sc['max_YQ_any_wheel']:.3f}, "
+              f"Q {sc['min_Q_any_wheel_N'] / 1e3:.1f} .. {sc['max_Q_any_wheel_N'] / 1e3:.1f} kN, flange contact: "
+              f"{'yes' if sc['flange_contact_any_wheel'] else 'no'}")
+    cr = s["criteria"]
+    if isinstance(cr, dict) and "verdicts" in cr:
+        print(f"running safety: {'passed' if cr['safety_passed'] else 'NOT passed'}")
+        for k, v in cr["verdicts"].items():
+            if v.get("worst_value") is not None:
+                print(f"  {k}: {'ok' if v['passed'] else 'FAILED'} (worst {v['worst']}: {v['worst_value']:.4g})")
+    for note in s["notes"]:
+        print("note:", note)
+    print("wrote " + ", ".join(result.paths.values()))
+    return 0 if s["status"] == "ok" else 1
+
+
+def cmd_sweep_scenario(args):
+    from .scenarios.sweep import DEFAULT_PLOT_RESULT, sweep
+    params = _overrides(args.param, "--param")
+    if not params:
+        raise ValueError("sweep: give at least one --param KEY=V1,V2,...")
+    base = args.scenario
+    overrides = _overrides(args.set, "--set")
+    if overrides:
+        from .scenarios.scenario import apply_overrides, load_scenario
+        base = apply_overrides(load_scenario(args.scenario), overrides, source=f"{args.scenario} with --set")
+    n = 1
+    for v in params.values():
+        n *= len(v)
+    print(f"sweep of {args.scenario}: {n} cases ({' x '.join(f'{k}: {len(v)}' for k, v in params.items())}), "
+          f"{args.workers or 'all'} worker processes")
+    result = sweep(base, params, out_dir=args.out, workers=args.workers,
+                   plot_result=args.plot_result or DEFAULT_PLOT_RESULT, plot_parameter=args.plot_param,
+                   write_cases=not args.no_case_outputs)
+    for note in result.notes:
+        print("note:", note)
+    print("wrote " + ", ".join(result.paths.values()))
+    return 0 if all(s == "ok" for s in result.table["status"]) else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -264,6 +367,36 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
     _add_rtri_common(w, "auto")
     w.set_defaults(func=cmd_rtri_sweep)
+    sr = sub.add_parser("run", help="run a scenario file (TOML; schema: exudyn_wheelrail/scenarios/scenario.py)",
+                        description="Build, solve and evaluate a scenario: writes timeseries.csv/.npz, summary.json "
+                                    "(peaks, scalars, running criteria) and plots into --out.")
+    sr.add_argument("scenario", help="scenario file (.toml), e.g. examples/scenarios/rtri_20m.toml")
+    sr.add_argument("--out", required=True, help="output directory")
+    sr.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    sr.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    type=lambda t: _key_values(t, "--set", many=False),
+                    help="override a value by its dotted key, repeatable (run.duration_s=0.5, "
+                         "track.0.amplitude_m=0.005)")
+    sr.set_defaults(func=cmd_run_scenario)
+    ss = sub.add_parser("sweep", help="a scenario over a parameter grid in parallel: one table and one plot",
+                        description="Runs the cartesian product of the --param values over a scenario in parallel "
+                                    "processes; writes sweep.csv (one row per case), sweep.json, sweep_plot.png and "
+                                    "cases/case_*/.")
+    ss.add_argument("scenario", help="base scenario file (.toml)")
+    ss.add_argument("--param", action="append", metavar="KEY=V1,V2,...",
+                    type=lambda t: _key_values(t, "--param", many=True),
+                    help="a swept parameter by its dotted key and its values, repeatable "
+                         "(run.speed_km_h=100,150,200 --param track.0.span_length_m=20,40)")
+    ss.add_argument("--set", action="append", metavar="KEY=VALUE",
+                    type=lambda t: _key_values(t, "--set", many=False),
+                    help="a fixed override of the base scenario, repeatable")
+    ss.add_argument("--out", required=True, help="output directory")
+    ss.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    ss.add_argument("--plot-result", default=None,
+                    help="scalar result plotted (default max_abs_Y_any_wheel_N; any column of sweep.csv)")
+    ss.add_argument("--plot-param", default=None, help="parameter on the x axis (default: the first --param)")
+    ss.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
+    ss.set_defaults(func=cmd_sweep_scenario)
     return parser
 
 

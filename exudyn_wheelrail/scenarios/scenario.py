@@ -1,0 +1,1279 @@
+r"""Scenario files: a whole simulation (vehicle, track, optional flexible bridge, run settings, outputs) in one TOML
+file, run by :func:`run_scenario` or ``python -m exudyn_wheelrail run SCENARIO.toml --out DIR``.
+
+>>> scenario = load_scenario("examples/scenarios/rtri_20m.toml")        # doctest: +SKIP
+>>> result = run_scenario(scenario, "out/rtri_20m")                      # doctest: +SKIP
+>>> result.summary["criteria"]["safety_passed"]                           # doctest: +SKIP
+
+The model is the project's usual one, put together from the builders: the vehicle of a data file
+(:func:`~exudyn_wheelrail.multibody.build_vehicle`, frame moving with the running speed V), the wheel–rail
+connector (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact`) on a rigid straight track
+(:class:`~exudyn_wheelrail.multibody.RigidStraightTrack`) displaced by the listed irregularities, optionally a
+modally reduced bridge deck (:mod:`exudyn_wheelrail.structures.bridge`, coupled through the connector's
+``bridge=``), the vehicle in static equilibrium on the rails at t = 0
+(:func:`~exudyn_wheelrail.multibody.place_on_rails`).  Built in the same order and solved with the same settings
+as :mod:`.rtri`, the RTRI case written as a scenario (``examples/scenarios/rtri_20m.toml``) gives the same
+numbers as ``python -m exudyn_wheelrail rtri`` (``tests/test_scenarios.py``).
+
+Schema (``schema_version = 1``)
+===============================
+SI units, the unit in every key name; track frame of :mod:`exudyn_wheelrail.conventions` (x forward, y right,
+z down); ``s`` is the track distance.  Tables and keys not listed are errors, as are missing required keys and
+values of the wrong type or range: :class:`ScenarioError` (a ``ValueError``) names the file and the key
+(``track.0.amplitude_m``, the dotted form the sweep overrides use).  File paths are relative to the scenario file.
+
+``schema_version = 1``  (required)
+
+``[scenario]`` (optional)
+    ``name`` (default: the file name without ``.toml``), ``description`` (default "").
+
+``[vehicle]`` (required) — exactly one of
+    ``name``  a shipped vehicle (``vehicles/<name>.toml``, e.g. ``"manchester_vehicle1"``);
+    ``file``  a vehicle data file (schema: ``vehicles/README.md``).
+    The wheel and rail profiles, gauge, inclination and back-to-back distance come from the vehicle file.
+
+``[[track]]`` (optional, any number; none = a perfect straight track) — irregularity components, summed:
+    ``type = "span_deflection"``: ``span_length_m``, ``amplitude_m``, ``start_m`` (s of the span start),
+    optional ``transition_length_m`` (0; C2 end transitions centred on the span ends), ``direction``
+    ("lateral" | "vertical", default "lateral") — :class:`~..multibody.track.SpanDeflection`.
+    ``type = "harmonic"``: ``amplitude_m``, ``wavelength_m``, optional ``phase_rad`` (0), ``direction``
+    ("lateral") — ``amplitude sin(2π s/wavelength + phase)`` along the whole track.
+    ``type = "sampled"``: ``file`` — a CSV file with the columns ``s_m, y_m, z_m`` (``#`` comments allowed),
+    cubic-spline interpolated, held constant outside the table
+    (:meth:`~..multibody.track.SampledIrregularity.from_csv`).
+
+``[structure]`` (optional) — a flexible bridge deck under the track (:class:`~..structures.bridge.BridgeModel`,
+entered with :func:`~..structures.bridge.add_bridge`):
+    ``spans_m`` (list of span lengths, running order), ``start_m`` (s of the first abutment),
+    ``damping_ratio`` (modal ζ of every mode, 0 ≤ ζ < 1), ``rail_height_m`` (top of rail above the beam axis),
+    optional ``continuous`` (false: independent simply supported spans), ``elements_per_span`` (20),
+    ``formulation`` ("modal" | "ffrf", default "modal"; "ffrf" needs ``run.solver = "newmark"``),
+    ``modes_cutoff_Hz`` (a frequency, or ``"en1990"`` (default): max over the spans of max(30 Hz, 1.5 f1, f3)
+    with the simply supported Euler–Bernoulli bending frequencies f_n = n²π/(2L²)√(EI_y/m) — EN 1990
+    A2.4.4.2.1(4)P; modes up to 1.01 times the cut-off are kept, because the FE frequencies lie slightly above
+    those values), and the table ``[structure.section]``: ``m_kg_m``, ``EI_y_Nm2`` (vertical bending),
+    ``EI_z_Nm2`` (lateral), ``GJ_Nm2``, ``EA_N``, ``Ip_kgm2_m`` (all required, > 0; one section for all spans).
+    The deck carries the vehicle only: its dead load is not modelled (the record is relative to the loaded
+    state).  Start the vehicle off the deck: it starts in equilibrium on the rigid track.
+
+``[run]`` (required)
+    ``speed_km_h`` (required, 0 < V ≤ 600), ``duration_s`` (required: a time > 0, or ``"auto"``: until the
+    trailing wheelset is ``run_out_m`` past the end of the last track feature — the end of the last span
+    deflection (with its transition), sampled table or deck; harmonic components have no end),
+    ``solver`` ("newmark" (default): trapezoidal rule β = 1/4, γ = 1/2, index-2, modified Newton with the
+    connector's Jacobian — the RTRI paper's scheme; "rk44": explicit RK44 with Lie-group integration),
+    ``dt_s`` (1e-3), ``creep_law`` ("table" (default: Kalker's exact theory, tabulated), "fastsim",
+    "shen_hedrick_elkins", "polach", "linear", "none"), ``friction`` (μ, 0.3), ``fastsim_grid`` ([24, 8]),
+    ``start_s_m`` (track distance of the **leading** wheelset at t = 0, default 0), ``run_out_m`` (10, for
+    ``duration_s = "auto"``), ``newton_tolerance`` (1e-6, newmark only).  A run of n = ceil(duration/dt) steps
+    has n + 1 rows (the state at t = 0 … n dt).
+
+``[outputs]`` (optional)
+    ``timeseries`` — the column groups written (default: every group the model has):
+        ``"Y"`` ``Y_w<j>_<side>_N``: y component (track frame, + right) of the total contact force of the rail
+        **on** wheel ``<side>`` (right | left) of wheelset j (1 = leading) — the sign of :mod:`.rtri` and
+        :func:`~..analysis.safety.running_criteria_summary`;
+        ``"Q"`` ``Q_w<j>_<side>_N``: wheel load −F_z (positive pressing);
+        ``"YQ"`` ``YQ_w<j>_<side>``: derailment quotient with Y positive towards the field side of that wheel
+        (the direction a flange pushes its rail: −F_y right, +F_y left), NaN when the wheel is lifted;
+        ``"flange"`` ``flange_w<j>_<side>``: 1 when the wheel's flange region carries a contact;
+        ``"wheelset_lateral"`` ``y_rel_w<j>_m``: lateral displacement of the axle centre relative to its rails'
+        centre line (irregularity and deck included);
+        ``"carbody"`` per car-body point p: ``carbody_lateral_acceleration_<p>_m_s2`` and
+        ``carbody_vertical_acceleration_<p>_m_s2`` (track frame, z down, kinematic: no gravity) and
+        ``carbody_lateral_accelerometer_<p>_m_s2`` / ``carbody_vertical_accelerometer_<p>_m_s2`` (specific force
+        a − g in the car body's own axes: what a floor accelerometer reads; the vertical one is ≈ −9.81 at rest);
+        ``"deck"`` (with a structure) per span i (1 = first): ``deck_mid_deflection_s<i>_m`` and
+        ``deck_mid_acceleration_s<i>_m_s2`` (vertical, + down, at mid-span on the track centre line; the
+        acceleration from the modal equations at the recorded state, q̈ = Q − diag(2ζω) q̇ − diag(ω²) q).
+        ``time_s`` and ``s_leading_m`` (track distance of the leading wheelset) are always written.
+    ``carbody_points`` — array of tables ``{name, x_m, y_m, height_m}``: ``x_m`` a number (vehicle frame: from the
+        vehicle centre, + forward) or ``"front_bogie"`` | ``"rear_bogie"`` | ``"centre"``; ``y_m`` (+ right,
+        default 0); ``height_m`` above the top of rail.  Default (a vehicle with a car body): ``rear`` and
+        ``front``, above the bogie centres at 1.2 m (ASSUMPTION: the floor height :mod:`.rtri` uses).
+    ``formats`` — ``["csv"]`` (default) and/or ``"npz"`` (``timeseries.csv`` / ``timeseries.npz``).
+    ``plots`` — true (default): one PNG per written group (``plot_<group>.png``).
+    ``criteria`` — true (default) / false, or a table ``{enabled, vehicle ("passenger" | "locomotive" |
+        "freight"), yq_limit (0.8), unloading_limit (0.6), carbody_point (default: the first point)}``:
+        :func:`~..analysis.safety.running_criteria_summary` on the recorded run (per-wheel Y, Q — static wheel
+        loads from the vehicle's lever-rule load path — and the car-body point's lateral accelerometer and
+        vertical acceleration), stored in ``summary.json``.  A record too short for its filters and windows gives
+        ``criteria = {"error": ...}`` and a note, not a failure.
+
+Starting state and recording
+----------------------------
+The vehicle starts in static equilibrium on the centred, undisplaced rails (:func:`~..multibody.place_on_rails`).
+Where the track is displaced under the wheelsets at t = 0 (a harmonic, a sampled table), the bodies start on it
+(:func:`_start_on_track`): each wheelset moved by the track under it and yawed along it, with the velocities and
+yaw rate at which the track moves and turns under it in the moving frame; each bogie frame and the car body on the
+straight line through their supports (displaced, yawed, pitched, with the rates) — otherwise a millimetre of
+vertical irregularity is a millimetre of Hertz penetration (MN contact forces) and a slope dy/ds a lateral
+creepage dy/ds.  What the track's curvature leaves over loads the suspensions: the run may start with a small
+transient (the summary notes the start).  A rigid translation of the whole track, or a lateral inclination of it,
+leaves the contact forces unchanged (tested).  Rows are recorded by a pre-step user function at the state's time (Exudyn
+passes the end time of the step it attempts; the state is at the end of the last accepted step).  After a
+rejected step (Newton not converged: Exudyn rolls back and retries with a smaller step) the retry is recognised
+by its earlier end time and only accepted states on the ``dt_s`` grid are recorded, so the rows stay uniform
+(the summary counts the rejected attempts).
+
+What :func:`run_scenario` writes into ``out_dir``
+-------------------------------------------------
+``timeseries.csv`` and/or ``timeseries.npz`` (the written groups), ``summary.json`` (the normalised scenario,
+status, steps, timings, the model — vehicle, static wheel loads, bridge modes —, ``peaks`` of every recorded
+column, ``scalars`` — the flat dict of scalar results a sweep tabulates —, ``criteria``, ``notes``, sign
+conventions) and the plots.  With ``progress`` a text bar on stderr, updated from the pre-step function every 1 %
+(runs of at least :data:`PROGRESS_MIN_STEPS` steps).
+
+Loader and normal form
+----------------------
+:func:`load_scenario` reads and validates a file and returns the **normalised scenario**: a plain dict of plain
+values (picklable, JSON- and TOML-representable) with every default filled in and file paths absolute.
+:func:`validate_scenario` accepts its own output (idempotent), so overrides with dotted keys
+(:func:`apply_overrides`: ``run.speed_km_h``, ``track.0.amplitude_m``, ``structure.section.m_kg_m``) are applied to
+the normal form and validated again — what :mod:`.sweep` does.
+"""
+from __future__ import annotations
+
+import copy
+import csv
+import json
+import math
+import re
+import sys
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "SCHEMA_VERSION",
+    "SOLVERS",
+    "TRACK_TYPES",
+    "TIMESERIES_GROUPS",
+    "FORMATS",
+    "PROGRESS_MIN_STEPS",
+    "ScenarioError",
+    "ScenarioResult",
+    "ProgressBar",
+    "load_scenario",
+    "validate_scenario",
+    "apply_overrides",
+    "set_dotted",
+    "parse_value",
+    "build_track",
+    "build_bridge_modes",
+    "scenario_steps",
+    "build_scenario",
+    "run_scenario",
+    "write_scenario_outputs",
+]
+
+SCHEMA_VERSION = 1
+SOLVERS = ("newmark", "rk44")
+TRACK_TYPES = ("span_deflection", "harmonic", "sampled")
+DIRECTIONS = ("lateral", "vertical")
+#: column groups of the time series, in the order they are written
+TIMESERIES_GROUPS = ("Y", "Q", "YQ", "flange", "wheelset_lateral", "carbody", "deck")
+FORMATS = ("csv", "npz")
+NAMED_X = ("front_bogie", "rear_bogie", "centre")
+CRITERIA_VEHICLES = ("passenger", "locomotive", "freight")
+#: runs with at least this many steps get the progress bar (shorter runs finish before it would help)
+PROGRESS_MIN_STEPS = 200
+#: the paper's scheme (:mod:`.rtri_assumptions`: published β, γ)
+NEWMARK_BETA = 0.25
+NEWMARK_GAMMA = 0.5
+#: ASSUMPTION (as :mod:`.rtri`): floor height of the default car-body points above the top of rail [m]
+DEFAULT_FLOOR_HEIGHT_M = 1.20
+#: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
+#: Euler–Bernoulli values the cut-off is computed from; as examples/bridge_crossing.py)
+MODES_CUTOFF_MARGIN = 1.01
+MAX_STEPS = 10_000_000
+SIDES_OUT = ("right", "left")
+_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+class ScenarioError(ValueError):
+    """Invalid scenario: the message names the file (or ``<dict>``) and the key."""
+
+
+# ================================================================================================ validation
+class _Check:
+    """Helpers that raise :class:`ScenarioError` naming the source and the dotted key."""
+
+    def __init__(self, source: str, base_dir: Path | None):
+        self.source = source
+        self.base_dir = base_dir
+
+    def error(self, key: str, message: str) -> ScenarioError:
+        return ScenarioError(f"{self.source}: {key}: {message}")
+
+    def table(self, value, key: str, required=(), optional=()) -> dict:
+        if not isinstance(value, dict):
+            raise self.error(key, f"expected a table, got {type(value).__name__} {value!r}")
+        allowed = tuple(required) + tuple(optional)
+        for k in value:
+            if k not in allowed:
+                raise self.error(f"{key}.{k}" if key else k,
+                                 f"unknown key (allowed in {'[' + key + ']' if key else 'the top level'}: "
+                                 f"{', '.join(allowed)})")
+        for k in required:
+            if k not in value:
+                raise self.error(f"{key}.{k}" if key else k, "missing (required)")
+        return value
+
+    def number(self, value, key: str, lo=None, hi=None, lo_open=True, hi_open=False) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(key, f"expected a number, got {type(value).__name__} {value!r}")
+        x = float(value)
+        if not math.isfinite(x):
+            raise self.error(key, f"expected a finite number, got {value!r}")
+        if lo is not None and (x <= lo if lo_open else x < lo):
+            raise self.error(key, f"{value!r}: must be {'>' if lo_open else '>='} {lo}")
+        if hi is not None and (x >= hi if hi_open else x > hi):
+            raise self.error(key, f"{value!r}: must be {'<' if hi_open else '<='} {hi}")
+        return x
+
+    def integer(self, value, key: str, lo=None, hi=None) -> int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, f"expected an integer, got {type(value).__name__} {value!r}")
+        if lo is not None and value < lo:
+            raise self.error(key, f"{value!r}: must be >= {lo}")
+        if hi is not None and value > hi:
+            raise self.error(key, f"{value!r}: must be <= {hi}")
+        return int(value)
+
+    def boolean(self, value, key: str) -> bool:
+        if not isinstance(value, bool):
+            raise self.error(key, f"expected true or false, got {value!r}")
+        return value
+
+    def string(self, value, key: str, choices=None) -> str:
+        if not isinstance(value, str):
+            raise self.error(key, f"expected a string, got {type(value).__name__} {value!r}")
+        if choices is not None and value not in choices:
+            raise self.error(key, f"{value!r}: expected one of {', '.join(map(repr, choices))}")
+        return value
+
+    def array(self, value, key: str, min_length: int = 0) -> list:
+        if not isinstance(value, (list, tuple)):
+            raise self.error(key, f"expected an array, got {type(value).__name__} {value!r}")
+        if len(value) < min_length:
+            raise self.error(key, f"expected at least {min_length} entr{'y' if min_length == 1 else 'ies'}")
+        return list(value)
+
+    def path(self, value, key: str) -> str:
+        self.string(value, key)
+        p = Path(value)
+        if not p.is_absolute() and self.base_dir is not None:
+            p = self.base_dir / p
+        if not p.is_file():
+            raise self.error(key, f"file not found: {p}")
+        return str(p.resolve())
+
+
+def load_scenario(path) -> dict:
+    """Read and validate a scenario file; returns the normalised scenario (module docstring)."""
+    path = Path(path)
+    if not path.is_file():
+        raise ScenarioError(f"{path}: scenario file not found")
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
+    return validate_scenario(data, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
+
+
+def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default_name: str = "scenario") -> dict:
+    """Validate a scenario (as read from TOML, or a normalised scenario) and return its normal form: defaults
+    filled in, file paths absolute (relative ones against ``base_dir``), plain Python values only."""
+    c = _Check(source, Path(base_dir) if base_dir is not None else None)
+    c.table(data, "", required=("schema_version", "vehicle", "run"),
+            optional=("scenario", "track", "structure", "outputs"))
+    if c.integer(data["schema_version"], "schema_version") != SCHEMA_VERSION:
+        raise c.error("schema_version", f"{data['schema_version']!r}: this version reads schema_version = "
+                                        f"{SCHEMA_VERSION}")
+    out = {"schema_version": SCHEMA_VERSION}
+    # ---------------------------------------------------------------------------------------- [scenario]
+    sc = c.table(data.get("scenario", {}), "scenario", optional=("name", "description"))
+    out["scenario"] = {"name": c.string(sc.get("name", default_name), "scenario.name"),
+                       "description": c.string(sc.get("description", ""), "scenario.description")}
+    # ----------------------------------------------------------------------------------------- [vehicle]
+    vt = c.table(data["vehicle"], "vehicle", optional=("name", "file"))
+    if ("name" in vt) == ("file" in vt):
+        raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle) or vehicle.file (a vehicle "
+                                 "data file)")
+    from ..multibody.vehicle_data import load_vehicle
+    if "name" in vt:
+        key, ref = "vehicle.name", c.string(vt["name"], "vehicle.name")
+        out["vehicle"] = {"name": ref}
+    else:
+        key, ref = "vehicle.file", c.path(vt["file"], "vehicle.file")
+        out["vehicle"] = {"file": ref}
+    try:
+        vehicle = load_vehicle(ref)
+    except ValueError as exc:
+        raise c.error(key, str(exc)) from None
+    # ------------------------------------------------------------------------------------------- [track]
+    track = c.array(data.get("track", []), "track")
+    out["track"] = [_track_component(c, comp, f"track.{i}") for i, comp in enumerate(track)]
+    # --------------------------------------------------------------------------------------- [structure]
+    if "structure" in data:
+        out["structure"] = _structure(c, data["structure"])
+    # --------------------------------------------------------------------------------------------- [run]
+    out["run"] = _run(c, data["run"], out)
+    if out.get("structure", {}).get("formulation") == "ffrf" and out["run"]["solver"] != "newmark":
+        raise c.error("structure.formulation", "'ffrf' holds its reference frame by constraints and needs "
+                                               "run.solver = 'newmark'")
+    # ----------------------------------------------------------------------------------------- [outputs]
+    out["outputs"] = _outputs(c, data.get("outputs", {}), vehicle, "structure" in out)
+    return out
+
+
+def _track_component(c: _Check, comp, key: str) -> dict:
+    if not isinstance(comp, dict):
+        raise c.error(key, f"expected a table (a [[track]] entry), got {comp!r}")
+    if "type" not in comp:
+        raise c.error(f"{key}.type", f"missing (required: one of {', '.join(TRACK_TYPES)})")
+    kind = c.string(comp["type"], f"{key}.type", TRACK_TYPES)
+    if kind == "span_deflection":
+        c.table(comp, key, required=("type", "span_length_m", "amplitude_m", "start_m"),
+                optional=("transition_length_m", "direction"))
+        L = c.number(comp["span_length_m"], f"{key}.span_length_m", lo=0.0)
+        lt = c.number(comp.get("transition_length_m", 0.0), f"{key}.transition_length_m", lo=0.0, lo_open=False)
+        if not lt < L:
+            raise c.error(f"{key}.transition_length_m", f"{lt}: must be shorter than the span ({L} m)")
+        return {"type": kind, "span_length_m": L,
+                "amplitude_m": c.number(comp["amplitude_m"], f"{key}.amplitude_m", lo=-1.0, hi=1.0, lo_open=True,
+                                        hi_open=True),
+                "start_m": c.number(comp["start_m"], f"{key}.start_m"), "transition_length_m": lt,
+                "direction": c.string(comp.get("direction", "lateral"), f"{key}.direction", DIRECTIONS)}
+    if kind == "harmonic":
+        c.table(comp, key, required=("type", "amplitude_m", "wavelength_m"), optional=("phase_rad", "direction"))
+        return {"type": kind,
+                "amplitude_m": c.number(comp["amplitude_m"], f"{key}.amplitude_m", lo=-1.0, hi=1.0, hi_open=True),
+                "wavelength_m": c.number(comp["wavelength_m"], f"{key}.wavelength_m", lo=0.0),
+                "phase_rad": c.number(comp.get("phase_rad", 0.0), f"{key}.phase_rad"),
+                "direction": c.string(comp.get("direction", "lateral"), f"{key}.direction", DIRECTIONS)}
+    c.table(comp, key, required=("type", "file"))
+    path = c.path(comp["file"], f"{key}.file")
+    from ..multibody.track import SampledIrregularity
+    try:
+        SampledIrregularity.from_csv(path)
+    except (ValueError, OSError) as exc:
+        raise c.error(f"{key}.file", str(exc)) from None
+    return {"type": kind, "file": path}
+
+
+_SECTION_KEYS = ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2", "GJ_Nm2", "EA_N", "Ip_kgm2_m")
+
+
+def _structure(c: _Check, st) -> dict:
+    from ..structures.bridge import FORMULATIONS
+    c.table(st, "structure", required=("spans_m", "start_m", "damping_ratio", "rail_height_m", "section"),
+            optional=("continuous", "elements_per_span", "formulation", "modes_cutoff_Hz"))
+    spans = st["spans_m"]
+    if isinstance(spans, (int, float)) and not isinstance(spans, bool):
+        spans = [spans]
+    spans = c.array(spans, "structure.spans_m", min_length=1)
+    sec = c.table(st["section"], "structure.section", required=_SECTION_KEYS)
+    cut = st.get("modes_cutoff_Hz", "en1990")
+    if isinstance(cut, str):
+        cut = c.string(cut, "structure.modes_cutoff_Hz", ("en1990",))
+    else:
+        cut = c.number(cut, "structure.modes_cutoff_Hz", lo=0.0)
+    return {"spans_m": [c.number(L, f"structure.spans_m.{i}", lo=0.0, hi=1000.0) for i, L in enumerate(spans)],
+            "start_m": c.number(st["start_m"], "structure.start_m"),
+            "damping_ratio": c.number(st["damping_ratio"], "structure.damping_ratio", lo=0.0, hi=1.0,
+                                      lo_open=False, hi_open=True),
+            "rail_height_m": c.number(st["rail_height_m"], "structure.rail_height_m", lo=0.0, lo_open=False),
+            "continuous": c.boolean(st.get("continuous", False), "structure.continuous"),
+            "elements_per_span": c.integer(st.get("elements_per_span", 20), "structure.elements_per_span", 2, 1000),
+            "formulation": c.string(st.get("formulation", "modal"), "structure.formulation", FORMULATIONS),
+            "modes_cutoff_Hz": cut,
+            "section": {k: c.number(sec[k], f"structure.section.{k}", lo=0.0) for k in _SECTION_KEYS}}
+
+
+def _run(c: _Check, run, scn: dict) -> dict:
+    from ..multibody.connector import CREEP_LAWS
+    c.table(run, "run", required=("speed_km_h", "duration_s"),
+            optional=("solver", "dt_s", "creep_law", "friction", "fastsim_grid", "start_s_m", "run_out_m",
+                      "newton_tolerance"))
+    dur = run["duration_s"]
+    if isinstance(dur, str):
+        dur = c.string(dur, "run.duration_s", ("auto",))
+    else:
+        dur = c.number(dur, "run.duration_s", lo=0.0)
+    grid = c.array(run.get("fastsim_grid", [24, 8]), "run.fastsim_grid")
+    if len(grid) != 2:
+        raise c.error("run.fastsim_grid", f"{grid!r}: expected two positive integers [n_x, n_y]")
+    out = {"speed_km_h": c.number(run["speed_km_h"], "run.speed_km_h", lo=0.0, hi=600.0),
+           "duration_s": dur,
+           "solver": c.string(run.get("solver", "newmark"), "run.solver", SOLVERS),
+           "dt_s": c.number(run.get("dt_s", 1e-3), "run.dt_s", lo=0.0, hi=0.01),
+           "creep_law": c.string(run.get("creep_law", "table"), "run.creep_law", tuple(sorted(CREEP_LAWS))),
+           "friction": c.number(run.get("friction", 0.3), "run.friction", lo=0.0, hi=2.0, lo_open=False,
+                                hi_open=True),
+           "fastsim_grid": [c.integer(g, f"run.fastsim_grid.{i}", 1, 1000) for i, g in enumerate(grid)],
+           "start_s_m": c.number(run.get("start_s_m", 0.0), "run.start_s_m"),
+           "run_out_m": c.number(run.get("run_out_m", 10.0), "run.run_out_m", lo=0.0, lo_open=False),
+           "newton_tolerance": c.number(run.get("newton_tolerance", 1e-6), "run.newton_tolerance", lo=0.0, hi=1.0)}
+    if isinstance(dur, float) and dur / out["dt_s"] > MAX_STEPS:
+        raise c.error("run.duration_s", f"{dur} s at dt_s = {out['dt_s']} s: more than {MAX_STEPS} steps")
+    if dur == "auto" and _features_end_m(scn) is None:
+        raise c.error("run.duration_s", "'auto' needs a track feature with an end (a span deflection, a sampled "
+                                        "table or a structure); harmonic components run along the whole track: "
+                                        "give a time in s")
+    return out
+
+
+def _outputs(c: _Check, o, vehicle, has_structure: bool) -> dict:
+    c.table(o, "outputs", optional=("timeseries", "carbody_points", "formats", "plots", "criteria"))
+    has_car = vehicle.car_body is not None
+    available = [g for g in TIMESERIES_GROUPS if (g != "carbody" or has_car) and (g != "deck" or has_structure)]
+    if "timeseries" in o:
+        groups = c.array(o["timeseries"], "outputs.timeseries")
+        for i, g in enumerate(groups):
+            c.string(g, f"outputs.timeseries.{i}", TIMESERIES_GROUPS)
+            if g == "carbody" and not has_car:
+                raise c.error(f"outputs.timeseries.{i}", f"'carbody': the vehicle {vehicle.name!r} (layout "
+                                                         f"{vehicle.layout!r}) has no car body")
+            if g == "deck" and not has_structure:
+                raise c.error(f"outputs.timeseries.{i}", "'deck' needs a [structure]")
+        if len(set(groups)) != len(groups):
+            raise c.error("outputs.timeseries", f"{groups!r}: a group is listed twice")
+        groups = [g for g in TIMESERIES_GROUPS if g in groups]          # canonical order
+    else:
+        groups = available
+    # car-body points
+    if "carbody_points" in o:
+        pts = c.array(o["carbody_points"], "outputs.carbody_points")
+        if pts and not has_car:
+            raise c.error("outputs.carbody_points", f"the vehicle {vehicle.name!r} (layout {vehicle.layout!r}) has "
+                                                    "no car body")
+    else:
+        pts = ([{"name": "rear", "x_m": "rear_bogie", "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M},
+                {"name": "front", "x_m": "front_bogie", "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}]
+               if has_car else [])
+    points, names = [], set()
+    for i, p in enumerate(pts):
+        key = f"outputs.carbody_points.{i}"
+        c.table(p, key, required=("name", "x_m", "height_m"), optional=("y_m",))
+        name = c.string(p["name"], f"{key}.name")
+        if not _NAME.match(name):
+            raise c.error(f"{key}.name", f"{name!r}: letters, digits and _ only, starting with a letter")
+        if name in names:
+            raise c.error(f"{key}.name", f"{name!r}: used twice")
+        names.add(name)
+        x = p["x_m"]
+        x = c.string(x, f"{key}.x_m", NAMED_X) if isinstance(x, str) else c.number(x, f"{key}.x_m")
+        points.append({"name": name, "x_m": x, "y_m": c.number(p.get("y_m", 0.0), f"{key}.y_m"),
+                       "height_m": c.number(p["height_m"], f"{key}.height_m", lo=-10.0, hi=10.0)})
+    fm = c.array(o.get("formats", ["csv"]), "outputs.formats", min_length=1)
+    for i, f in enumerate(fm):
+        c.string(f, f"outputs.formats.{i}", FORMATS)
+    fm = [f for f in FORMATS if f in fm]
+    # criteria
+    cr = o.get("criteria", True)
+    if isinstance(cr, bool):
+        cr = {"enabled": cr}
+    c.table(cr, "outputs.criteria", optional=("enabled", "vehicle", "yq_limit", "unloading_limit", "carbody_point"))
+    crit = {"enabled": c.boolean(cr.get("enabled", True), "outputs.criteria.enabled"),
+            "vehicle": c.string(cr.get("vehicle", "passenger"), "outputs.criteria.vehicle", CRITERIA_VEHICLES),
+            "yq_limit": c.number(cr.get("yq_limit", 0.8), "outputs.criteria.yq_limit", lo=0.0),
+            "unloading_limit": c.number(cr.get("unloading_limit", 0.6), "outputs.criteria.unloading_limit", lo=0.0),
+            "carbody_point": cr.get("carbody_point", points[0]["name"] if points else "")}
+    c.string(crit["carbody_point"], "outputs.criteria.carbody_point")
+    if crit["carbody_point"] != "":                       # "" = no car-body point: comfort not evaluated
+        if crit["carbody_point"] not in names:
+            raise c.error("outputs.criteria.carbody_point", f"{crit['carbody_point']!r}: no car-body point of that "
+                                                            f"name (points: {', '.join(sorted(names)) or 'none'})")
+    return {"timeseries": groups, "carbody_points": points, "formats": fm,
+            "plots": c.boolean(o.get("plots", True), "outputs.plots"), "criteria": crit}
+
+
+def _features_end_m(scn: dict) -> float | None:
+    """Track distance where the last track feature with an end ends (None if there is none)."""
+    ends = []
+    for comp in scn.get("track", []):
+        if comp["type"] == "span_deflection":
+            ends.append(comp["start_m"] + comp["span_length_m"] + 0.5 * comp["transition_length_m"])
+        elif comp["type"] == "sampled":
+            from ..multibody.track import SampledIrregularity
+            ends.append(float(SampledIrregularity.from_csv(comp["file"]).s_m[-1]))
+    if "structure" in scn:
+        st = scn["structure"]
+        ends.append(st["start_m"] + sum(st["spans_m"]))
+    return max(ends) if ends else None
+
+
+# ================================================================================================= overrides
+def parse_value(text: str):
+    """A command-line value: a TOML value (``250``, ``1e-3``, ``true``, ``"x"``, ``[20, 40]``) or else the plain
+    string (``newmark``, ``auto``)."""
+    text = text.strip()
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def set_dotted(scn: dict, key: str, value) -> None:
+    """Set ``scn[a][b]...`` for the dotted key ``a.b...`` in place; integers index arrays (``track.0.start_m``).
+    The parent must exist; the key itself may be new (validation judges it)."""
+    if not isinstance(key, str) or not key or any(not p for p in key.split(".")):
+        raise ScenarioError(f"parameter {key!r}: expected a dotted key such as run.speed_km_h or track.0.amplitude_m")
+    parts = key.split(".")
+    node = scn
+    for depth, part in enumerate(parts):
+        last = depth == len(parts) - 1
+        where = ".".join(parts[:depth]) or "the top level"
+        if isinstance(node, list):
+            try:
+                i = int(part)
+            except ValueError:
+                raise ScenarioError(f"parameter {key!r}: {where} is an array: expected an index, "
+                                    f"got {part!r}") from None
+            if not 0 <= i < len(node):
+                raise ScenarioError(f"parameter {key!r}: {where} has {len(node)} entr"
+                                    f"{'y' if len(node) == 1 else 'ies'} (index {i} out of range)")
+            if last:
+                node[i] = value
+            else:
+                node = node[i]
+        elif isinstance(node, dict):
+            if last:
+                node[part] = value
+            elif part not in node:
+                raise ScenarioError(f"parameter {key!r}: no {'.'.join(parts[:depth + 1])!r} in the scenario")
+            else:
+                node = node[part]
+        else:
+            raise ScenarioError(f"parameter {key!r}: {where} is a value ({node!r}), not a table or an array")
+
+
+def apply_overrides(scenario: dict, overrides: dict, source: str = "<overrides>") -> dict:
+    """A validated copy of the normalised ``scenario`` with the dotted-key ``overrides`` applied."""
+    scn = copy.deepcopy(scenario)
+    for key, value in overrides.items():
+        set_dotted(scn, key, value)
+    return validate_scenario(scn, source=source, default_name=scenario.get("scenario", {}).get("name", "scenario"))
+
+
+def _as_scenario(scenario) -> tuple[dict, str | None]:
+    if isinstance(scenario, (str, Path)):
+        return load_scenario(scenario), str(Path(scenario).resolve())
+    if isinstance(scenario, dict):
+        return validate_scenario(scenario), None
+    raise TypeError(f"scenario: expected a file path or a scenario dict, got {type(scenario).__name__}")
+
+
+# =================================================================================================== building
+def build_track(scn: dict):
+    """The :class:`~..multibody.track.RigidStraightTrack` of the scenario's ``track`` components."""
+    from ..multibody.track import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
+    parts = []
+    for comp in scn["track"]:
+        if comp["type"] == "span_deflection":
+            parts.append(SpanDeflection(span_length_m=comp["span_length_m"], amplitude_m=comp["amplitude_m"],
+                                        start_m=comp["start_m"], transition_length_m=comp["transition_length_m"],
+                                        direction=comp["direction"]))
+        elif comp["type"] == "harmonic":
+            parts.append(Harmonic(amplitude_m=comp["amplitude_m"], wavelength_m=comp["wavelength_m"],
+                                  phase_rad=comp["phase_rad"], direction=comp["direction"]))
+        else:
+            parts.append(SampledIrregularity.from_csv(comp["file"]))
+    if not parts:
+        return RigidStraightTrack()
+    return RigidStraightTrack(parts[0] if len(parts) == 1 else IrregularitySum(parts))
+
+
+def build_bridge_modes(structure: dict):
+    """``(BridgeModel, BridgeModes, f_cut_Hz)`` of a normalised ``[structure]`` table."""
+    from ..structures.bridge import BridgeModel, DeckSection
+    sec = DeckSection(**structure["section"])
+    model = BridgeModel(tuple(structure["spans_m"]), sec, continuous=structure["continuous"],
+                        damping_ratio=structure["damping_ratio"], rail_height_m=structure["rail_height_m"],
+                        start_m=structure["start_m"], elements_per_span=structure["elements_per_span"])
+    cut = structure["modes_cutoff_Hz"]
+    if cut == "en1990":
+        cut = max(max(30.0, 1.5 * sec.vertical_frequency_Hz(L), sec.vertical_frequency_Hz(L, 3))
+                  for L in structure["spans_m"])
+        f_max = MODES_CUTOFF_MARGIN * cut
+    else:
+        f_max = float(cut)
+    return model, model.modes(f_max_Hz=f_max), float(cut)
+
+
+def scenario_steps(scn: dict, vehicle) -> tuple[int, dict]:
+    """Number of steps of the run and what it covers: ``t_passage_s`` is the time for the trailing wheelset to be
+    ``run_out_m`` past the end of the last track feature (None without an ending feature)."""
+    run = scn["run"]
+    V = run["speed_km_h"] / 3.6
+    x = vehicle.wheelset_x_m()
+    extent = float(max(x) - min(x))
+    end = _features_end_m(scn)
+    t_passage = None if end is None else (end - run["start_s_m"] + extent + run["run_out_m"]) / V
+    if run["duration_s"] == "auto":
+        if t_passage is None or t_passage <= 0.0:
+            raise ScenarioError(f"run.duration_s = 'auto': the track features end at s = {end} m, behind the "
+                                f"vehicle (leading wheelset at s = {run['start_s_m']} m): give a time in s")
+        duration = t_passage
+    else:
+        duration = run["duration_s"]
+    steps = max(1, int(math.ceil(duration / run["dt_s"] - 1e-9)))
+    if steps > MAX_STEPS:
+        raise ScenarioError(f"run.duration_s: {steps} steps (more than {MAX_STEPS})")
+    return steps, {"features_end_m": end, "vehicle_extent_m": extent, "t_passage_s": t_passage,
+                   "duration_auto": run["duration_s"] == "auto"}
+
+
+@dataclass
+class ScenarioModel:
+    """What :func:`build_scenario` created (assembled, not solved)."""
+
+    scenario: dict
+    system_container: object
+    mbs: object
+    vehicle: object
+    model: object
+    pair: object
+    track: object
+    contact: object
+    bridge: object
+    modes: object
+    f_cut_Hz: float | None
+    steps: int
+    coverage: dict
+    recorder: "_Recorder" = None
+    settings: object = None
+    solver_type: object = None
+    start_shift: float | None = None        #: largest track displacement under a wheelset at t = 0 (None: none)
+
+
+def _solver_settings(run: dict, steps: int):
+    """Exudyn settings: the trapezoidal rule as Newmark (β 1/4, γ 1/2, index-2, modified Newton) or RK44."""
+    import exudyn as exu
+
+    from ..multibody.vehicle_builder import simulation_settings
+    s = simulation_settings(steps * run["dt_s"], run["dt_s"], newton_tolerance=run["newton_tolerance"])
+    s.timeIntegration.numberOfSteps = int(steps)
+    if run["solver"] == "rk44":
+        s.timeIntegration.explicit.computeEndOfStepAccelerations = False
+        return s, exu.DynamicSolverType.RK44
+    ga = s.timeIntegration.generalizedAlpha
+    ga.useNewmark = True
+    ga.newmarkBeta = NEWMARK_BETA
+    ga.newmarkGamma = NEWMARK_GAMMA
+    ga.useIndex2Constraints = True
+    s.timeIntegration.newton.useModifiedNewton = True
+    return s, exu.DynamicSolverType.GeneralizedAlpha
+
+
+def _vehicle_ref(scn: dict) -> str:
+    return scn["vehicle"].get("name") or scn["vehicle"]["file"]
+
+
+def build_scenario(scenario) -> ScenarioModel:
+    """Build and assemble the Exudyn model of a scenario (path or dict): vehicle, track, bridge, contact,
+    recorder; not solved."""
+    import exudyn as exu
+
+    from ..contact.pair import WheelRailPair
+    from ..multibody.connector import add_wheel_rail_contact, place_on_rails
+    from ..multibody.vehicle_builder import build_vehicle
+    from ..multibody.vehicle_data import load_vehicle
+
+    scn, _ = _as_scenario(scenario)
+    run = scn["run"]
+    vehicle = load_vehicle(_vehicle_ref(scn))
+    steps, coverage = scenario_steps(scn, vehicle)
+    V = run["speed_km_h"] / 3.6
+    s_start = run["start_s_m"] - max(vehicle.wheelset_x_m())       # frame origin; leading wheelset at start_s_m
+    modes = f_cut = None
+    if "structure" in scn:
+        _, modes, f_cut = build_bridge_modes(scn["structure"])
+    geo = vehicle.geometry
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="none")
+    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    track = build_track(scn)
+    bridge = None
+    if modes is not None:
+        from ..structures.bridge import add_bridge
+        bridge = add_bridge(mbs, modes, formulation=scn["structure"]["formulation"])
+    try:
+        contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
+                                         s_start_m=s_start, creep_law=run["creep_law"], mu=run["friction"],
+                                         fastsim_grid=tuple(run["fastsim_grid"]),
+                                         **({"bridge": bridge} if bridge is not None else {}))
+    except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
+        raise RuntimeError(f"run.creep_law = {run['creep_law']!r}: {exc}") from None
+    place_on_rails(mbs, model, pair)
+    shift = _start_on_track(mbs, model, track)
+    h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
+                      track=track, contact=contact, bridge=bridge, modes=modes, f_cut_Hz=f_cut, steps=steps,
+                      coverage=coverage, start_shift=shift)
+    h.recorder = _Recorder(h)
+    mbs.SetPreStepUserFunction(h.recorder.pre_step)
+    mbs.Assemble()
+    h.settings, h.solver_type = _solver_settings(run, steps)
+    return h
+
+
+def _start_on_track(mbs, model, track) -> float | None:
+    """Put the bodies' initial state on the track under the wheelsets at t = 0 (call after
+    :func:`~..multibody.place_on_rails`, which puts the centred vehicle on the *undisplaced* rails).
+
+    Each wheelset moves by the track's lateral and vertical displacement ``(y, z)`` at its track distance and is
+    yawed along the track, ``ψ = atan(dy/ds)``; its velocity gets ``(V dy/ds, V dz/ds)`` and its yaw rate
+    ``V y''/(1 + y'²)`` — the rates at which the track moves and turns under it in the frame moving with V —, so
+    it starts without lateral creepage and without penetration.  Each bogie frame (and the car body) follows the
+    straight line through its supports (its wheelsets; the bogie centres): displacement at its centre of mass,
+    yaw ``atan(Δy/Δx)`` and pitch ``-atan(Δz/Δx)`` (z down: the nose goes up for θ > 0), with the matching rates
+    (rotation vector ``(0, θ, ψ)``, the small-angle composition).  Without it a millimetre of vertical
+    irregularity is a millimetre of Hertz penetration at t = 0 (MN contact forces) and a slope dy/ds a lateral
+    creepage dy/ds.  Returns the largest displacement [m], or None when the track under every wheelset is
+    undisplaced and parallel to the frame (nothing is changed)."""
+    x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
+    v = track.rail_offset(model.track_distance_m(x, 0.0))
+    if not (np.any(v.y_m) or np.any(v.z_m) or np.any(v.dy_ds) or np.any(v.dz_ds)):
+        return None
+    V = model.speed_m_s
+    # per body: x, (y, z, pitch θ, yaw ψ) and their rates
+    ws = [(x[j], np.array([v.y_m[j], v.z_m[j], 0.0, math.atan(v.dy_ds[j])]),
+           V * np.array([v.dy_ds[j], v.dz_ds[j], 0.0, v.d2y_ds2[j] / (1.0 + v.dy_ds[j] ** 2)]))
+          for j in range(len(x))]
+
+    def on_line(supports, x_cg):
+        """State of a body resting on the line through its supports (front and rear: largest and smallest x)."""
+        f = max(supports, key=lambda b: b[0])
+        r = min(supports, key=lambda b: b[0])
+        dx = f[0] - r[0]
+        lam = (x_cg - r[0]) / dx
+        pos = r[1] + lam * (f[1] - r[1])
+        rate = r[2] + lam * (f[2] - r[2])
+        dy, dz = f[1][0] - r[1][0], f[1][1] - r[1][1]
+        pos[2] = -math.atan(dz / dx)
+        pos[3] = math.atan(dy / dx)
+        rate[2] = -(f[2][1] - r[2][1]) / dx / (1.0 + (dz / dx) ** 2)
+        rate[3] = (f[2][0] - r[2][0]) / dx / (1.0 + (dy / dx) ** 2)
+        return x_cg, pos, rate
+
+    def shift(node, state):
+        _, pos, rate = state
+        q0 = np.array(mbs.GetNodeParameter(node, "initialCoordinates"), dtype=float)
+        v0 = np.array(mbs.GetNodeParameter(node, "initialVelocities"), dtype=float)
+        q0[1:3] += pos[:2]
+        q0[4:6] += pos[2:]              # rotation vector (0, θ, ψ); the reference rotation is zero
+        v0[1:3] += rate[:2]
+        v0[4:6] += rate[2:]             # body-frame angular velocity (= track frame for these small rotations)
+        mbs.SetNodeParameter(node, "initialCoordinates", q0.tolist())
+        mbs.SetNodeParameter(node, "initialVelocities", v0.tolist())
+
+    for j, w in enumerate(model.wheelsets):
+        shift(w.node, ws[j])
+    bogies = []
+    for i, b in enumerate(model.bogies):
+        bogies.append(on_line([ws[j] for j, w in enumerate(model.wheelsets) if w.bogie == i], b.p_cg_in_frame[0]))
+        shift(b.node, bogies[-1])
+    if model.car_body is not None:
+        shift(model.car_body.node, on_line(bogies, model.car_body.p_cg_in_frame[0]))
+    return float(max(np.max(np.abs(v.y_m)), np.max(np.abs(v.z_m))))
+
+
+# ================================================================================================== recording
+class ProgressBar:
+    """A text progress bar on a stream (stderr by default), redrawn when the run passes the next whole percent:
+    ``[#######-------------]  35 %  t = 0.875 / 2.500 s  elapsed 1.2 s  left 2.2 s``."""
+
+    def __init__(self, t_end_s: float, stream=None, label: str = "", width: int = 30):
+        self.t_end = float(t_end_s)
+        self.stream = stream if stream is not None else sys.stderr
+        self.label = label
+        self.width = int(width)
+        self.last = -1
+        self.t0 = time.perf_counter()
+        self.updates = 0
+
+    def update(self, t_s: float) -> None:
+        pct = int(min(100.0, max(0.0, 100.0 * float(t_s) / self.t_end)) + 1e-9)
+        if pct <= self.last:
+            return
+        self.last = pct
+        self.updates += 1
+        elapsed = time.perf_counter() - self.t0
+        left = f"{elapsed * (100 - pct) / pct:.1f}" if pct > 0 else "?"
+        n = int(round(self.width * pct / 100))
+        self.stream.write(f"\r{self.label}[{'#' * n}{'-' * (self.width - n)}] {pct:3d} %  t = {float(t_s):.3f} / "
+                          f"{self.t_end:.3f} s  elapsed {elapsed:.1f} s  left {left} s ")
+        self.stream.flush()
+
+    def close(self, status: str = "") -> None:
+        self.stream.write(f"  {status}\n" if status else "\n")
+        self.stream.flush()
+
+
+def _carbody_x(x, vehicle) -> float:
+    if isinstance(x, str):
+        return {"front_bogie": max(vehicle.bogie_x_m()), "rear_bogie": min(vehicle.bogie_x_m()), "centre": 0.0}[x]
+    return float(x)
+
+
+class _Recorder:
+    """Pre-step user function: evaluates the contact at the current state and stores one row per step.  Exudyn
+    calls it with the time at the *end* of the coming step while the coordinates are still those at its start, so
+    the contact is evaluated at the previous call's time (0 at the first call), as in :mod:`.rtri`."""
+
+    def __init__(self, h: ScenarioModel):
+        import exudyn as exu
+
+        from ..multibody.track import irregularity_at
+        self.exu = exu
+        self.h = h
+        m = h.model
+        run = h.scenario["run"]
+        self.V = run["speed_km_h"] / 3.6
+        self.s_lead0 = run["start_s_m"]
+        self.n_ws = len(m.wheelsets)
+        self.gravity = np.array([0.0, 0.0, m.gravity_m_s2])
+        self.progress = None
+        self.columns = ["time_s", "s_leading_m"]
+        self.groups = {g: [] for g in TIMESERIES_GROUPS}
+
+        def add(group, name):
+            self.groups[group].append(name)
+            self.columns.append(name)
+
+        for j in range(self.n_ws):
+            for side in SIDES_OUT:
+                add("Y", f"Y_w{j + 1}_{side}_N")
+        for j in range(self.n_ws):
+            for side in SIDES_OUT:
+                add("Q", f"Q_w{j + 1}_{side}_N")
+        for j in range(self.n_ws):
+            for side in SIDES_OUT:
+                add("YQ", f"YQ_w{j + 1}_{side}")
+        for j in range(self.n_ws):
+            for side in SIDES_OUT:
+                add("flange", f"flange_w{j + 1}_{side}")
+        for j in range(self.n_ws):
+            add("wheelset_lateral", f"y_rel_w{j + 1}_m")
+        self.points = []
+        cb = m.car_body
+        for p in h.scenario["outputs"]["carbody_points"]:
+            pos = np.array([_carbody_x(p["x_m"], h.vehicle), p["y_m"], -p["height_m"]])
+            self.points.append((pos - cb.p_cg_in_frame).tolist())
+            for d in ("lateral", "vertical"):
+                add("carbody", f"carbody_{d}_acceleration_{p['name']}_m_s2")
+            for d in ("lateral", "vertical"):
+                add("carbody", f"carbody_{d}_accelerometer_{p['name']}_m_s2")
+        self.cb_body = cb.body if cb is not None else None
+        self.deck = None
+        if h.bridge is not None:
+            st = h.scenario["structure"]
+            x0 = st["start_m"] + np.concatenate(([0.0], np.cumsum(st["spans_m"])[:-1]))
+            s_mid = x0 + 0.5 * np.asarray(st["spans_m"])
+            phi = h.modes.shape_at(s_mid)[:, 1, :]                         # (n_spans, n_modes): z rows
+            self.deck = (phi, np.diag(h.modes.modal_stiffness()).copy(), np.diag(h.modes.modal_damping()).copy())
+            for i in range(len(s_mid)):
+                add("deck", f"deck_mid_deflection_s{i + 1}_m")
+                add("deck", f"deck_mid_acceleration_s{i + 1}_m_s2")
+        # fallback for the wheelset-rail displacement (connectors without wheelset_rail_pose)
+        self.has_pose = hasattr(h.contact, "wheelset_rail_pose")
+        p = h.track.packed()
+        self.irregularity_at = irregularity_at
+        self.packed = (p.rows, p.knots, p.coefs)
+        self.ws_x = [float(ws.p_cg_in_frame[0]) for ws in m.wheelsets]
+        self.data = np.full((h.steps + 2, len(self.columns)), np.nan)
+        self.n = 0
+        self.dt = float(run["dt_s"])
+        self.t_state = 0.0                # time of the model's current state
+        self.t_pending = 0.0              # end time of the step attempted after the previous call
+        self.t_recorded = -math.inf       # time of the last recorded row
+        self.rejected_steps = 0
+        self.error = None
+
+    def pre_step(self, mbs, t):
+        """Exudyn passes the end time of the step it is about to attempt; the state is at the end of the last
+        *accepted* step.  A call with an end time not beyond the previous one means that attempt was rejected (the
+        solver rolled the state back and retries with a smaller step): the state is then unchanged.  A row is
+        recorded for every new state on the grid of ``dt_s`` (the states between, after a step reduction, are
+        not recorded, so the rows stay uniform)."""
+        t = float(t)
+        if t > self.t_pending + 1e-9 * self.dt:
+            self.t_state = self.t_pending        # the previous attempt was accepted
+        else:
+            self.rejected_steps += 1
+        self.t_pending = t
+        t_state = self.t_state
+        try:
+            if t_state > self.t_recorded + 0.5 * self.dt and self._on_grid(t_state):
+                self.record(mbs, t_state)
+                self.t_recorded = t_state
+                if self.progress is not None:
+                    self.progress.update(t_state)
+        except Exception as exc:          # a failing recorder must not hide the cause inside Exudyn
+            self.error = exc
+            return False
+        return True
+
+    def _on_grid(self, t: float) -> bool:
+        return abs(t - round(t / self.dt) * self.dt) <= 1e-6 * self.dt
+
+    def record(self, mbs, t):
+        exu, h = self.exu, self.h
+        c = h.contact
+        c.evaluate(mbs, t)
+        if self.n >= self.data.shape[0]:
+            self.data = np.vstack([self.data, np.full_like(self.data, np.nan)])
+        row = self.data[self.n]
+        row[0] = t
+        row[1] = self.s_lead0 + self.V * t
+        n_w = 2 * self.n_ws
+        k = 2
+        for j in range(self.n_ws):
+            for i_side, side in enumerate(SIDES_OUT):
+                F = c.wheel_force_N(j, side)
+                Y = float(F[1])
+                Q = -float(F[2]) + 0.0                                       # no -0.0
+                w = 2 * j + i_side
+                row[k + w] = Y
+                row[k + n_w + w] = Q
+                y_out = -Y if side == "right" else Y                         # towards the wheel's field side
+                row[k + 2 * n_w + w] = y_out / Q if Q > 0.0 else np.nan
+                row[k + 3 * n_w + w] = 1.0 if c.flange_contact(j, side) else 0.0
+        k += 4 * n_w
+        if self.has_pose:
+            row[k:k + self.n_ws] = c.wheelset_rail_pose()[:, 0]
+        else:
+            for j, ws in enumerate(h.model.wheelsets):
+                y = float(mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Displacement)[1])
+                s = float(h.model.track_distance_m(self.ws_x[j], t))
+                row[k + j] = y - float(self.irregularity_at(*self.packed, s)[0])
+        k += self.n_ws
+        if self.points:
+            ovt = exu.OutputVariableType
+            R = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.RotationMatrix)).reshape(3, 3)
+            for loc in self.points:
+                a = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.Acceleration, localPosition=loc))
+                f = R.T @ (a - self.gravity)
+                row[k:k + 4] = (a[1], a[2], f[1], f[2])
+                k += 4
+        if self.deck is not None:
+            phi, w2, d = self.deck
+            q, q_t = h.bridge.coordinates(mbs)
+            q_tt = c.modal_forces_N() - w2 * q - d * q_t                    # modal equations, M = I
+            for i in range(phi.shape[0]):
+                row[k] = phi[i] @ q
+                row[k + 1] = phi[i] @ q_tt
+                k += 2
+        self.n += 1
+
+    def table(self) -> dict:
+        d = self.data[:self.n]
+        return {name: d[:, i].copy() for i, name in enumerate(self.columns)}
+
+
+# ==================================================================================================== running
+@dataclass
+class ScenarioResult:
+    """Time series (every recorded column -> array), the summary dict and the written files."""
+
+    timeseries: dict
+    summary: dict
+    paths: dict = field(default_factory=dict)
+
+
+def _peaks(ts: dict) -> dict:
+    out = {}
+    t = ts["time_s"]
+    for name, v in ts.items():
+        if name in ("time_s", "s_leading_m") or len(v) == 0:
+            continue
+        if not np.isfinite(v).any():
+            out[name] = {"max_abs": None, "time_of_max_abs_s": None, "min": None, "max": None}
+            continue
+        i = int(np.nanargmax(np.abs(v)))
+        out[name] = {"max_abs": float(abs(v[i])), "time_of_max_abs_s": float(t[i]), "min": float(np.nanmin(v)),
+                     "max": float(np.nanmax(v))}
+    return out
+
+
+def _scalars(ts: dict, groups: dict, peaks: dict, criteria, dt: float) -> dict:
+    """The flat dict of scalar results (what a sweep tabulates)."""
+    out = {}
+    if ts and len(ts["time_s"]):
+        def agg(fn, cols):
+            vals = [fn(ts[c]) for c in cols if np.isfinite(ts[c]).any()]
+            return float(max(vals)) if vals else None
+        out["max_abs_Y_any_wheel_N"] = agg(lambda v: np.nanmax(np.abs(v)), groups["Y"])
+        out["max_Q_any_wheel_N"] = agg(np.nanmax, groups["Q"])
+        q_min = [float(np.nanmin(ts[c])) for c in groups["Q"]]
+        out["min_Q_any_wheel_N"] = min(q_min) if q_min else None
+        out["max_YQ_any_wheel"] = agg(np.nanmax, groups["YQ"])
+        fl = np.array([ts[c] for c in groups["flange"]]) > 0.5
+        out["flange_contact_any_wheel"] = bool(fl.any())
+        out["flange_contact_duration_max_s"] = float(fl.sum(axis=1).max() * dt) if fl.size else 0.0
+        out["max_abs_y_rel_any_wheelset_m"] = agg(lambda v: np.nanmax(np.abs(v)), groups["wheelset_lateral"])
+        for name, p in peaks.items():
+            if not name.startswith("flange_"):
+                out[f"max_abs_{name}"] = p["max_abs"]
+    if isinstance(criteria, dict) and "verdicts" in criteria:
+        out["criteria.safety_passed"] = criteria["safety_passed"]
+        out["criteria.passed"] = criteria["passed"]
+        for k, v in criteria["verdicts"].items():
+            out[f"criteria.{k}.passed"] = v.get("passed")
+            if "worst_value" in v:
+                out[f"criteria.{k}.worst"] = v.get("worst")
+                out[f"criteria.{k}.worst_value"] = v.get("worst_value")
+                out[f"criteria.{k}.worst_utilisation"] = v.get("worst_utilisation")
+        for k, v in criteria["criteria"].items():
+            if k.startswith("carbody_"):
+                out[f"criteria.{k}.peak_m_s2"] = v.get("peak_m_s2")
+                out[f"criteria.{k}.rms_m_s2"] = v.get("rms_m_s2")
+            elif k.startswith("sperling_"):
+                out[f"criteria.{k}.Wz"] = v.get("Wz")
+    return out
+
+
+def _criteria(h: ScenarioModel, ts: dict, groups: dict) -> dict:
+    from ..analysis.safety import running_criteria_summary
+    o = h.scenario["outputs"]["criteria"]
+    cols = {}
+    p = o["carbody_point"]
+    if p:
+        cols = {"lateral": f"carbody_lateral_accelerometer_{p}_m_s2",
+                "vertical": f"carbody_vertical_acceleration_{p}_m_s2"}
+    wheel = h.model.load_path.wheel                                          # (n_ws, 2) in (left, right)
+    static = {f"w{j + 1}_{side}": float(wheel[j, 0 if side == "left" else 1])
+              for j in range(len(h.model.wheelsets)) for side in SIDES_OUT}
+    sub = {k: ts[k] for k in ["time_s"] + groups["Y"] + groups["Q"] + list(cols.values())}
+    return running_criteria_summary(sub, h.scenario["run"]["speed_km_h"] / 3.6, vehicle=o["vehicle"],
+                                    static_wheel_loads_N=static, yq_limit=o["yq_limit"],
+                                    unloading_limit=o["unloading_limit"], carbody_columns=cols or None)
+
+
+def run_scenario(scenario, out_dir=None, progress=True) -> ScenarioResult:
+    """Build, solve and evaluate a scenario (a file path or a scenario dict); write the outputs into ``out_dir``
+    (``None``: write nothing).  ``progress``: ``True`` — a text bar on stderr for runs of at least
+    :data:`PROGRESS_MIN_STEPS` steps; a stream (anything with ``write``/``flush``) — the bar there; ``False`` —
+    none.  A failing solve gives ``summary["status"] = "error: ..."`` and the rows recorded so far."""
+    scn, source = _as_scenario(scenario)
+    h = build_scenario(scn)
+    run = scn["run"]
+    h.contact.warm_up(h.mbs, jacobian=run["solver"] == "newmark")
+    rec = h.recorder
+    t_end = h.steps * run["dt_s"]
+    if progress and h.steps >= PROGRESS_MIN_STEPS:
+        rec.progress = ProgressBar(t_end, stream=None if progress is True else progress,
+                                   label=f"{scn['scenario']['name']}: ")
+    status = "ok"
+    t0 = time.perf_counter()
+    try:
+        ok = h.mbs.SolveDynamic(h.settings, solverType=h.solver_type)
+        if not ok:
+            status = "error: mbs.SolveDynamic reported failure (Newton not converged or solver aborted)"
+    except Exception as exc:   # Exudyn re-raises user-function exceptions as RuntimeError
+        status = f"error: {type(exc).__name__}: {exc}".splitlines()[0]
+    solve_seconds = time.perf_counter() - t0
+    if rec.error is not None:
+        status = f"error: recorder: {type(rec.error).__name__}: {rec.error}"
+    elif status == "ok" and float(h.mbs.systemData.GetTime()) > rec.t_recorded + 0.5 * run["dt_s"]:
+        rec.record(h.mbs, float(h.mbs.systemData.GetTime()))                 # the final state
+    t_reached = float(h.mbs.systemData.GetTime())
+    if status == "ok" and abs(t_reached - t_end) > 0.5 * run["dt_s"]:
+        status = f"error: the solver stopped at t = {t_reached:.6g} s of {t_end:.6g} s"
+    if rec.progress is not None:
+        rec.progress.update(t_reached)
+        rec.progress.close(status)
+    ts = rec.table()
+    notes = _notes(h, status)
+    criteria = None
+    if scn["outputs"]["criteria"]["enabled"]:
+        if status != "ok":
+            criteria = {"error": "not evaluated: the run failed"}
+        else:
+            try:
+                criteria = _criteria(h, ts, rec.groups)
+            except ValueError as exc:
+                criteria = {"error": str(exc)}
+                notes.append(f"criteria not evaluated: {exc}")
+    peaks = _peaks(ts)
+    summary = {
+        "scenario_name": scn["scenario"]["name"],
+        "scenario_file": source,
+        "status": status,
+        "steps": h.steps,
+        "dt_s": run["dt_s"],
+        "simulated_time_s": h.steps * run["dt_s"],
+        "solve_seconds": solve_seconds,
+        "real_time_factor": h.steps * run["dt_s"] / solve_seconds if solve_seconds > 0 else None,
+        "rows_recorded": int(len(ts["time_s"])),
+        "speed_m_s": run["speed_km_h"] / 3.6,
+        "solver": {"name": run["solver"],
+                   "exudyn": ("GeneralizedAlpha, useNewmark, beta %.3g, gamma %.3g, index-2, modified Newton, "
+                              "tolerance %.1e" % (NEWMARK_BETA, NEWMARK_GAMMA, run["newton_tolerance"]))
+                   if run["solver"] == "newmark" else "RK44 (explicit, Lie group), no end-of-step accelerations"},
+        "contact_calls": int(h.contact.n_calls),
+        "coverage": {**h.coverage, "t_end_s": t_end,
+                     "passage_covered": None if h.coverage["t_passage_s"] is None
+                     else bool(t_end >= h.coverage["t_passage_s"] - 1e-9)},
+        "model": _model_info(h),
+        "columns": {g: list(cols) for g, cols in rec.groups.items() if cols},
+        "written_groups": list(scn["outputs"]["timeseries"]),
+        "peaks": peaks,
+        "scalars": _scalars(ts, rec.groups, peaks, criteria, run["dt_s"]),
+        "criteria": criteria,
+        "notes": notes,
+        "sign_conventions": {
+            "Y": "Y_w<j>_<side>_N: track-frame y component (+ right) of the contact force of the rail on the wheel",
+            "Q": "Q_w<j>_<side>_N: wheel load, -F_z of the force on the wheel (z down): positive pressing",
+            "YQ": "YQ_w<j>_<side>: Y positive towards the wheel's field side (-F_y right, +F_y left) over Q; NaN "
+                  "when lifted",
+            "wheelset_lateral": "y_rel_w<j>_m: axle centre relative to the rails' centre line at rail top, + right",
+            "carbody": "acceleration: track frame (y right, z down), no gravity; accelerometer: a - g in the car "
+                       "body's axes",
+            "deck": "vertical, + down, mid-span on the track centre line at rail-top level",
+        },
+        "scenario": scn,
+    }
+    result = ScenarioResult(timeseries=ts, summary=summary)
+    if out_dir is not None:
+        result.paths = write_scenario_outputs(result, out_dir)
+    return result
+
+
+def _model_info(h: ScenarioModel) -> dict:
+    wheel = h.model.load_path.wheel
+    info = {"vehicle": h.vehicle.name, "layout": h.vehicle.layout, "n_wheelsets": len(h.model.wheelsets),
+            "wheelset_x_m": [float(x) for x in h.vehicle.wheelset_x_m()],
+            "frame_s_start_m": float(h.model.s_start_m), "wheel_rail_pair": repr(h.pair),
+            "static_wheel_loads_N": {f"w{j + 1}_{side}": float(wheel[j, 0 if side == "left" else 1])
+                                     for j in range(len(h.model.wheelsets)) for side in SIDES_OUT},
+            "bridge": None}
+    if h.modes is not None:
+        info["bridge"] = {"n_modes": int(h.modes.n_modes), "f_cut_Hz": h.f_cut_Hz,
+                          "frequencies_Hz": [float(f) for f in h.modes.frequencies_Hz], "kinds": list(h.modes.kinds),
+                          "formulation": h.scenario["structure"]["formulation"]}
+    return info
+
+
+def _notes(h: ScenarioModel, status: str) -> list:
+    notes = []
+    cov = h.coverage
+    t_end = h.steps * h.scenario["run"]["dt_s"]
+    if cov["t_passage_s"] is not None and not cov["duration_auto"] and t_end < cov["t_passage_s"] - 1e-9:
+        notes.append(f"the run ends at {t_end:.3f} s, before the trailing wheelset is run_out_m past the last track "
+                     f"feature ({cov['t_passage_s']:.3f} s; duration_s = 'auto' runs that long)")
+    x0 = np.asarray(h.model.track_distance_m(np.array([ws.p_cg_in_frame[0] for ws in h.model.wheelsets]), 0.0))
+    if "structure" in h.scenario:
+        st = h.scenario["structure"]
+        end = st["start_m"] + sum(st["spans_m"])
+        if np.any((x0 > st["start_m"]) & (x0 < end)):
+            notes.append("a wheelset stands on the deck at t = 0: the unloaded deck starts with the vehicle's "
+                         "weight on it (free vibration transient); start the vehicle off the deck")
+    if h.recorder is not None and h.recorder.rejected_steps:
+        notes.append(f"the solver rejected {h.recorder.rejected_steps} step attempt(s) (Newton did not converge) and "
+                     "continued with reduced steps; rows are recorded on the dt_s grid only")
+    if h.start_shift is not None:
+        notes.append(f"the track is displaced by up to {h.start_shift * 1e3:.3g} mm under the wheelsets at t = 0: the "
+                     "bodies start on it (wheelsets moved and yawed with the track under them, bogie frames and car "
+                     "body along the line through their supports, with the matching rates); the suspensions carry "
+                     "what the track's curvature leaves over, so the run may start with a small transient")
+    if status != "ok":
+        notes.append("the run failed: the time series hold the rows recorded until the failure")
+    return notes
+
+
+# ==================================================================================================== outputs
+def _jsonable(o):
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.bool_):
+        return bool(o)
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"{type(o).__name__} is not JSON serialisable")
+
+
+_PLOTS = {"Y": ("lateral force Y, rail on wheel [kN]", 1e-3), "Q": ("wheel load Q [kN]", 1e-3),
+          "YQ": ("Y/Q (Y towards the field side)", 1.0), "wheelset_lateral": ("wheelset - rails lateral [mm]", 1e3),
+          "carbody": ("car-body acceleration [m/s²]", 1.0), "deck": (None, 1.0)}
+
+
+def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
+    """Write ``timeseries.csv`` / ``.npz`` (the written groups), ``summary.json`` and the plots; returns the paths."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    s = result.summary
+    o = s["scenario"]["outputs"]
+    ts = result.timeseries
+    cols = ["time_s", "s_leading_m"] + [c for g in o["timeseries"] for c in s["columns"].get(g, [])]
+    paths = {}
+    if "csv" in o["formats"]:
+        paths["timeseries_csv"] = out / "timeseries.csv"
+        with open(paths["timeseries_csv"], "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(cols)
+            if len(ts["time_s"]):
+                for row in np.column_stack([ts[c] for c in cols]):
+                    w.writerow([f"{v:.10g}" for v in row])
+    if "npz" in o["formats"]:
+        paths["timeseries_npz"] = out / "timeseries.npz"
+        np.savez_compressed(paths["timeseries_npz"], **{c: ts[c] for c in cols})
+    paths["summary"] = out / "summary.json"
+    with open(paths["summary"], "w") as fh:
+        json.dump(s, fh, indent=2, allow_nan=True, default=_jsonable)
+    if o["plots"] and len(ts["time_s"]) > 1:
+        for g in o["timeseries"]:
+            if g in _PLOTS and s["columns"].get(g):
+                paths[f"plot_{g}"] = out / f"plot_{g}.png"
+                _plot_group(result, g, paths[f"plot_{g}"])
+    return {k: str(v) for k, v in paths.items()}
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _plot_group(result: ScenarioResult, group: str, path) -> None:
+    plt = _pyplot()
+    s, ts = result.summary, result.timeseries
+    t = ts["time_s"]
+    cols = s["columns"][group]
+    run = s["scenario"]["run"]
+    title = (f"{s['scenario_name']}: {s['model']['vehicle']}, {run['speed_km_h']:g} km/h, {run['solver']}, "
+             f"dt {run['dt_s'] * 1e3:g} ms, creep law {run['creep_law']}")
+    if group == "deck":
+        fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+        for c in cols:
+            ax = axes[0] if "deflection" in c else axes[1]
+            ax.plot(t, ts[c] * (1e3 if "deflection" in c else 1.0), lw=0.9, label=c)
+        axes[0].set(ylabel="mid-span deflection [mm] (+ down)", title=title)
+        axes[1].set(xlabel="time [s]", ylabel="mid-span acceleration [m/s²] (+ down)")
+        axes[0].title.set_fontsize(8)
+        for ax in axes:
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7)
+    else:
+        ylabel, scale = _PLOTS[group]
+        if group == "carbody":
+            cols = [c for c in cols if "_acceleration_" in c]
+        fig, ax = plt.subplots(figsize=(9, 4.5))
+        for c in cols:
+            ax.plot(t, ts[c] * scale, lw=0.8, label=c)
+        ax.set(xlabel="time [s]", ylabel=ylabel, title=title)
+        ax.title.set_fontsize(8)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

@@ -1,0 +1,280 @@
+r"""Parameter sweeps over a scenario (:mod:`.scenario`) through any ``concurrent.futures.Executor``.
+
+>>> from concurrent.futures import ProcessPoolExecutor                                       # doctest: +SKIP
+>>> result = sweep("examples/scenarios/rtri_20m.toml",
+...                {"run.speed_km_h": [100, 150, 200, 250], "track.0.span_length_m": [20, 40]},
+...                out_dir="out/sweep")                                                        # doctest: +SKIP
+>>> result.table["max_abs_Y_any_wheel_N"]                                                      # doctest: +SKIP
+
+What it does
+------------
+The **cartesian product** of the parameter values (in the order of ``parameters``; the last parameter varies
+fastest) is applied to the base scenario as dotted-key overrides (:func:`~.scenario.apply_overrides`:
+``run.speed_km_h``, ``track.0.amplitude_m``, ``structure.section.m_kg_m``; array entries by index), and every case
+is validated **before** anything runs (a bad key or value stops the sweep with an error naming the case and the
+key).  Each case is one task ``executor.submit(run_case, scenario_dict, case_dir)``: the scenario goes to the
+worker as a plain, picklable dict (never an Exudyn object), the worker builds, solves and evaluates it
+(:func:`~.scenario.run_scenario`) and returns its ``summary`` (a plain dict; a failing case returns
+``status = "error: ..."`` instead of raising, so one case does not stop the others).
+
+Executors
+---------
+* ``executor=None``: a local :class:`~concurrent.futures.ProcessPoolExecutor` with ``workers`` processes
+  (default: the machine's cores, at most one per case; ``spawn`` start method), each case in its own process;
+* any :class:`concurrent.futures.Executor`: a ``ThreadPoolExecutor`` (the GIL serialises much of the work — the
+  Python user functions of the contact run every step —, so it is for tests and I/O-bound setups), a
+  ``ProcessPoolExecutor`` of your own, Dask's ``client.get_executor()`` (a ``distributed.Client`` itself is also
+  accepted: its ``get_executor(pure=False)`` is used), :class:`SerialExecutor` (in the calling process, in order:
+  debugging and the reference for tests), an MPI pool…  The executor is not shut down when it was passed in.
+  On a cluster the workers need ``exudyn_wheelrail`` installed and, with ``write_cases`` (default), ``out_dir``
+  on a file system they share with the caller; without it the gathered table still arrives (it is built from the
+  returned summaries, not from files).
+
+Outputs (``out_dir``; ``None`` writes nothing)
+----------------------------------------------
+``sweep.csv`` — **one row per case**, in case order: ``case`` (index), ``case_dir``, one column per parameter
+(its value), ``status``, ``solve_seconds``, then the case's scalar results (``summary["scalars"]`` of
+:func:`~.scenario.run_scenario`: peaks of every recorded column ``max_abs_<column>``, the wheel aggregates
+``max_abs_Y_any_wheel_N``, ``max_YQ_any_wheel``, ``min_Q_any_wheel_N``, …, and the criteria
+``criteria.<criterion>.passed / .worst_value / .worst_utilisation``, ``criteria.sperling_<dir>.Wz``, …); a value
+a case lacks is empty.  Floats are written with ``repr`` (exact round trip).  ``sweep.json`` — the base scenario,
+the parameters and the same table.  ``sweep_plot.png`` — ``plot_result`` against ``plot_parameter`` (default: the
+first parameter), one line per combination of the other parameters' values.  ``cases/case_<i>/`` — each case's
+own outputs (``write_cases``).
+
+The returned :class:`SweepResult` holds ``table`` (a plain dict: column name -> list, one entry per case),
+``summaries`` and ``scenarios`` (per case) and the written ``paths``.
+"""
+from __future__ import annotations
+
+import csv
+import itertools
+import json
+import math
+import os
+from concurrent.futures import Executor, Future, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .scenario import ScenarioError, _as_scenario, _jsonable, apply_overrides, run_scenario, set_dotted
+
+__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "sweep_cases", "DEFAULT_PLOT_RESULT",
+           "TIMING_COLUMNS"]
+
+#: the scalar plotted by default (present in every case that ran)
+DEFAULT_PLOT_RESULT = "max_abs_Y_any_wheel_N"
+#: columns that depend on the machine, not on the model (left out when comparing runs)
+TIMING_COLUMNS = ("solve_seconds",)
+MAX_CASES = 100_000
+
+
+class SerialExecutor(Executor):
+    """Runs every submitted call at once in the calling process (a ``concurrent.futures.Executor``)."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        f = Future()
+        try:
+            f.set_result(fn(*args, **kwargs))
+        except BaseException as exc:        # delivered through the future, as any executor does
+            f.set_exception(exc)
+        return f
+
+
+@dataclass
+class SweepResult:
+    """``table``: column -> list (one entry per case); ``summaries``/``scenarios``: per case; ``paths``."""
+
+    table: dict
+    summaries: list
+    scenarios: list
+    parameters: dict
+    paths: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
+
+
+def run_case(scenario: dict, case_dir=None) -> dict:
+    """One sweep case (runs in the worker): the summary of :func:`~.scenario.run_scenario` without progress bar;
+    an exception becomes ``status = "error: ..."``."""
+    try:
+        return run_scenario(scenario, case_dir, progress=False).summary
+    except Exception as exc:                # one failing case must not stop the sweep
+        return {"status": f"error: {type(exc).__name__}: {exc}".splitlines()[0], "scalars": {},
+                "solve_seconds": None}
+
+
+def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
+    """``(base, combinations, scenarios)``: the validated base scenario, the parameter combinations (dicts) and the
+    validated scenario of every case."""
+    base, _ = _as_scenario(base_scenario)
+    if not isinstance(parameters, dict) or not parameters:
+        raise ScenarioError("parameters: expected a non-empty dict {dotted key: [values]}")
+    values = {}
+    for key, vals in parameters.items():
+        probe = json.loads(json.dumps(base))
+        set_dotted(probe, key, None)                 # the key must lead somewhere in the scenario
+        if isinstance(vals, (str, bytes)) or not hasattr(vals, "__iter__"):
+            raise ScenarioError(f"parameter {key!r}: expected a list of values, got {vals!r}")
+        vals = list(vals)
+        if not vals:
+            raise ScenarioError(f"parameter {key!r}: no values")
+        values[key] = vals
+    n = math.prod(len(v) for v in values.values())
+    if n > MAX_CASES:
+        raise ScenarioError(f"parameters: {n} cases (more than {MAX_CASES})")
+    combos = [dict(zip(values, combo)) for combo in itertools.product(*values.values())]
+    scenarios = []
+    for i, combo in enumerate(combos):
+        desc = ", ".join(f"{k}={v!r}" for k, v in combo.items())
+        scenarios.append(apply_overrides(base, combo, source=f"sweep case {i} ({desc})"))
+    return base, combos, scenarios
+
+
+def _executor(executor, workers, n_cases):
+    """(executor, own): the executor to use and whether this function created it (and must shut it down)."""
+    if executor is None:
+        from concurrent.futures import ProcessPoolExecutor
+        from multiprocessing import get_context
+        if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+            raise ValueError(f"workers = {workers!r}: expected a positive integer")
+        w = max(1, min(int(workers or os.cpu_count() or 1), n_cases))
+        return ProcessPoolExecutor(max_workers=w, mp_context=get_context("spawn")), True
+    if not isinstance(executor, Executor) and callable(getattr(executor, "get_executor", None)):
+        return executor.get_executor(pure=False), False          # a dask.distributed Client
+    if not callable(getattr(executor, "submit", None)):
+        raise TypeError(f"executor = {executor!r}: expected a concurrent.futures.Executor (or a dask Client)")
+    return executor, False
+
+
+def sweep(base_scenario, parameters: dict, executor=None, out_dir=None, *, workers: int | None = None,
+          plot_result: str = DEFAULT_PLOT_RESULT, plot_parameter: str | None = None, write_cases: bool = True,
+          progress=print) -> SweepResult:
+    """Run the cartesian product of ``parameters`` (dotted key -> list of values) over ``base_scenario`` (a
+    scenario file or dict) through ``executor`` (module docstring) and gather one table; with ``out_dir`` write
+    ``sweep.csv``, ``sweep.json``, ``sweep_plot.png`` and (``write_cases``) every case's outputs.  ``progress``: a
+    callable for one line per finished case (``None``: quiet)."""
+    base, combos, scenarios = sweep_cases(base_scenario, parameters)
+    keys = list(combos[0])
+    if plot_parameter is None:
+        plot_parameter = keys[0]
+    elif plot_parameter not in keys:
+        raise ScenarioError(f"plot_parameter = {plot_parameter!r}: not a swept parameter ({', '.join(keys)})")
+    out = Path(out_dir) if out_dir is not None else None
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    case_dirs = [str(out / "cases" / f"case_{i:03d}") if (out is not None and write_cases) else None
+                 for i in range(len(scenarios))]
+    pool, own = _executor(executor, workers, len(scenarios))
+    summaries = [None] * len(scenarios)
+    try:
+        futures = {pool.submit(run_case, scn, d): i for i, (scn, d) in enumerate(zip(scenarios, case_dirs))}
+        for f in as_completed(futures):
+            i = futures[f]
+            try:
+                summaries[i] = f.result()
+            except Exception as exc:        # the executor itself failed (worker died, could not unpickle, ...)
+                summaries[i] = {"status": f"error: executor: {type(exc).__name__}: {exc}".splitlines()[0],
+                                "scalars": {}, "solve_seconds": None}
+            if progress:
+                s = summaries[i]
+                v = s.get("scalars", {}).get(plot_result)
+                progress(f"  case {i} ({', '.join(f'{k}={combos[i][k]!r}' for k in keys)}): {s['status']}"
+                         + (f"; {plot_result} = {v:.6g}" if isinstance(v, (int, float)) and v is not None else ""))
+    finally:
+        if own:
+            pool.shutdown()
+    table = _table(combos, case_dirs, summaries)
+    result = SweepResult(table=table, summaries=summaries, scenarios=scenarios, parameters=dict(parameters))
+    if out is not None:
+        result.paths = _write(result, base, out, plot_result, plot_parameter)
+    return result
+
+
+def _table(combos, case_dirs, summaries) -> dict:
+    keys = list(combos[0])
+    scalar_names = []
+    seen = set()
+    for s in summaries:
+        for k in s.get("scalars", {}):
+            if k not in seen:
+                seen.add(k)
+                scalar_names.append(k)
+    cols = ["case", "case_dir"] + keys + ["status", "solve_seconds"] + scalar_names
+    table = {c: [] for c in cols}
+    for i, (combo, d, s) in enumerate(zip(combos, case_dirs, summaries)):
+        table["case"].append(i)
+        table["case_dir"].append(d)
+        for k in keys:
+            table[k].append(combo[k])
+        table["status"].append(s.get("status"))
+        table["solve_seconds"].append(s.get("solve_seconds"))
+        for k in scalar_names:
+            table[k].append(s.get("scalars", {}).get(k))
+    return table
+
+
+def _cell(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, (list, dict)):
+        return json.dumps(v)
+    return str(v)
+
+
+def _write(result: SweepResult, base: dict, out: Path, plot_result: str, plot_parameter: str) -> dict:
+    t = result.table
+    n = len(t["case"])
+    paths = {"csv": out / "sweep.csv", "json": out / "sweep.json"}
+    with open(paths["csv"], "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(list(t))
+        for i in range(n):
+            w.writerow([_cell(t[c][i]) for c in t])
+    with open(paths["json"], "w") as fh:
+        json.dump({"base_scenario": base, "parameters": result.parameters, "table": t}, fh, indent=1,
+                  allow_nan=True, default=_jsonable)
+    if plot_result not in t:
+        result.notes.append(f"plot_result = {plot_result!r}: not in the table (no case produced it); no plot "
+                            f"written. Scalars: {', '.join(c for c in t if c not in ('case', 'case_dir'))}")
+    else:
+        paths["plot"] = out / "sweep_plot.png"
+        plot_sweep(t, list(result.parameters), plot_result, plot_parameter, paths["plot"])
+    return {k: str(v) for k, v in paths.items()}
+
+
+def _number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and v is not None and math.isfinite(v)
+
+
+def plot_sweep(table: dict, keys: list, result: str, x_key: str, path) -> None:
+    """``result`` against ``x_key``, one line per combination of the other parameters (failed cases left out)."""
+    from .scenario import _pyplot
+    plt = _pyplot()
+    others = [k for k in keys if k != x_key]
+    n = len(table["case"])
+    xs = table[x_key]
+    numeric_x = all(_number(x) for x in xs)
+    categories = list(dict.fromkeys(xs)) if not numeric_x else None
+    groups = {}
+    for i in range(n):
+        groups.setdefault(tuple(table[k][i] for k in others), []).append(i)
+    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    for j, (label, rows) in enumerate(groups.items()):
+        pts = [(xs[i] if numeric_x else categories.index(xs[i]), table[result][i]) for i in rows
+               if table["status"][i] == "ok" and _number(table[result][i])]
+        pts.sort()
+        if not pts:
+            continue
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color=f"C{j % 10}",
+                label=", ".join(f"{k} = {v}" for k, v in zip(others, label)) or None)
+    if not numeric_x:
+        ax.set_xticks(range(len(categories)), [str(c) for c in categories])
+    ax.set(xlabel=x_key, ylabel=result, title=f"sweep: {result} vs {x_key}")
+    ax.title.set_fontsize(9)
+    ax.grid(True, alpha=0.3)
+    if others:
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
