@@ -522,14 +522,30 @@ class _Recorder:
                 self.columns += [f"Y_w{j + 1}_{side}_N", f"Q_w{j + 1}_{side}_N"]
         self.data = np.full((steps + 2, len(self.columns)), np.nan)
         self.n = 0
-        self.t_state = 0.0
+        self.dt = float(h.case.dt_s)
+        self.t_state = 0.0                # time of the model's current state
+        self.t_pending = 0.0              # end time of the step attempted after the previous call
+        self.t_recorded = -math.inf       # time of the last recorded row
+        self.rejected_steps = 0
         self.error = None
 
     def pre_step(self, mbs, t):
-        t_state = self.t_state           # Exudyn passes the end time of the coming step; the state is at its start
-        self.t_state = float(t)
+        """Exudyn passes the end time of the step it is about to attempt; the state is at the end of the last
+        *accepted* step.  A call whose end time is not beyond the previous one means that attempt was rejected
+        (Newton did not converge: the state was rolled back); rows are recorded only for new states on the dt grid,
+        so the time axis stays uniform."""
+        t = float(t)
+        if t > self.t_pending + 1e-9 * self.dt:
+            self.t_state = self.t_pending        # the previous attempt was accepted
+        else:
+            self.rejected_steps += 1
+        self.t_pending = t
+        t_state = self.t_state
         try:
-            self.record(mbs, t_state)
+            if t_state > self.t_recorded + 0.5 * self.dt and \
+                    abs(t_state - round(t_state / self.dt) * self.dt) <= 1e-6 * self.dt:
+                self.record(mbs, t_state)
+                self.t_recorded = t_state
         except Exception as exc:         # a failing recorder must not hide the cause inside Exudyn
             self.error = exc
             return False
