@@ -30,13 +30,14 @@ from .vehicle_builder import (
     WheelsetHandle,
     build_vehicle,
     simulation_settings,
+    solver_settings,
     static_load_path,
 )
 from .vehicle_data import VehicleData, VehicleDataError, load_vehicle, shipped_vehicles, vehicle_from_dict
 
 __all__ = [
     "load_vehicle", "vehicle_from_dict", "shipped_vehicles", "VehicleData", "VehicleDataError",
-    "build_vehicle", "simulation_settings", "static_load_path", "RailSprings", "LongitudinalRestraint",
+    "build_vehicle", "simulation_settings", "solver_settings", "static_load_path", "RailSprings", "LongitudinalRestraint",
     "VehicleModel", "WheelsetHandle",
     "Irregularity", "NoIrregularity", "SpanDeflection", "Harmonic", "SampledIrregularity", "IrregularitySum",
     "RigidStraightTrack", "irregularity_at", "irregularity_many",

@@ -386,6 +386,28 @@ def simulation_settings(end_time_s: float, step_s: float, newton_tolerance: floa
 
 
 # ----------------------------------------------------------------------------------------------------- build
+def solver_settings(solver: str, step_s: float, steps: int, newton_tolerance: float = 1e-6,
+                    newmark_beta: float = 0.25, newmark_gamma: float = 0.5):
+    """Settings and solver type for ``mbs.SolveDynamic``: ``"newmark"`` — generalized-α as Newmark (β, γ;
+    the paper's β = 1/4, γ = 1/2 is the trapezoidal rule), index-2 constraints, modified Newton (the contact's
+    Jacobian is a forward difference: recomputed only when Newton slows down); ``"rk44"`` — explicit RK44 without
+    the extra end-of-step right-hand side.  Returns ``(settings, exu.DynamicSolverType)``."""
+    if solver not in ("newmark", "rk44"):
+        raise ValueError(f"solver={solver!r}: expected 'newmark' or 'rk44'")
+    s = simulation_settings(steps * step_s, step_s, newton_tolerance=newton_tolerance)
+    s.timeIntegration.numberOfSteps = int(steps)
+    if solver == "rk44":
+        s.timeIntegration.explicit.computeEndOfStepAccelerations = False
+        return s, exu.DynamicSolverType.RK44
+    ga = s.timeIntegration.generalizedAlpha
+    ga.useNewmark = True
+    ga.newmarkBeta = newmark_beta
+    ga.newmarkGamma = newmark_gamma
+    ga.useIndex2Constraints = True
+    s.timeIntegration.newton.useModifiedNewton = True
+    return s, exu.DynamicSolverType.GeneralizedAlpha
+
+
 def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wheel_rail: str = "none",
                   rail_springs: RailSprings | None = None,
                   longitudinal: LongitudinalRestraint | str | None = None, bump_stop: str = "symbolic",

@@ -128,6 +128,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._recording import StepRecorder
 from .rtri_assumptions import RTRI, RtriAssumptions
 
 __all__ = [
@@ -415,21 +416,9 @@ class RtriModel:
 
 
 def _settings(case: RtriCase, steps: int):
-    import exudyn as exu
-
-    from ..multibody.vehicle_builder import simulation_settings
-    s = simulation_settings(steps * case.dt_s, case.dt_s, newton_tolerance=case.newton_tolerance)
-    s.timeIntegration.numberOfSteps = int(steps)
-    if case.solver == "rk44":
-        s.timeIntegration.explicit.computeEndOfStepAccelerations = False
-        return s, exu.DynamicSolverType.RK44
-    ga = s.timeIntegration.generalizedAlpha
-    ga.useNewmark = True
-    ga.newmarkBeta = case.assumptions.newmark_beta
-    ga.newmarkGamma = case.assumptions.newmark_gamma
-    ga.useIndex2Constraints = True
-    s.timeIntegration.newton.useModifiedNewton = True
-    return s, exu.DynamicSolverType.GeneralizedAlpha
+    from ..multibody.vehicle_builder import solver_settings
+    return solver_settings(case.solver, case.dt_s, steps, case.newton_tolerance, case.assumptions.newmark_beta,
+                           case.assumptions.newmark_gamma)
 
 
 def build_rtri(case: RtriCase) -> RtriModel:
@@ -489,7 +478,7 @@ def _steps(case: RtriCase, vehicle) -> int:
 
 
 # ============================================================================================== recording
-class _Recorder:
+class _Recorder(StepRecorder):
     """Pre-step user function: evaluates the contact at the current state and stores one row (see module doc)."""
 
     def __init__(self, h: RtriModel, steps: int):
@@ -520,44 +509,13 @@ class _Recorder:
         for j in range(self.n_ws):
             for side in ("right", "left"):
                 self.columns += [f"Y_w{j + 1}_{side}_N", f"Q_w{j + 1}_{side}_N"]
-        self.data = np.full((steps + 2, len(self.columns)), np.nan)
-        self.n = 0
-        self.dt = float(h.case.dt_s)
-        self.t_state = 0.0                # time of the model's current state
-        self.t_pending = 0.0              # end time of the step attempted after the previous call
-        self.t_recorded = -math.inf       # time of the last recorded row
-        self.rejected_steps = 0
-        self.error = None
-
-    def pre_step(self, mbs, t):
-        """Exudyn passes the end time of the step it is about to attempt; the state is at the end of the last
-        *accepted* step.  A call whose end time is not beyond the previous one means that attempt was rejected
-        (Newton did not converge: the state was rolled back); rows are recorded only for new states on the dt grid,
-        so the time axis stays uniform."""
-        t = float(t)
-        if t > self.t_pending + 1e-9 * self.dt:
-            self.t_state = self.t_pending        # the previous attempt was accepted
-        else:
-            self.rejected_steps += 1
-        self.t_pending = t
-        t_state = self.t_state
-        try:
-            if t_state > self.t_recorded + 0.5 * self.dt and \
-                    abs(t_state - round(t_state / self.dt) * self.dt) <= 1e-6 * self.dt:
-                self.record(mbs, t_state)
-                self.t_recorded = t_state
-        except Exception as exc:         # a failing recorder must not hide the cause inside Exudyn
-            self.error = exc
-            return False
-        return True
+        StepRecorder.__init__(self, h.case.dt_s, steps + 2, self.columns)
 
     def record(self, mbs, t):
         exu, C, h = self.exu, self.C, self.h
         c = h.contact
         res = c.evaluate(mbs, t)
-        if self.n >= self.data.shape[0]:
-            self.data = np.vstack([self.data, np.full_like(self.data, np.nan)])
-        row = self.data[self.n]
+        row = self.next_row()
         ovt = exu.OutputVariableType
         a = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.Acceleration, localPosition=self.local_rear))
         u = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.Displacement, localPosition=self.local_rear))
@@ -590,10 +548,6 @@ class _Recorder:
                 row[k + 1] = -Fj[2] + 0.0
                 k += 2
         self.n += 1
-
-    def table(self) -> dict:
-        d = self.data[:self.n]
-        return {name: d[:, i].copy() for i, name in enumerate(self.columns)}
 
 
 # ================================================================================================ running

@@ -147,6 +147,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._recording import StepRecorder
+
 __all__ = [
     "SCHEMA_VERSION",
     "SOLVERS",
@@ -655,21 +657,8 @@ class ScenarioModel:
 
 def _solver_settings(run: dict, steps: int):
     """Exudyn settings: the trapezoidal rule as Newmark (β 1/4, γ 1/2, index-2, modified Newton) or RK44."""
-    import exudyn as exu
-
-    from ..multibody.vehicle_builder import simulation_settings
-    s = simulation_settings(steps * run["dt_s"], run["dt_s"], newton_tolerance=run["newton_tolerance"])
-    s.timeIntegration.numberOfSteps = int(steps)
-    if run["solver"] == "rk44":
-        s.timeIntegration.explicit.computeEndOfStepAccelerations = False
-        return s, exu.DynamicSolverType.RK44
-    ga = s.timeIntegration.generalizedAlpha
-    ga.useNewmark = True
-    ga.newmarkBeta = NEWMARK_BETA
-    ga.newmarkGamma = NEWMARK_GAMMA
-    ga.useIndex2Constraints = True
-    s.timeIntegration.newton.useModifiedNewton = True
-    return s, exu.DynamicSolverType.GeneralizedAlpha
+    from ..multibody.vehicle_builder import solver_settings
+    return solver_settings(run["solver"], run["dt_s"], steps, run["newton_tolerance"], NEWMARK_BETA, NEWMARK_GAMMA)
 
 
 def _vehicle_ref(scn: dict) -> str:
@@ -824,7 +813,7 @@ def _carbody_x(x, vehicle) -> float:
     return float(x)
 
 
-class _Recorder:
+class _Recorder(StepRecorder):
     """Pre-step user function: evaluates the contact at the current state and stores one row per step.  Exudyn
     calls it with the time at the *end* of the coming step while the coordinates are still those at its start, so
     the contact is evaluated at the previous call's time (0 at the first call), as in :mod:`.rtri`."""
@@ -889,49 +878,17 @@ class _Recorder:
         self.irregularity_at = irregularity_at
         self.packed = (p.rows, p.knots, p.coefs)
         self.ws_x = [float(ws.p_cg_in_frame[0]) for ws in m.wheelsets]
-        self.data = np.full((h.steps + 2, len(self.columns)), np.nan)
-        self.n = 0
-        self.dt = float(run["dt_s"])
-        self.t_state = 0.0                # time of the model's current state
-        self.t_pending = 0.0              # end time of the step attempted after the previous call
-        self.t_recorded = -math.inf       # time of the last recorded row
-        self.rejected_steps = 0
-        self.error = None
+        StepRecorder.__init__(self, run["dt_s"], h.steps + 2, self.columns)
 
-    def pre_step(self, mbs, t):
-        """Exudyn passes the end time of the step it is about to attempt; the state is at the end of the last
-        *accepted* step.  A call with an end time not beyond the previous one means that attempt was rejected (the
-        solver rolled the state back and retries with a smaller step): the state is then unchanged.  A row is
-        recorded for every new state on the grid of ``dt_s`` (the states between, after a step reduction, are
-        not recorded, so the rows stay uniform)."""
-        t = float(t)
-        if t > self.t_pending + 1e-9 * self.dt:
-            self.t_state = self.t_pending        # the previous attempt was accepted
-        else:
-            self.rejected_steps += 1
-        self.t_pending = t
-        t_state = self.t_state
-        try:
-            if t_state > self.t_recorded + 0.5 * self.dt and self._on_grid(t_state):
-                self.record(mbs, t_state)
-                self.t_recorded = t_state
-                if self.progress is not None:
-                    self.progress.update(t_state)
-        except Exception as exc:          # a failing recorder must not hide the cause inside Exudyn
-            self.error = exc
-            return False
-        return True
-
-    def _on_grid(self, t: float) -> bool:
-        return abs(t - round(t / self.dt) * self.dt) <= 1e-6 * self.dt
+    def on_recorded(self, t):
+        if self.progress is not None:
+            self.progress.update(t)
 
     def record(self, mbs, t):
         exu, h = self.exu, self.h
         c = h.contact
         c.evaluate(mbs, t)
-        if self.n >= self.data.shape[0]:
-            self.data = np.vstack([self.data, np.full_like(self.data, np.nan)])
-        row = self.data[self.n]
+        row = self.next_row()
         row[0] = t
         row[1] = self.s_lead0 + self.V * t
         n_w = 2 * self.n_ws
@@ -973,10 +930,6 @@ class _Recorder:
                 row[k + 1] = phi[i] @ q_tt
                 k += 2
         self.n += 1
-
-    def table(self) -> dict:
-        d = self.data[:self.n]
-        return {name: d[:, i].copy() for i, name in enumerate(self.columns)}
 
 
 # ==================================================================================================== running
