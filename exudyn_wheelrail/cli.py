@@ -9,6 +9,7 @@ rtri       the rigid-rail RTRI validation case (one span, one speed): time serie
 rtri-sweep the RTRI case over spans x speeds in parallel processes: table and Fig. 7
 run        a scenario file (TOML: vehicle, track, optional bridge, run, outputs): time series, summary, criteria
 sweep      a scenario over the cartesian product of parameter values (--param KEY=V1,V2,...) in parallel
+validation-report  re-run the validations (Kalker E.3, creep table, Klingel, Frýba, RTRI) -> report.md + PNGs
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 """
@@ -317,6 +318,13 @@ def cmd_sweep_scenario(args):
     return 0 if all(s == "ok" for s in result.table["status"]) else 1
 
 
+def cmd_validation_report(args):
+    from .scenarios.validation_report import write_report
+    write_report(args.out, quick=args.quick)
+    print(f"wrote {args.out}/report.md")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -397,6 +405,14 @@ def build_parser() -> argparse.ArgumentParser:
     ss.add_argument("--plot-param", default=None, help="parameter on the x axis (default: the first --param)")
     ss.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
     ss.set_defaults(func=cmd_sweep_scenario)
+    vr = sub.add_parser("validation-report", help="re-run the validations into report.md with plots",
+                        description="Kalker's exact solver vs Table E.3, the creep table vs the exact solver, "
+                                    "Klingel's wavelength, Frýba's moving force and the RTRI 20 m vs 40 m peaks: "
+                                    "writes DIR/report.md and PNG plots.")
+    vr.add_argument("--out", required=True, help="output directory")
+    vr.add_argument("--quick", action="store_true",
+                    help="fewer creep-table points, shorter Klingel/Frýba runs, no RTRI runs (< 60 s)")
+    vr.set_defaults(func=cmd_validation_report)
     return parser
 
 
