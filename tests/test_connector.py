@@ -16,6 +16,7 @@ from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
 from exudyn_wheelrail.multibody import build_vehicle, simulation_settings, vehicle_from_dict
 from exudyn_wheelrail.multibody import connector as C
 from exudyn_wheelrail.profiles import WheelProfile
+from exudyn_wheelrail.scenarios.validation_report import klingel_run, zero_crossing_wavelengths
 
 VEHICLES = Path(__file__).resolve().parents[1] / "vehicles"
 G_M_S2 = 9.81
@@ -51,18 +52,6 @@ def test_static_wheel_loads_equal_the_weight_split():
     np.testing.assert_allclose(Q, total_weight / 8, rtol=2e-3)
 
 
-def _free_wheelset_data(kxy=0.0):
-    d = tomllib.loads((VEHICLES / "single_wheelset.toml").read_text())
-    d["primary"] = {"kx_N_per_m": kxy, "ky_N_per_m": kxy, "cx_N_s_per_m": 0.0, "cy_N_s_per_m": 0.0}
-    return vehicle_from_dict(d)
-
-
-def _zero_crossing_wavelength(t, y, speed):
-    zc = [t[i - 1] - y[i - 1] * (t[i] - t[i - 1]) / (y[i] - y[i - 1]) for i in range(1, len(y))
-          if (y[i - 1] > 0 >= y[i]) or (y[i - 1] < 0 <= y[i])]
-    return speed * 2 * np.diff(zc)
-
-
 def _klingel(pair, dz, conicity):
     """λ = 2π √(r0 e / γ) with r0 and e (half the lateral distance of the contact points) of the centred pair."""
     pts = WheelsetContact(pair, 1).contact_points(0.0, -0.46 + dz, 0.0)
@@ -72,25 +61,10 @@ def _klingel(pair, dz, conicity):
 
 
 def test_free_coned_wheelset_runs_at_klingels_wavelength():
-    conicity, speed = 0.05, 5.0
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
-    model = build_vehicle(mbs, _free_wheelset_data(), speed_m_s=speed)
-    pair = _pair(WheelProfile.cone(conicity))
-    dz = C.place_on_rails(mbs, model, pair)
-    ws = model.wheelsets[0]
-    q0 = np.array(mbs.GetNodeParameter(ws.node, "initialCoordinates"))
-    q0[1] = 1e-3
-    mbs.SetNodeParameter(ws.node, "initialCoordinates", q0.tolist())
-    C.add_wheel_rail_contact(mbs, [ws.node], pair, speed_m_s=speed)
-    rec = []
-    mbs.SetPreStepUserFunction(lambda mbs, t: rec.append(
-        (t, mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Position)[1])) or True)
-    mbs.Assemble()
-    _solve(mbs, 8.0, 1e-3, "newmark")
-    t, y = np.array(rec).T
-    lam = _zero_crossing_wavelength(t, y, speed)
-    ref, _ = _klingel(pair, dz, conicity)
+    # the simulation of the validation report: free wheelset, cone γ = 0.05, 5 m/s, 1 mm offset, 8 s Newmark
+    conicity = 0.05
+    t, y, lam, _, r0, e = klingel_run(conicity, 5.0, 8.0, 1e-3)
+    ref = 2 * math.pi * math.sqrt(r0 * e / conicity)        # Klingel, with r0 and e of the centred pair
     assert len(lam) >= 3
     np.testing.assert_allclose(lam, ref, rtol=0.02)
     assert np.std(lam) < 1e-3 * ref            # a clean periodic motion
@@ -119,7 +93,7 @@ def test_rigid_bogie_runs_at_the_rigid_bogie_wavelength():
     mbs.Assemble()
     _solve(mbs, 12.0, 1e-3, "newmark")
     t, y = np.array(rec).T
-    lam = _zero_crossing_wavelength(t, y, speed)
+    lam = zero_crossing_wavelengths(t, y, speed)
     lam_w, e = _klingel(pair, dz, conicity)
     a = model.vehicle.geometry.semi_wheelbase_m
     assert len(lam) >= 2

@@ -137,6 +137,14 @@ def section_b(out: Path, n_points: int = 20, seed: int = 2026):
 
 
 # ------------------------------------------------------------------------------------------------------- (c)
+def zero_crossing_wavelengths(t, y, speed):
+    """Wavelengths [m] of an oscillation y(t) travelled at ``speed``: twice the distance between consecutive zero
+    crossings (linearly interpolated)."""
+    zc = [t[i - 1] - y[i - 1] * (t[i] - t[i - 1]) / (y[i] - y[i - 1]) for i in range(1, len(y))
+          if (y[i - 1] > 0 >= y[i]) or (y[i - 1] < 0 <= y[i])]
+    return speed * 2 * np.diff(zc)
+
+
 def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, step_s=1e-3):
     """The free coned wheelset (no primary springs) released with 1 mm lateral offset: wavelengths from the
     zero crossings of the lateral displacement, and Klingel's λ = 2π √(r0 e / γ) of the centred pair."""
@@ -168,9 +176,7 @@ def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, step_s=1e-3):
     sim.timeIntegration.newton.useModifiedNewton = True
     mbs.SolveDynamic(sim, solverType=exu.DynamicSolverType.GeneralizedAlpha)
     t, y = np.array(rec).T
-    zc = [t[i - 1] - y[i - 1] * (t[i] - t[i - 1]) / (y[i] - y[i - 1]) for i in range(1, len(y))
-          if (y[i - 1] > 0 >= y[i]) or (y[i - 1] < 0 <= y[i])]
-    lam = speed * 2 * np.diff(zc)
+    lam = zero_crossing_wavelengths(t, y, speed)
     pts = WheelsetContact(pair, 1).contact_points(0.0, -0.46 + dz, 0.0)
     r0 = float(np.mean([p.rolling_radius_m for p in pts]))
     e = 0.5 * abs(pts[0].p_wheel_in_track[0] - pts[1].p_wheel_in_track[0])
