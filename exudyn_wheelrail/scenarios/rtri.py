@@ -772,6 +772,16 @@ def _title(summary: dict) -> str:
             "SUBSTITUTE inputs (Manchester vehicle 1, S1002/UIC60 1:40; assumed δ, l_t) — see summary.json")
 
 
+def _finish(plt, fig, ax, path):
+    """Common finish of the Fig. 5/6 plots: small title, grid, legend, saved and closed."""
+    ax.title.set_fontsize(8)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def _spans(ax, summary):
     c = summary["coverage"]
     ax.axvspan(c["t_leading_wheelset_enters_span_s"], c["t_leading_wheelset_leaves_span_s"], color="C1", alpha=0.12,
@@ -800,12 +810,7 @@ def plot_fig5(result: RtriResult, path):
     ax.plot(ts["time_s"], ts["carbody_lateral_accelerometer_rear_m_s2"], "C3-", lw=0.6, alpha=0.6,
             label="same point, body-fixed accelerometer (incl. g·roll)")
     ax.set(xlabel="time [s]", ylabel="lateral acceleration [m/s²]", title=_title(s))
-    ax.title.set_fontsize(8)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _finish(plt, fig, ax, path)
 
 
 def plot_fig6(result: RtriResult, path):
@@ -826,12 +831,7 @@ def plot_fig6(result: RtriResult, path):
     if fl.any():
         ax.plot(t[fl], ts["lateral_contact_force_w1_right_N"][fl] * 1e-3, "r.", ms=3, label="flange region in contact")
     ax.set(xlabel="time [s]", ylabel="lateral contact force, w1 right [kN]", title=_title(s))
-    ax.title.set_fontsize(8)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _finish(plt, fig, ax, path)
 
 
 # ================================================================================================== sweep
