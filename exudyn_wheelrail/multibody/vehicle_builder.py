@@ -104,6 +104,10 @@ __all__ = [
     "static_load_path",
     "build_vehicle",
     "simulation_settings",
+    "solver_settings",
+    "solver_description",
+    "SOLVER_TYPES",
+    "IMPLICIT_SOLVERS",
 ]
 
 GRAVITY_M_S2 = 9.81  #: standard gravity used by default [m/s²]
@@ -386,26 +390,69 @@ def simulation_settings(end_time_s: float, step_s: float, newton_tolerance: floa
 
 
 # ----------------------------------------------------------------------------------------------------- build
+#: solver names of :func:`solver_settings` -> name of the ``exu.DynamicSolverType`` (all fixed step size)
+SOLVER_TYPES = {"newmark": "GeneralizedAlpha", "generalized_alpha": "GeneralizedAlpha",
+                "explicit_midpoint": "ExplicitMidpoint", "rk33": "RK33", "rk44": "RK44", "rk67": "RK67"}
+#: the implicit ones (Newton iterations: the contact's Jacobian user function is used)
+IMPLICIT_SOLVERS = ("newmark", "generalized_alpha")
+#: ρ∞ of ``"generalized_alpha"`` (numerical damping of the highest frequencies; 1 = none)
+GENERALIZED_ALPHA_SPECTRAL_RADIUS = 0.8
+
+
 def solver_settings(solver: str, step_s: float, steps: int, newton_tolerance: float = 1e-6,
-                    newmark_beta: float = 0.25, newmark_gamma: float = 0.5):
-    """Settings and solver type for ``mbs.SolveDynamic``: ``"newmark"`` — generalized-α as Newmark (β, γ;
-    the paper's β = 1/4, γ = 1/2 is the trapezoidal rule), index-2 constraints, modified Newton (the contact's
-    Jacobian is a forward difference: recomputed only when Newton slows down); ``"rk44"`` — explicit RK44 without
-    the extra end-of-step right-hand side.  Returns ``(settings, exu.DynamicSolverType)``."""
-    if solver not in ("newmark", "rk44"):
-        raise ValueError(f"solver={solver!r}: expected 'newmark' or 'rk44'")
+                    newmark_beta: float = 0.25, newmark_gamma: float = 0.5,
+                    spectral_radius: float = GENERALIZED_ALPHA_SPECTRAL_RADIUS):
+    """Settings and solver type for ``mbs.SolveDynamic``, fixed step ``step_s`` [s] for ``steps`` steps:
+
+    * ``"newmark"`` — generalized-α as Newmark (β, γ; the paper's β = 1/4, γ = 1/2 is the trapezoidal rule),
+      index-2 constraints, modified Newton (the contact's Jacobian is a forward difference: recomputed only when
+      Newton slows down);
+    * ``"generalized_alpha"`` — Exudyn's generalized-α (Chung–Hulbert) with ``spectral_radius`` ρ∞ (default 0.8),
+      modified Newton as for ``"newmark"``; index-3 constraints (Exudyn 1.13.6 accepts index 2 only with
+      ``useNewmark``; only ``longitudinal="rigid"`` adds a constraint to the vehicle in dynamics);
+    * ``"explicit_midpoint"`` (2nd order, 2 stages), ``"rk33"`` (3rd order), ``"rk44"`` (classical 4th order),
+      ``"rk67"`` (6th order, 7 stages) — Exudyn's explicit Runge–Kutta solvers, Lie-group integration, without the
+      extra end-of-step right-hand side (``computeEndOfStepAccelerations = False``).
+
+    Exudyn's error-controlled explicit solvers (DOPRI5, ODE23) are not offered: they adapt the step even with
+    ``automaticStepSize = False`` and stop after the first step with ``adaptiveStep = False`` (Exudyn 1.13.6).
+    Returns ``(settings, exu.DynamicSolverType)``."""
+    if solver not in SOLVER_TYPES:
+        raise ValueError(f"solver={solver!r}: expected one of {', '.join(repr(k) for k in SOLVER_TYPES)}")
     s = simulation_settings(steps * step_s, step_s, newton_tolerance=newton_tolerance)
     s.timeIntegration.numberOfSteps = int(steps)
-    if solver == "rk44":
+    solver_type = getattr(exu.DynamicSolverType, SOLVER_TYPES[solver])
+    if solver not in IMPLICIT_SOLVERS:
         s.timeIntegration.explicit.computeEndOfStepAccelerations = False
-        return s, exu.DynamicSolverType.RK44
+        return s, solver_type
     ga = s.timeIntegration.generalizedAlpha
-    ga.useNewmark = True
-    ga.newmarkBeta = newmark_beta
-    ga.newmarkGamma = newmark_gamma
-    ga.useIndex2Constraints = True
+    if solver == "newmark":
+        ga.useNewmark = True
+        ga.newmarkBeta = newmark_beta
+        ga.newmarkGamma = newmark_gamma
+        ga.useIndex2Constraints = True
+    else:
+        if not (0.0 <= spectral_radius <= 1.0):
+            raise ValueError(f"spectral_radius = {spectral_radius!r}: expected a value in [0, 1]")
+        ga.useNewmark = False
+        ga.spectralRadius = float(spectral_radius)
+        ga.useIndex2Constraints = False
     s.timeIntegration.newton.useModifiedNewton = True
-    return s, exu.DynamicSolverType.GeneralizedAlpha
+    return s, solver_type
+
+
+def solver_description(solver: str, newton_tolerance: float = 1e-6, newmark_beta: float = 0.25,
+                       newmark_gamma: float = 0.5, spectral_radius: float = GENERALIZED_ALPHA_SPECTRAL_RADIUS) -> str:
+    """One line describing the Exudyn integrator that :func:`solver_settings` sets up for ``solver``."""
+    if solver == "newmark":
+        return ("GeneralizedAlpha, useNewmark, beta %.3g, gamma %.3g, index-2, modified Newton, tolerance %.1e"
+                % (newmark_beta, newmark_gamma, newton_tolerance))
+    if solver == "generalized_alpha":
+        return ("GeneralizedAlpha, spectral radius %.3g, index-3, modified Newton, tolerance %.1e"
+                % (spectral_radius, newton_tolerance))
+    if solver not in SOLVER_TYPES:
+        raise ValueError(f"solver={solver!r}: expected one of {', '.join(repr(k) for k in SOLVER_TYPES)}")
+    return f"{SOLVER_TYPES[solver]} (explicit, Lie group), no end-of-step accelerations"
 
 
 def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wheel_rail: str = "none",

@@ -148,7 +148,10 @@ __all__ = [
     "plot_fig7",
 ]
 
-SOLVERS = ("newmark", "rk44")
+#: integrators of :func:`~..multibody.vehicle_builder.solver_settings` (the keys of its ``SOLVER_TYPES`` and its
+#: ``IMPLICIT_SOLVERS``; ``tests/test_solver_settings.py`` checks that they agree)
+SOLVERS = ("newmark", "rk44", "generalized_alpha", "explicit_midpoint", "rk33", "rk67")
+IMPLICIT_SOLVERS = ("newmark", "generalized_alpha")
 #: moving-average window of the smoothed lateral-force peak: two periods of the wheelset's ~200 Hz vertical bounce
 #: on the Hertz spring (removes the bounce spikes, keeps the ~4 Hz lateral motion and the ~15 ms flange events)
 AVERAGE_WINDOW_S = 0.010
@@ -568,7 +571,7 @@ def _warm_up(h: RtriModel):
     c = h.contact
     if c is None:
         return
-    c.warm_up(h.mbs, jacobian=h.case.solver == "newmark")
+    c.warm_up(h.mbs, jacobian=h.case.solver in IMPLICIT_SOLVERS)
 
 
 def _peaks(ts: dict, dt: float, t_max: float | None = None) -> dict:
@@ -638,6 +641,7 @@ def _after_passage(ts: dict, t_passage_end: float) -> dict:
 def run_rtri(case: RtriCase, progress=None) -> RtriResult:
     """Build, warm up, solve (timed: ``mbs.SolveDynamic`` only) and collect the outputs of ``case``.  A failing
     solve gives ``summary["status"] = "error: ..."`` and the rows recorded so far."""
+    from ..multibody.vehicle_builder import solver_description
     from ..multibody.vehicle_data import load_vehicle
     vehicle = load_vehicle(case.assumptions.vehicle)
     steps = _steps(case, vehicle)
@@ -704,10 +708,8 @@ def run_rtri(case: RtriCase, progress=None) -> RtriResult:
         "transition_length_m": case.transition_m,
         "deviation_start_m": case.span_deflection().start_m,
         "solver": {"name": case.solver,
-                   **({"exudyn": "GeneralizedAlpha, useNewmark, beta %.3g, gamma %.3g, index-2, modified Newton, "
-                                 "tolerance %.1e" % (a.newmark_beta, a.newmark_gamma, case.newton_tolerance)}
-                      if case.solver == "newmark" else
-                      {"exudyn": "RK44 (explicit, Lie group), no end-of-step accelerations"})},
+                   "exudyn": solver_description(case.solver, case.newton_tolerance, a.newmark_beta,
+                                                a.newmark_gamma)},
         "wheel_rail": case.wheel_rail,
         "creep_law": case.creep_law if case.wheel_rail == "contact" else None,
         "fastsim_grid": list(case.fastsim_grid),
