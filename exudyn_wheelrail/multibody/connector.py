@@ -98,6 +98,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..contact import geometry_table as GT
 from ..contact import kernel as K
 from ..contact.creepage import DEFAULT_V_MIN_M_S, creepages_core, yawed_contact_point_core
 from ..contact.pair import WheelRailPair
@@ -118,6 +119,8 @@ LAW_NONE = 2          # normal forces only
 LAW_TABLE = 3         # the USETAB-style table of Kalker's exact theory (creep.table)
 LAW_SHE = 4           # Shen-Hedrick-Elkins (creep.laws)
 LAW_POLACH = 5        # Polach (creep.laws), k_A = k_S = 1
+#: contact geometry: "online" search at every evaluation, or the precomputed "table" (contact.geometry_table)
+GEOMETRY_MODES = ("online", "table")
 CREEP_LAWS = {"fastsim": LAW_FASTSIM, "linear": LAW_LINEAR, "none": LAW_NONE, "table": LAW_TABLE,
               "shen_hedrick_elkins": LAW_SHE, "polach": LAW_POLACH}
 
@@ -255,7 +258,7 @@ def _creep_law(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
 
 @njit(cache=True)
 def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
-                        nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
+                        nodes, meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef,
                         tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
                         deck_state, f_out, res):
     """All wheelsets in one call.  ``q``, ``q_t`` (6 n + n_m): per wheelset displacement (global), rotation vector,
@@ -336,6 +339,7 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
         for i in range(6):
             deck_state[k, i] = st[i] + rail_delta[k, i] if on else 0.0
         deck_state[k, 6] = 1.0 if on else 0.0
+        gtab[3][GT.STAT_ON_DECK if on else GT.STAT_OFF_DECK] += 1
         # rails: the irregularity plus the ground motion plus the deck, rolled by θ about the centre line at rail
         # top; the pose relative to the rail pair is R_x(-θ) (p - p_rail), roll - θ (without a bridge: p - p_irr,
         # roll)
@@ -370,7 +374,8 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
     res[:, :, :] = 0.0
     if bad >= 0:
         return bad
-    K.evaluate_wheels(nodes, meta, mono, curve_ids, side_poses, warm, params, out)
+    GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, side_poses, warm, params,
+                                 out, gtab[3])
     for k in range(n_ws):
         o = 6 * k
         rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
@@ -513,7 +518,7 @@ def contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows
 
 @njit(cache=True)
 def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
-                          nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
+                          nodes, meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef,
                           tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
                           deck_state, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core`;
@@ -532,7 +537,7 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
     n_m = n - n_w6
     warm0 = warm.copy()
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
-                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, deck_par,
+                        meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef, tab, deck_par,
                         deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f, deck_state, f0, res)
     warm[:] = warm0
     phi0 = phi_ws.copy()
@@ -569,7 +574,7 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
                         Rn[a, b] = R[a, 0] * Rd[0, b] + R[a, 1] * Rd[1, b] + R[a, 2] * Rd[2, b]
                 _rotation_vector_from_matrix(Rn, qp, o + 3)
         contact_forces_core(qp, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
-                            nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
+                            nodes, meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef,
                             tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
                             deck_state, f1, res)
         warm[:] = warm0
@@ -589,7 +594,7 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
         for k in range(n_ws):
             vp[6 * k + i] = q_t[6 * k + i] + h_vel
         contact_forces_core(q, vp, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
-                            nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
+                            nodes, meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef,
                             tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f,
                             deck_state, f1, res)
         warm[:] = warm0
@@ -618,7 +623,7 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
             for k in range(n_ws):
                 rail_delta[k, a] = h
             contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs,
-                                nodes, meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef,
+                                nodes, meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef,
                                 tab, deck_par, deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws,
                                 rail_f, deck_state, f1, res)
             warm[:] = warm0
@@ -642,7 +647,7 @@ def contact_jacobian_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_ro
                         jac[n_w6 + i2, n_w6 + j] -= g[i2] * phi0[k, row, j]
     # leave res/out describing the unperturbed state
     contact_forces_core(q, q_t, p_ref, t, speed, moving_frame, s_start, irr_rows, irr_knots, irr_coefs, nodes,
-                        meta, mono, curve_ids, warm, params, side_poses, out, law, cp, t_nodes, coef, tab, deck_par,
+                        meta, mono, curve_ids, warm, params, gtab, side_poses, out, law, cp, t_nodes, coef, tab, deck_par,
                         deck_x0, deck_len, deck_nodes, deck_shapes, rail_delta, phi_ws, rail_f, deck_state, f0, res)
     warm[:] = warm0
 
@@ -739,7 +744,8 @@ class WheelRailContact:
                  creep_law: str = "table", mu: float = 0.3, E_wheel_Pa: float = 2.1e11, nu_wheel: float = 0.28,
                  E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28, fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
-                 v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", bridge=None):
+                 v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", bridge=None,
+                 geometry: str = "online", geometry_grid=None):
         import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 
@@ -752,6 +758,8 @@ class WheelRailContact:
             raise ValueError(f"frame={frame!r}: expected 'moving' or 'track'")
         if creep_law not in CREEP_LAWS:
             raise ValueError(f"creep_law={creep_law!r}: expected one of {sorted(CREEP_LAWS)}")
+        if geometry not in GEOMETRY_MODES:
+            raise ValueError(f"geometry={geometry!r}: expected one of {GEOMETRY_MODES}")
         if not (math.isfinite(speed_m_s) and speed_m_s >= 0.0):
             raise ValueError(f"speed_m_s={speed_m_s!r}: expected a finite speed >= 0")
         if not (math.isfinite(mu) and mu >= 0.0):
@@ -778,6 +786,20 @@ class WheelRailContact:
         self.moving_frame = frame == "moving"
         self.creep_law = creep_law
         self._kc = WheelsetContact(pair, n_ws, E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail, global_search=global_search)
+        self.geometry = geometry
+        self.geometry_table = None
+        if geometry == "table":
+            if global_search:
+                raise ValueError("geometry='table' replaces the search: it cannot be combined with global_search=True")
+            ids = self._kc.curve_ids
+            if not np.all(ids == ids[0]):
+                raise ValueError("geometry='table' needs the same wheel/rail curves on every wheel")
+            self.geometry_table = GT.geometry_table(self._kc.nodes, self._kc.meta, self._kc.mono, ids[0],
+                                                    self._kc.params, geometry_grid)
+            par, cz_ref, data = self.geometry_table.arrays()
+        else:
+            par, cz_ref, data = GT._unused_arrays()
+        self._gtab = (par, cz_ref, data, np.zeros(GT.N_STATS, dtype=np.int64))
         G, nu = _shear(E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail)
         cp = np.zeros(N_CP)
         cp[CP_MU] = mu
@@ -870,7 +892,7 @@ class WheelRailContact:
     def _args(self, q, q_t, t):
         kc = self._kc
         return (q, q_t, self.p_ref, t, self.speed_m_s, self.moving_frame, self.s_start_m, *self._irr, kc.nodes,
-                kc.meta, kc.mono, kc.curve_ids, kc.warm, kc.params, self._side_poses, kc.out, self._law, self.cp,
+                kc.meta, kc.mono, kc.curve_ids, kc.warm, kc.params, self._gtab, self._side_poses, kc.out, self._law, self.cp,
                 _linear._T_NODES, _linear._COEF, self._tab, *self._deck, self._rail_delta, self._phi_ws, self._rail_f,
                 self._deck_state)
 
@@ -977,6 +999,48 @@ class WheelRailContact:
         line at rail top (irregularity, ground motion and deck included; in the rail pair's frame, rolled with the
         deck) [m] and roll relative to the rails [rad].  ``y_rel`` is the lateral wheelset–rail displacement."""
         return self._side_poses[0::2].copy()
+
+    def geometry_statistics(self) -> dict:
+        """Wheel evaluations answered by the geometry table and by the online search since the start (both count
+        the Jacobian's perturbed calls)."""
+        st = self._gtab[3]
+        return {"mode": self.geometry, "wheel_evaluations_table": int(st[GT.STAT_TABLE]),
+                "wheel_evaluations_online": int(st[GT.STAT_FALLBACK]),
+                "table": self.geometry_table.describe() if self.geometry_table is not None else None}
+
+    def skipped(self) -> dict:
+        """What the contact evaluation skipped since the start, because the scene did not need it (counts include
+        the Jacobian's perturbed calls).  Each skip is tested to change results by less than a stated tolerance
+        (tests/test_skips.py)."""
+        st = self._gtab[3]
+        n_online = int(st[GT.STAT_FALLBACK])
+        n_regions = 2 * n_online
+        frac = (lambda a, b: float(a) / b if b else 0.0)
+        return {
+            "contact_search_by_geometry_table": {
+                "skipped": int(st[GT.STAT_TABLE]), "of_wheel_evaluations": int(st[GT.STAT_TABLE]) + n_online,
+                "what": "the online search replaced by the precomputed geometry (rigid rail profile)"
+                        + ("" if self.geometry == "table" else "; off (geometry 'online')")},
+            "flange_search_far_from_flange": {
+                "skipped": int(st[GT.STAT_FLANGE_SKIPPED]), "of_online_flange_regions": n_online,
+                "fraction": frac(st[GT.STAT_FLANGE_SKIPPED], n_online),
+                "what": "flange region reported apart by the separation bound (gap larger than the motion since "
+                        "its last search), no search"},
+            "tread_search_lifted_off": {
+                "skipped": int(st[GT.STAT_TREAD_SKIPPED]), "of_online_tread_regions": n_online,
+                "what": "tread region reported apart by the separation bound (wheel lifted), no search"},
+            "concave_search": {
+                "run": int(st[GT.STAT_CONCAVE]), "skipped": n_regions - int(st[GT.STAT_CONCAVE]),
+                "of_online_regions": n_regions,
+                "what": "the concave (discretised) search runs only where the convex one fails or lands on a "
+                        "conformal point"},
+            "bridge_coupling": {
+                "skipped": int(st[GT.STAT_OFF_DECK]) if self.bridge is not None else None,
+                "of_wheelset_evaluations": int(st[GT.STAT_ON_DECK] + st[GT.STAT_OFF_DECK]),
+                "what": "deck state and modal projection only for wheelsets on the deck"
+                        + ("" if self.bridge is not None else "; no bridge in this model")},
+            "spin_terms": {"skipped": 0, "what": "not skipped: the creep laws always include spin"},
+        }
 
     def flange_contact(self, wheelset: int, side: str) -> bool:
         """Whether the flange region carries a contact (last evaluation)."""
