@@ -176,12 +176,30 @@ def _print_rtri_summary(summary):
                 print(f"  {group}.{name}: {item}")
 
 
+def _rtri_settings(args, steps_default):
+    """Solver, dt, geometry, creep law and steps from ``--preset`` and the explicit options (which override it)."""
+    from .scenarios.presets import resolve
+    from .scenarios.rtri import RTRI, RTRI_CASE
+    paper = dict(solver="newmark", dt_s=RTRI.time_step_s, geometry="online", creep_law=RTRI_CASE.creep_law)
+    settings, record = resolve(args.preset, solver=args.solver, dt_s=args.dt, geometry=args.geometry,
+                               creep_law=args.creep_law, steps=args.steps, paper_defaults=paper)
+    if settings["steps"] is None:
+        settings["steps"] = steps_default
+    return settings, record
+
+
 def cmd_rtri(args):
     from .scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
     delta, lt = _rtri_deviation(args)
-    case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver=args.solver, dt_s=args.dt, steps=args.steps,
-                    creep_law=args.creep_law, deviation_amplitude_m=delta, transition_length_m=lt)
+    st, preset = _rtri_settings(args, 2500)
+    case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver=st["solver"], dt_s=st["dt_s"],
+                    steps=st["steps"], creep_law=st["creep_law"], geometry=st["geometry"],
+                    deviation_amplitude_m=delta, transition_length_m=lt)
+    if preset:
+        print(f"preset {preset['name']}: {preset['purpose']}; set {preset['set']}"
+              + (f"; overridden {preset['overridden_by_options']}" if preset["overridden_by_options"] else ""))
     result = run_rtri(case, progress=print)
+    result.summary["preset"] = preset
     paths = write_rtri_outputs(result, args.out, plots=not args.no_plots)
     _print_rtri_summary(result.summary)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
@@ -193,22 +211,37 @@ def cmd_rtri_sweep(args):
     delta, lt = _rtri_deviation(args)
     speeds = args.speeds_kmh if args.speeds_kmh else list(RTRI.speeds_km_h)
     spans = args.spans if args.spans else list(RTRI.span_lengths_m)
-    print(f"RTRI sweep: spans {spans} m, speeds {speeds} km/h, {args.solver}, dt {args.dt} s, steps {args.steps}")
-    summaries = run_sweep(spans, speeds, args.out, workers=args.workers, solver=args.solver, dt_s=args.dt,
-                          steps=args.steps, creep_law=args.creep_law, deviation_amplitude_m=delta,
-                          transition_length_m=lt, write_cases=not args.no_case_outputs)
+    st, preset = _rtri_settings(args, "auto")
+    if preset and args.steps is None:
+        st["steps"] = "auto"               # the sweep covers each case's whole passage
+    print(f"RTRI sweep: spans {spans} m, speeds {speeds} km/h, {st['solver']}, dt {st['dt_s']} s, steps "
+          f"{st['steps']}, geometry {st['geometry']}" + (f" (preset {preset['name']})" if preset else ""))
+    summaries = run_sweep(spans, speeds, args.out, workers=args.workers, solver=st["solver"], dt_s=st["dt_s"],
+                          steps=st["steps"], creep_law=st["creep_law"], deviation_amplitude_m=delta,
+                          transition_length_m=lt, write_cases=not args.no_case_outputs, geometry=st["geometry"])
     print(f"wrote {args.out}/sweep.csv, sweep.json, fig7_max_carbody_acceleration.png")
     return 0 if all(s["status"] == "ok" for s in summaries) else 1
 
 
 def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
-    p.add_argument("--solver", default="newmark", choices=("newmark", "rk44"),
-                   help="newmark: trapezoidal rule (beta 1/4, gamma 1/2, the paper's; default); rk44: explicit")
-    p.add_argument("--dt", type=float, default=1e-3, help="time step [s] (default 0.001, the paper's)")
-    p.add_argument("--steps", type=_steps_arg, default=steps_default,
+    from .scenarios.presets import PRESETS
+    from .scenarios.rtri import SOLVERS
+    p.add_argument("--preset", default=None, choices=tuple(PRESETS),
+                   help="accuracy/speed preset (integrator, dt, contact geometry, creep law; explicit options "
+                        "override it; the summary states what it set): "
+                        + "; ".join(f"{k}: {v.purpose}" for k, v in PRESETS.items())
+                        + ".  Without a preset: the paper's settings (newmark, 1 ms, online geometry)")
+    p.add_argument("--solver", default=None, choices=SOLVERS,
+                   help="newmark: trapezoidal rule (beta 1/4, gamma 1/2, the paper's; default without a preset); "
+                        "rk44: explicit; others: see vehicle_builder.solver_settings")
+    p.add_argument("--dt", type=float, default=None, help="time step [s] (default 0.001, the paper's, or the preset's)")
+    p.add_argument("--steps", type=_steps_arg, default=None,
                    help=f"number of steps or 'auto' (enough for the whole car to pass the span; default "
-                        f"{steps_default})")
-    p.add_argument("--creep-law", default="table", help="creep law of the connector: table (default: Kalker's exact theory, tabulated), fastsim, shen_hedrick_elkins, polach")
+                        f"{steps_default}, with a preset 2.5 s / dt)")
+    p.add_argument("--creep-law", default=None, help="creep law of the connector: table (default: Kalker's exact theory, tabulated), fastsim, shen_hedrick_elkins, polach")
+    p.add_argument("--geometry", default=None, choices=("online", "table"),
+                   help="contact geometry: online search (default) or the precomputed table for the rigid rail "
+                        "profile (built once, ~1 min, cached)")
     p.add_argument("--delta-mm", type=float, default=None,
                    help="deviation amplitude [mm] (default: RtriAssumptions, 10 mm; an override is marked in the "
                         "summary)")

@@ -280,6 +280,9 @@ class RtriCase:
     #: peaks of 1e-6 to 1e-4 relative (peak Y 20411 vs 20409 N, car-body acceleration equal to 4 digits) in 25 %
     #: less time; 1e-3 moves the peak Y by 0.2 %.
     newton_tolerance: float = 1e-4
+    #: contact geometry: ``"online"`` (the search at every evaluation) or ``"table"`` (precomputed for the rigid
+    #: rail profile, :mod:`~exudyn_wheelrail.contact.geometry_table`)
+    geometry: str = "online"
     assumptions: RtriAssumptions = RTRI
     case_assumptions: RtriCaseAssumptions = RTRI_CASE
 
@@ -328,6 +331,8 @@ class RtriCase:
         if bad_grid:
             raise ValueError(f"fastsim_grid = {self.fastsim_grid!r}: expected two positive integers (n_x, n_y)")
         finite("newton_tolerance", self.newton_tolerance, 0.0, 1.0)
+        if self.geometry not in ("online", "table"):
+            raise ValueError(f"geometry = {self.geometry!r}: expected 'online' or 'table'")
         if self.wheel_rail == "springs" and self.record:
             raise ValueError("wheel_rail='springs' is a cost baseline without the deviation: use record=False")
 
@@ -457,7 +462,7 @@ def build_rtri(case: RtriCase) -> RtriModel:
         try:
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=case.speed_m_s, track=track,
                                              s_start_m=s_start, creep_law=case.creep_law,
-                                             mu=case.case_assumptions.friction_coefficient,
+                                             mu=case.case_assumptions.friction_coefficient, geometry=case.geometry,
                                              fastsim_grid=tuple(int(g) for g in case.fastsim_grid))
         except ValueError as exc:
             raise ValueError(f"--creep-law {case.creep_law!r} not accepted by the connector: {exc}") from None
@@ -712,6 +717,8 @@ def run_rtri(case: RtriCase, progress=None) -> RtriResult:
                                                 a.newmark_gamma)},
         "wheel_rail": case.wheel_rail,
         "creep_law": case.creep_law if case.wheel_rail == "contact" else None,
+        "geometry": h.contact.geometry_statistics() if h.contact is not None else None,
+        "skipped": h.contact.skipped() if h.contact is not None else None,
         "fastsim_grid": list(case.fastsim_grid),
         "contact_calls": int(h.contact.n_calls) if h.contact is not None else 0,
         "vehicle": vehicle.name,
@@ -861,7 +868,7 @@ def _sweep_task(case: RtriCase, case_dir):
 def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, solver: str = "newmark",
               dt_s: float = RTRI.time_step_s, steps: int | str = "auto", creep_law: str = RTRI_CASE.creep_law,
               deviation_amplitude_m: float | None = None, transition_length_m: float | None = None,
-              write_cases: bool = True, progress=print) -> list[dict]:
+              write_cases: bool = True, progress=print, geometry: str = "online") -> list[dict]:
     """All (span, speed) cases in parallel processes; writes ``sweep.csv``, ``sweep.json``,
     ``fig7_max_carbody_acceleration.png`` (and each case's outputs under ``cases/`` if ``write_cases``)."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -871,7 +878,8 @@ def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, solv
     if not spans_m or not speeds_km_h:
         raise ValueError("the sweep needs at least one span and one speed")
     cases = [RtriCase(span_m=L, speed_km_h=V, solver=solver, dt_s=dt_s, steps=steps, creep_law=creep_law,
-                      deviation_amplitude_m=deviation_amplitude_m, transition_length_m=transition_length_m)
+                      deviation_amplitude_m=deviation_amplitude_m, transition_length_m=transition_length_m,
+                      geometry=geometry)
              for L in spans_m for V in speeds_km_h]        # validates every case before starting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
