@@ -3,10 +3,11 @@
 A preset fixes the integrator, the time step, the contact geometry (online search or the precomputed table,
 :mod:`~exudyn_wheelrail.contact.geometry_table`) and the creep law; options given explicitly on the command line
 override it, and the run summary states the preset, what it set and what was overridden.  The choice is made from
-the work–precision study (``benchmarks/work_precision.py``, RTRI 20 m at 250 km/h against a converged reference:
-RK44 at 0.25 ms... see ``benchmarks/README.md``).  Targets of issue 6 (one core): ``default`` at least 6x faster
+the work–precision study (``benchmarks/work_precision.py``, RTRI 20 m at 250 km/h against a converged RK44 0.05 ms
+reference; table and reasons in ``benchmarks/README.md``).  Targets of issue 6 (one core): ``default`` at least 6x faster
 than real time with at most 1 % error in the peak lateral contact force; ``fast`` at least 15x with at most 5 %.
-What was measured against these targets is in :data:`MEASURED` (and honestly includes the misses).
+Measured (``benchmarks/bench_presets.py``, shared machine): accurate 1.0x / 0.05 %; default 3.9x / 0.57 %; fast
+5.8x / 1.8 % — the error targets are met, the speed targets are not (benchmarks/README.md says why).
 
 Without a preset the ``rtri`` command keeps the paper's settings (Newmark β = 1/4, γ = 1/2, 1 ms, online geometry).
 """
