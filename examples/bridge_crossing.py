@@ -1,7 +1,10 @@
 r"""Manchester vehicle 1 crossing a flexible simply supported single-track concrete span (20 m or 40 m).
 
 Run:  python examples/bridge_crossing.py --span 20 --speed-kmh 200 --out DIR [--dt 1e-3] [--creep-law fastsim]
-          [--support-motion PEAK_M_S2,FREQ_HZ]
+          [--support-motion PEAK_M_S2,FREQ_HZ] [--view]
+
+``--view`` shows the run in Exudyn's 3-D renderer (:mod:`exudyn_wheelrail.interactive.view3d`: wheels, rails, the
+deck box, contact points and force arrows; slow motion, the window stays open until closed).
 
 The vehicle (``vehicles/manchester_vehicle1.toml``: car body, two bogies, four wheelsets; S1002 on UIC60 1:40)
 runs at constant speed on a straight track without irregularities; the deck is a modally reduced 3-D
@@ -261,17 +264,23 @@ class Recorder:
 
 
 def run(span_m: float, speed_km_h: float, dt_s: float = 1e-3, creep_law: str = "fastsim", progress=print,
-        support_motion=None) -> dict:
+        support_motion=None, view: bool = False) -> dict:
     V = speed_km_h / 3.6
     h = build(span_m, V, creep_law, support_motion=support_motion)
     mbs, contact, modes = h["mbs"], h["contact"], h["modes"]
     rec = Recorder(h)
     mbs.SetPreStepUserFunction(rec.pre_step)
+    view3d = None
+    if view:                      # Exudyn's renderer: wheels, rails, deck, contact points and forces
+        from exudyn_wheelrail.interactive.view3d import WheelRailView
+        view3d = WheelRailView(mbs, h["model"], h["pair"], contact, bridge=h["bridge"])
     mbs.Assemble()
     contact.warm_up(mbs)
     steps = int(math.ceil(h["t_end_s"] / dt_s))
     ss = simulation_settings(steps * dt_s, dt_s, spectral_radius=1.0)
     ss.timeIntegration.newton.useModifiedNewton = True
+    if view3d is not None:
+        view3d.open_window(h["SC"], ss, realtime_factor=0.25, focus="vehicle")
     if progress:
         progress(f"span {span_m:g} m, {speed_km_h:g} km/h: {modes.n_modes} modes up to {modes.frequencies_Hz[-1]:.1f} "
                  f"Hz (f1 = {h['f1_Hz']:.2f} Hz, f_cut = {h['f_cut_Hz']:.1f} Hz), {steps} steps of {dt_s:g} s")
@@ -280,6 +289,8 @@ def run(span_m: float, speed_km_h: float, dt_s: float = 1e-3, creep_law: str = "
     t0 = time.perf_counter()
     ok = mbs.SolveDynamic(ss)
     solve_s = time.perf_counter() - t0
+    if view3d is not None:
+        view3d.close_window()
     if rec.error is not None:
         raise RuntimeError(f"recorder failed: {rec.error}") from rec.error
     if not ok:
@@ -518,6 +529,7 @@ def main(argv=None):
     ap.add_argument("--support-motion", metavar="PEAK_M_S2,FREQ_HZ", default=None,
                     help="lateral ground motion of all supports (and the track): a sine burst with this peak "
                          "acceleration [m/s2] and frequency [Hz], e.g. 1.5,1.5")
+    ap.add_argument("--view", action="store_true", help="show the run in Exudyn's 3-D renderer (slow motion)")
     args = ap.parse_args(argv)
     support_motion = None
     if args.support_motion is not None:
@@ -535,7 +547,8 @@ def main(argv=None):
     if not (math.isfinite(args.dt) and 0.0 < args.dt <= 2e-3):
         ap.error(f"--dt {args.dt}: expected 0 < dt <= 2e-3 s")
     try:
-        result = run(args.span, args.speed_kmh, args.dt, args.creep_law, support_motion=support_motion)
+        result = run(args.span, args.speed_kmh, args.dt, args.creep_law, support_motion=support_motion,
+                     view=args.view)
     except FileNotFoundError as exc:          # e.g. creep_law="table" before the table is built
         ap.exit(2, f"error: {exc}\n")
     paths = write_outputs(result, args.out)

@@ -10,6 +10,7 @@ rtri-sweep the RTRI case over spans x speeds in parallel processes: table and Fi
 run        a scenario file (TOML: vehicle, track, optional bridge, run, outputs): time series, summary, criteria
 sweep      a scenario over the cartesian product of parameter values (--param KEY=V1,V2,...) in parallel
 validation-report  re-run the validations (Kalker E.3, creep table, Klingel, Frýba, RTRI) -> report.md + PNGs
+explore    the RTRI explorer: sliders (speed, span, deviation, friction, suspension) re-run the case and redraw
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 """
@@ -198,7 +199,11 @@ def cmd_rtri(args):
     if preset:
         print(f"preset {preset['name']}: {preset['purpose']}; set {preset['set']}"
               + (f"; overridden {preset['overridden_by_options']}" if preset["overridden_by_options"] else ""))
-    result = run_rtri(case, progress=print)
+    view = None
+    if args.view:
+        from .interactive.view3d import RtriView
+        view = RtriView(realtime_factor=args.view_speed)
+    result = run_rtri(case, progress=print, view=view)
     result.summary["preset"] = preset
     paths = write_rtri_outputs(result, args.out, plots=not args.no_plots)
     _print_rtri_summary(result.summary)
@@ -358,6 +363,29 @@ def cmd_validation_report(args):
     return 0
 
 
+def cmd_explore(args):
+    import matplotlib
+    values = _overrides(args.set, "--set")
+    if args.out:
+        matplotlib.use("Agg")
+    from .interactive.explorer import ExplorerSettings
+    from .interactive.explorer_figure import ExplorerFigure
+    settings = ExplorerSettings(solver=args.solver, dt_s=args.dt, window=args.window, geometry=args.geometry)
+    if not args.out and matplotlib.get_backend().lower() in ("agg", "pdf", "ps", "svg", "cairo", "template"):
+        raise RuntimeError(f"no interactive matplotlib backend ({matplotlib.get_backend()}; no display?): use "
+                           "--out FILE.png for a headless run")
+    fig = ExplorerFigure(settings=settings, **values)
+    u = fig.last
+    print(f"{settings.describe()}: run {u.seconds:.2f} s, redraw {fig.last_redraw_s:.2f} s")
+    print(fig.status.get_text())
+    if args.out:
+        fig.save(args.out)
+        print(f"wrote {args.out}")
+    else:
+        fig.show()
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -397,6 +425,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--speed-kmh", type=float, default=250.0, help="running speed [km/h] (default 250)")
     _add_rtri_common(r, 2500)
     r.add_argument("--no-plots", action="store_true", help="do not write the PNG figures")
+    r.add_argument("--view", action="store_true",
+                   help="show the run in Exudyn's 3-D renderer (wheels, rails, contact points, force arrows); the "
+                        "window stays open after the solve until closed (Q/Escape); solve_seconds then include it")
+    r.add_argument("--view-speed", type=float, default=0.25,
+                   help="with --view: simulated time per wall-clock time (default 0.25, slow motion)")
     r.set_defaults(func=cmd_rtri)
     w = sub.add_parser("rtri-sweep", help="the RTRI case over spans and speeds in parallel (Fig. 7)",
                        description="Runs the RTRI case for every span x speed in parallel processes; writes "
@@ -446,6 +479,24 @@ def build_parser() -> argparse.ArgumentParser:
     vr.add_argument("--quick", action="store_true",
                     help="fewer creep-table points, shorter Klingel/Frýba runs, no RTRI runs (< 60 s)")
     vr.set_defaults(func=cmd_validation_report)
+    ex = sub.add_parser("explore", help="the RTRI explorer: sliders re-run the case and redraw Figs. 5/6 quantities",
+                        description="Matplotlib window with sliders for speed, span, deviation amplitude, friction and "
+                                    "suspension factors; releasing a slider re-runs the RTRI case (RK44 1 ms over the "
+                                    "passage by default, see exudyn_wheelrail/interactive/explorer.py) and redraws. "
+                                    "--out FILE.png runs once headless and saves the window.")
+    ex.add_argument("--set", action="append", metavar="NAME=VALUE",
+                    type=lambda t: _key_values(t, "--set", many=False),
+                    help="initial slider value, repeatable: speed_km_h, span_m, deviation_mm, friction, "
+                         "primary_kx_factor, primary_ky_factor, secondary_ky_factor, secondary_cy_factor")
+    ex.add_argument("--solver", default="rk44", help="integrator of the explorer's runs (default rk44)")
+    ex.add_argument("--dt", type=float, default=1e-3, help="time step [s] (default 0.001)")
+    ex.add_argument("--geometry", default="online", choices=("online", "table"),
+                    help="contact geometry: online search (default, as the full run) or the precomputed table "
+                         "(about 2x faster updates, larger differences in raw force peaks)")
+    ex.add_argument("--window", default="passage", choices=("passage", "published"),
+                    help="passage: until the whole car has left the span + run-out (default); published: 2500 steps")
+    ex.add_argument("--out", default=None, help="headless: run once with the --set values and save the window here")
+    ex.set_defaults(func=cmd_explore)
     return parser
 
 

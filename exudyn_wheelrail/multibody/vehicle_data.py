@@ -78,6 +78,7 @@ __all__ = [
     "GeometryData",
     "VehicleData",
     "load_vehicle",
+    "load_vehicle_with_overrides",
     "vehicle_from_dict",
     "shipped_vehicles",
 ]
@@ -550,3 +551,40 @@ def load_vehicle(source: str | Path) -> VehicleData:
 def shipped_vehicles() -> list[str]:
     """Names of the vehicle files in ``vehicles/``."""
     return sorted(p.stem for p in VEHICLES_DIR.glob("*.toml")) if VEHICLES_DIR.is_dir() else []
+
+
+def load_vehicle_with_overrides(source: str | Path, overrides: dict | None = None) -> VehicleData:
+    """:func:`load_vehicle` with some values of the file replaced: ``overrides`` maps ``"table.key"`` (as in the
+    TOML file, e.g. ``"primary.ky_N_per_m"``, ``"secondary.cy_N_s_per_m"``) to the new value (SI units of the key's
+    name).  Only keys present in the file can be overridden; an unknown table or key, or a value that is not a
+    number (a list of numbers for the bump-stop arrays), raises :class:`VehicleDataError` naming the key and the
+    file.  The patched data go through the same validation as a file (:func:`vehicle_from_dict`)."""
+    base = load_vehicle(source)
+    if not overrides:
+        return base
+    with open(base.path, "rb") as fh:
+        data = tomllib.load(fh)
+    where = f"{base.path} (with overrides)"
+    for dotted, value in overrides.items():
+        table, _, key = str(dotted).partition(".")
+        if not key or "." in key:
+            raise VehicleDataError(f"{base.path}: override {dotted!r}: expected 'table.key', e.g. 'primary.ky_N_per_m'")
+        tab = data.get(table)
+        if not isinstance(tab, dict):
+            tables = sorted(k for k, v in data.items() if isinstance(v, dict))
+            raise VehicleDataError(f"{base.path}: override {dotted!r}: unknown table [{table}]; tables: "
+                                   f"{', '.join(tables)}")
+        if key not in tab:
+            raise VehicleDataError(f"{base.path}: override {dotted!r}: unknown key {key!r} in [{table}]; keys: "
+                                   f"{', '.join(sorted(tab))}")
+        ok_number = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+        ok_list = (isinstance(value, (list, tuple)) and isinstance(tab[key], list) and
+                   all(not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating)) for v in value))
+        if isinstance(tab[key], str):
+            raise VehicleDataError(f"{base.path}: override {dotted!r}: text values (names, profiles) cannot be "
+                                   "overridden; use a vehicle file")
+        if not (ok_number or ok_list) or (ok_number and isinstance(tab[key], list)):
+            what = "a list of numbers" if isinstance(tab[key], list) else "a number"
+            raise VehicleDataError(f"{base.path}: override {dotted!r}: expected {what}, got {value!r}")
+        tab[key] = [float(v) for v in value] if ok_list else float(value)
+    return vehicle_from_dict(data, where, base_dir=base.path.parent)

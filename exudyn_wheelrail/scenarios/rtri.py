@@ -283,6 +283,13 @@ class RtriCase:
     #: contact geometry: ``"online"`` (the search at every evaluation) or ``"table"`` (precomputed for the rigid
     #: rail profile, :mod:`~exudyn_wheelrail.contact.geometry_table`)
     geometry: str = "online"
+    #: wheel–rail friction coefficient; ``None`` takes ``case_assumptions.friction_coefficient`` (an override is
+    #: marked in the summary's assumptions)
+    friction_coefficient: float | None = None
+    #: numeric values of the vehicle file replaced for this run, e.g. ``{"primary.ky_N_per_m": 7.8e6}``
+    #: (:func:`~..multibody.vehicle_data.load_vehicle_with_overrides`: unknown keys and bad values are errors here;
+    #: recorded in the summary's assumptions)
+    vehicle_overrides: dict | None = None
     assumptions: RtriAssumptions = RTRI
     case_assumptions: RtriCaseAssumptions = RTRI_CASE
 
@@ -335,6 +342,13 @@ class RtriCase:
             raise ValueError(f"geometry = {self.geometry!r}: expected 'online' or 'table'")
         if self.wheel_rail == "springs" and self.record:
             raise ValueError("wheel_rail='springs' is a cost baseline without the deviation: use record=False")
+        if self.friction_coefficient is not None:
+            finite("friction_coefficient", self.friction_coefficient, lo=0.0, hi=2.0, lo_open=False)
+        if self.vehicle_overrides is not None:
+            if not isinstance(self.vehicle_overrides, dict):
+                raise ValueError(f"vehicle_overrides = {self.vehicle_overrides!r}: expected a dict "
+                                 "{'table.key': value}")
+            self.vehicle()                    # unknown keys and invalid values raise VehicleDataError here
 
     # -- derived ---------------------------------------------------------------------------------------------------
     @property
@@ -345,6 +359,18 @@ class RtriCase:
     def delta_m(self) -> float:
         return float(self.assumptions.deviation_amplitude_m if self.deviation_amplitude_m is None
                      else self.deviation_amplitude_m)
+
+    @property
+    def mu(self) -> float:
+        """The friction coefficient of the run: ``friction_coefficient`` or the assumption."""
+        return float(self.case_assumptions.friction_coefficient if self.friction_coefficient is None
+                     else self.friction_coefficient)
+
+    def vehicle(self):
+        """The run's :class:`~..multibody.vehicle_data.VehicleData`: the assumptions' vehicle with
+        ``vehicle_overrides`` applied."""
+        from ..multibody.vehicle_data import load_vehicle_with_overrides
+        return load_vehicle_with_overrides(self.assumptions.vehicle, self.vehicle_overrides)
 
     @property
     def transition_m(self) -> float:
@@ -440,9 +466,8 @@ def build_rtri(case: RtriCase) -> RtriModel:
     from ..multibody.connector import add_wheel_rail_contact, place_on_rails
     from ..multibody.track import RigidStraightTrack
     from ..multibody.vehicle_builder import build_vehicle
-    from ..multibody.vehicle_data import load_vehicle
 
-    vehicle = load_vehicle(case.assumptions.vehicle)
+    vehicle = case.vehicle()
     if vehicle.layout != "car" or vehicle.car_body is None:
         raise ValueError(f"vehicle {case.assumptions.vehicle!r}: the RTRI case needs a car (layout 'car')")
     geo = vehicle.geometry
@@ -462,7 +487,7 @@ def build_rtri(case: RtriCase) -> RtriModel:
         try:
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=case.speed_m_s, track=track,
                                              s_start_m=s_start, creep_law=case.creep_law,
-                                             mu=case.case_assumptions.friction_coefficient, geometry=case.geometry,
+                                             mu=case.mu, geometry=case.geometry,
                                              fastsim_grid=tuple(int(g) for g in case.fastsim_grid))
         except ValueError as exc:
             raise ValueError(f"--creep-law {case.creep_law!r} not accepted by the connector: {exc}") from None
@@ -643,14 +668,17 @@ def _after_passage(ts: dict, t_passage_end: float) -> dict:
             "min_wheel_load_w1_right_N": float(np.nanmin(ts["vertical_contact_force_w1_right_N"][keep]))}
 
 
-def run_rtri(case: RtriCase, progress=None) -> RtriResult:
+def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
     """Build, warm up, solve (timed: ``mbs.SolveDynamic`` only) and collect the outputs of ``case``.  A failing
-    solve gives ``summary["status"] = "error: ..."`` and the rows recorded so far."""
+    solve gives ``summary["status"] = "error: ..."`` and the rows recorded so far.  ``view``: an object with
+    ``attach(model)`` (called with the built :class:`RtriModel` before the solve) and ``close()`` (after it), e.g.
+    :class:`~exudyn_wheelrail.interactive.view3d.RtriView` (Exudyn's renderer)."""
     from ..multibody.vehicle_builder import solver_description
-    from ..multibody.vehicle_data import load_vehicle
-    vehicle = load_vehicle(case.assumptions.vehicle)
+    vehicle = case.vehicle()
     steps = _steps(case, vehicle)
     h = build_rtri(case)
+    if view is not None:
+        view.attach(h)
     _warm_up(h)
     status = "ok"
     if progress:
@@ -670,6 +698,8 @@ def run_rtri(case: RtriCase, progress=None) -> RtriResult:
             status = f"error: recorder: {type(rec.error).__name__}: {rec.error}"
         elif status == "ok":
             rec.record(h.mbs, float(h.mbs.systemData.GetTime()))   # the final state
+    if view is not None:
+        view.close()
     ts = rec.table() if rec is not None else {}
     t_end_reached = float(h.mbs.systemData.GetTime())
     cov, notes = _coverage(case, vehicle, steps)
@@ -695,6 +725,13 @@ def run_rtri(case: RtriCase, progress=None) -> RtriResult:
         table["RtriAssumptions"]["transition_length_m"]["origin"] += "; OVERRIDDEN for this run"
     if case.creep_law != case.case_assumptions.creep_law:
         table["RtriCaseAssumptions"]["creep_law"]["used_in_this_run"] = case.creep_law
+    if case.friction_coefficient is not None and case.mu != case.case_assumptions.friction_coefficient:
+        table["RtriCaseAssumptions"]["friction_coefficient"]["used_in_this_run"] = case.mu
+        table["RtriCaseAssumptions"]["friction_coefficient"]["origin"] += "; OVERRIDDEN for this run"
+    if case.vehicle_overrides:
+        table["RtriAssumptions"]["vehicle"]["overrides_in_this_run"] = {
+            str(k): _jsonable(v) for k, v in case.vehicle_overrides.items()}
+        table["RtriAssumptions"]["vehicle"]["origin"] += "; values OVERRIDDEN for this run (overrides_in_this_run)"
     sim_time = steps * case.dt_s
     summary = {
         "case": "RTRI rigid-rail validation case (Montenegro et al., Comput. Struct. 152 (2015) 200-214), "
