@@ -74,6 +74,9 @@ G_FLAGS = 15        # kernel flags at the reference height (FLAG_BLENDED: slot t
 G_PW_Y = 16         # wheel point at the node's pose, side frame [m]
 G_PW_Z = 17
 N_G = 18
+#: fields interpolated between the nodes (the penetration is combined from each node's own prediction instead)
+_INTERPOLATED = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
+                 G_KR_ROLL)
 
 # ---- grid parameters: par[...] ------------------------------------------------------------------------------
 T_Y0 = 0
@@ -183,81 +186,77 @@ def _build_column(nodes, meta, mono, curve_row, params_global, ys, rolls, j, cz_
     out2 = np.zeros((1, K.N_SLOTS, K.N_FIELDS))
     c2 = np.zeros(K.N_SLOTS)
     failed = 0
-    if True:
-        cz = cz_start
-        for i in range(ys.shape[0]):
-            pose[0, 0] = ys[i]
-            pose[0, 2] = rolls[j]
-            ok = False
-            for it in range(40):
-                pose[0, 1] = cz
-                K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out)
-                k, d = _deepest(out)
-                if k < 0:
-                    cz += 1e-3          # nothing faces the rail at all: move down
-                    continue
-                g = -out[0, k, K.F_NR_Z]
-                if g < 0.05:
-                    g = 0.05
-                step = (delta_ref - d) / g
-                if step > 2e-3:
-                    step = 2e-3
-                elif step < -2e-3:
-                    step = -2e-3
-                if abs(step) < 1e-10:
-                    ok = True
-                    break
-                cz += step
-            if not ok:
-                failed += 1
-                data[i, j, :, :] = np.nan
-                cz_ref[i, j] = np.nan
-                cz = cz_start
-                continue
-            cz_ref[i, j] = cz
-            pose[0, 1] = cz + dh
-            K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out2)
-            for k in range(K.N_SLOTS):
-                c2[k] = 0.0
-                a = out[0, k]
-                b = out2[0, k]
-                if a[K.F_STATUS] >= 0 and b[K.F_STATUS] >= 0 and \
-                        math.hypot(a[K.F_PW_Y] - b[K.F_PW_Y], a[K.F_PW_Z] - b[K.F_PW_Z]) < 0.5 * SAME_ZONE_DISTANCE_M:
-                    c2[k] = (b[K.F_PENETRATION] - a[K.F_PENETRATION] + a[K.F_NR_Z] * dh) / (dh * dh)
-            # the kernel's output slots at the reference height (evaluate again: `out` is the reference)
+    cz = cz_start
+    for i in range(ys.shape[0]):
+        pose[0, 0] = ys[i]
+        pose[0, 2] = rolls[j]
+        ok = False
+        for it in range(40):
             pose[0, 1] = cz
             K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out)
-            if out[0, K.SLOT_TREAD_2, K.F_STATUS] < 0 and out[0, K.SLOT_TREAD, K.F_STATUS] >= 0:
-                # the tread's other zone, not penetrating here: taken from a deeper evaluation (ALT_DEPTH_M), where
-                # it penetrates, and kept with its gap, so that the evaluation finds it when it does
-                pose[0, 1] = cz + ALT_DEPTH_M
-                K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out2)
-                a_sw = np.nan
-                far = params_global[K.P_DEDUP_DISTANCE]
-                for k in (K.SLOT_TREAD, K.SLOT_TREAD_2):
-                    if out2[0, k, K.F_STATUS] >= 0:
-                        dist = abs(out2[0, k, K.F_S_WHEEL] - out[0, K.SLOT_TREAD, K.F_S_WHEEL])
-                        if dist > far:
-                            far = dist
-                            a_sw = out2[0, k, K.F_S_WHEEL]
-                            a_sr = out2[0, k, K.F_S_RAIL]
-                if np.isfinite(a_sw):
-                    K._fill(out, 0, K.SLOT_TREAD_2, K.STATUS_SEPARATED, a_sw, a_sr, nodes, meta, cids[0, 0],
-                            cids[0, 1], ys[i], cz, math.cos(rolls[j]), math.sin(rolls[j]), 0, params_global)
-                    out[0, K.SLOT_TREAD_2, K.F_NORMAL_FORCE] = 0.0
-                pose[0, 1] = cz
-            _store(out, data, i, j, c2)
-            # the wheel point in the wheelset frame
-            for k in range(K.N_SLOTS):
-                if out[0, k, K.F_STATUS] >= 0:
-                    from_curve = curve_row[1] if k != K.SLOT_FLANGE else curve_row[2]
-                    s = out[0, k, K.F_S_WHEEL]
-                    qy, qz = _curve_point(nodes, meta, from_curve, s)
-                    data[i, j, k, G_QY] = qy
-                    data[i, j, k, G_QZ] = qz
-                else:
-                    data[i, j, k, G_QY] = np.nan
-                    data[i, j, k, G_QZ] = np.nan
+            k, d = _deepest(out)
+            if k < 0:
+                cz += 1e-3          # nothing faces the rail at all: move down
+                continue
+            g = -out[0, k, K.F_NR_Z]
+            if g < 0.05:
+                g = 0.05
+            step = (delta_ref - d) / g
+            if step > 2e-3:
+                step = 2e-3
+            elif step < -2e-3:
+                step = -2e-3
+            if abs(step) < 1e-10:
+                ok = True
+                break
+            cz += step
+        if not ok:
+            failed += 1
+            data[i, j, :, :] = np.nan
+            cz_ref[i, j] = np.nan
+            cz = cz_start
+            continue
+        cz_ref[i, j] = cz
+        pose[0, 1] = cz + dh
+        K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out2)
+        for k in range(K.N_SLOTS):
+            c2[k] = 0.0
+            a = out[0, k]
+            b = out2[0, k]
+            if a[K.F_STATUS] >= 0 and b[K.F_STATUS] >= 0 and \
+                    math.hypot(a[K.F_PW_Y] - b[K.F_PW_Y], a[K.F_PW_Z] - b[K.F_PW_Z]) < 0.5 * SAME_ZONE_DISTANCE_M:
+                c2[k] = (b[K.F_PENETRATION] - a[K.F_PENETRATION] + a[K.F_NR_Z] * dh) / (dh * dh)
+        if out[0, K.SLOT_TREAD_2, K.F_STATUS] < 0 and out[0, K.SLOT_TREAD, K.F_STATUS] >= 0:
+            # the tread's other zone, not penetrating here: taken from a deeper evaluation (ALT_DEPTH_M), where
+            # it penetrates, and kept with its gap, so that the evaluation finds it when it does
+            pose[0, 1] = cz + ALT_DEPTH_M
+            K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out2)
+            a_sw = np.nan
+            far = params_global[K.P_DEDUP_DISTANCE]
+            for k in (K.SLOT_TREAD, K.SLOT_TREAD_2):
+                if out2[0, k, K.F_STATUS] >= 0:
+                    dist = abs(out2[0, k, K.F_S_WHEEL] - out[0, K.SLOT_TREAD, K.F_S_WHEEL])
+                    if dist > far:
+                        far = dist
+                        a_sw = out2[0, k, K.F_S_WHEEL]
+                        a_sr = out2[0, k, K.F_S_RAIL]
+            if np.isfinite(a_sw):
+                K._fill(out, 0, K.SLOT_TREAD_2, K.STATUS_SEPARATED, a_sw, a_sr, nodes, meta, cids[0, 0],
+                        cids[0, 1], ys[i], cz, math.cos(rolls[j]), math.sin(rolls[j]), 0, params_global)
+                out[0, K.SLOT_TREAD_2, K.F_NORMAL_FORCE] = 0.0
+            pose[0, 1] = cz
+        _store(out, data, i, j, c2)
+        # the wheel point in the wheelset frame
+        for k in range(K.N_SLOTS):
+            if out[0, k, K.F_STATUS] >= 0:
+                from_curve = curve_row[1] if k != K.SLOT_FLANGE else curve_row[2]
+                s = out[0, k, K.F_S_WHEEL]
+                qy, qz = _curve_point(nodes, meta, from_curve, s)
+                data[i, j, k, G_QY] = qy
+                data[i, j, k, G_QZ] = qz
+            else:
+                data[i, j, k, G_QY] = np.nan
+                data[i, j, k, G_QZ] = np.nan
     return failed
 
 
@@ -325,8 +324,7 @@ def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, p
     if cls != 0:
         o[K.F_STATUS] = dm[G_STATUS]
         return False
-    fields = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
-              G_KR_ROLL)
+    fields = _INTERPOLATED
     v = np.zeros(N_G)
     delta = 0.0
     if same:
@@ -345,49 +343,8 @@ def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, p
                 delta += ww[c] * _node_delta(data[ii[c], jj[c], slot], c_y, c_z, cos_r, sin_r)
     else:
         delta = _node_delta(dm, c_y, c_z, cos_r, sin_r)
-    qy = v[G_QY]
-    qz = v[G_QZ]
-    ny = v[G_NR_Y]
-    nz = v[G_NR_Z]
-    nn = math.hypot(ny, nz)
-    ny /= nn
-    nz /= nn
-    o[K.F_S_WHEEL] = v[G_S_WHEEL]
-    o[K.F_S_RAIL] = v[G_S_RAIL]
-    o[K.F_PW_Y] = c_y + cos_r * qy - sin_r * qz
-    o[K.F_PW_Z] = c_z + sin_r * qy + cos_r * qz
-    o[K.F_PR_Y] = v[G_PR_Y]
-    o[K.F_PR_Z] = v[G_PR_Z]
-    o[K.F_NR_Y] = ny
-    o[K.F_NR_Z] = nz
-    o[K.F_PENETRATION] = delta
-    o[K.F_CONTACT_ANGLE] = math.atan2(-ny, -nz)
-    o[K.F_ROLLING_RADIUS] = qz
-    o[K.F_KW_LAT] = v[G_KW_LAT]
-    o[K.F_KW_ROLL] = v[G_KW_ROLL]
-    o[K.F_KR_LAT] = v[G_KR_LAT]
-    o[K.F_KR_ROLL] = v[G_KR_ROLL]
-    A = 0.5 * (v[G_KW_ROLL] + v[G_KR_ROLL])
-    B = 0.5 * (v[G_KW_LAT] + v[G_KR_LAT])
-    o[K.F_A_REL] = A
-    o[K.F_B_REL] = B
-    flags = int(dm[G_FLAGS]) & (K.FLAG_PROFILE_END | K.FLAG_BLENDED)
-    if delta > params[K.P_MAX_PENETRATION]:
-        flags |= K.FLAG_DEEP_PENETRATION
-    st = dm[G_STATUS]
-    if delta > 0.0:
-        n, dn, a, b, hs = hertz_from_penetration(A, B, params[K.P_E_STAR], delta, params[K.P_MIN_CURVATURE])
-        o[K.F_STATUS] = st if st > 0 else K.STATUS_CONVEX
-        o[K.F_NORMAL_FORCE] = n
-        o[K.F_DN_DDELTA] = dn
-        o[K.F_SEMI_A] = a
-        o[K.F_SEMI_B] = b
-        o[K.F_HERTZ_STATUS] = hs
-        if hs & 3:
-            flags |= K.FLAG_HERTZ_CLAMPED
-    else:
-        o[K.F_STATUS] = K.STATUS_SEPARATED
-    o[K.F_FLAGS] = flags
+    _row(o, v, delta, dm[G_STATUS], int(dm[G_FLAGS]) & (K.FLAG_PROFILE_END | K.FLAG_BLENDED), c_y, c_z, cos_r, sin_r,
+         params)
     return True
 
 
@@ -416,8 +373,7 @@ def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
     acc = np.zeros((2, N_G))
     wsum = np.zeros(2)
     dsum = np.zeros(2)
-    fields = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
-              G_KR_ROLL)
+    fields = _INTERPOLATED
     flags = np.zeros(2, dtype=np.int64)
     for c in range(4):
         if ww[c] <= 0.0 and c != m:
