@@ -13,13 +13,192 @@ validation-report  re-run the validations (Kalker E.3, creep table, Klingel, Fr�
 explore    the RTRI explorer: sliders (speed, span, deviation, friction, suspension) re-run the case and redraw
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
+
+Bad input (a malformed or implausible option, a profile that is not what it is given as, an output location that
+cannot be written) is reported before any work as one line ``error: <option or file>: <problem>`` with exit code 2;
+an unusual but plausible value as one line ``warning: ...``, and the run goes on.
 """
 from __future__ import annotations
 
 import argparse
+import re
 import sys
+import warnings
 
 import numpy as np
+
+from .validation import InputWarning, Quantity, output_dir, output_file
+
+# Plausibility of the options that are not parameters of an API object (the wheel-rail pair's gauge, back-to-back
+# distance, r0 and inclination are judged by the ranges of exudyn_wheelrail.contact.pair, the scenario's time step,
+# span and transition lengths by exudyn_wheelrail.scenarios.scenario.QUANTITIES).
+Y_MAX_M = Quantity("largest lateral shift of the sweep", "m", 1e-4, 0.05)
+Y_STEP_M = Quantity("step of the lateral sweep", "m", 1e-6, 0.005)
+WHEEL_LOAD_N = Quantity("wheel load", "N", 100.0, 1.0e6, typical=(5.0e3, 2.5e5))
+CONICITY_AMPLITUDE_M = Quantity("lateral amplitude of the equivalent conicity", "m", 1e-4, 0.015)
+CONTACT_DISTANCE_M = Quantity("distance between the nominal contact points", "m", 0.6, 2.2)
+SPEED_KM_H = Quantity("running speed", "km/h", 0.1, 600.0)
+DEVIATION_MM = Quantity("deviation amplitude", "mm", 0.0, 100.0, typical=(0.5, 50.0))
+VIEW_SPEED = Quantity("simulated time per wall-clock time", "", 1e-4, 100.0)
+#: largest number of points of a lateral sweep
+MAX_SWEEP_STEPS = 20000
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors ``error: <option>: <problem>`` and exit code 2 (no usage block)."""
+
+    def error(self, message):
+        m = re.match(r"argument ([^:]+): (.*)", message, re.S)
+        if m:
+            message = f"{m.group(1)}: {m.group(2)}"
+        else:
+            m = re.match(r"the following arguments are required: (.*)", message, re.S)
+            if m:
+                message = f"{m.group(1)}: missing (required by {self.prog}; see {self.prog} --help)"
+            else:
+                m = re.match(r"unrecognized arguments: (.*)", message, re.S)
+                if m:
+                    message = f"{m.group(1)}: unrecognized argument(s) of {self.prog} (see {self.prog} --help)"
+        _print_line("error", message)
+        sys.exit(2)
+
+
+def _print_line(kind: str, message) -> None:
+    """``kind: message`` as one line on stderr (line breaks of the message joined with '; ')."""
+    text = "; ".join(part.strip() for part in str(message).splitlines() if part.strip())
+    print(f"{kind}: {text}", file=sys.stderr)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None, _default=warnings.showwarning):
+    if issubclass(category, InputWarning):
+        _print_line("warning", message)
+    else:
+        _default(message, category, filename, lineno, file, line)
+
+
+def _positive_int(option: str):
+    def parse(text):
+        try:
+            n = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+        if n < 1:
+            raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+        return n
+    parse.__name__ = option
+    return parse
+
+
+def _figure_suffixes() -> tuple[str, ...]:
+    from matplotlib.backend_bases import FigureCanvasBase
+    return tuple(f".{k}" for k in sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
+def _check_figure(option: str, path) -> None:
+    if path is not None:
+        output_file(option, path, _figure_suffixes(), what="figure file")
+
+
+def _check_inclination(option: str, text) -> float:
+    from .contact.pair import INCLINATION_TAN
+    from .conventions import parse_inclination
+    try:
+        tan = parse_inclination(text)
+    except ValueError as exc:
+        raise ValueError(f"{option}: {exc}") from None
+    return INCLINATION_TAN.check(option, tan)
+
+
+def _check_pair_options(args) -> None:
+    """The wheel-rail pair's options: plausible numbers, known profiles (the files are read when the pair is built,
+    which checks that a wheel file holds a wheel and a rail file a rail)."""
+    from .contact.pair import BACK_TO_BACK_M, GAUGE_M, R0_M, back_to_back_problem
+    from .profiles.profiles import profile_spec_problem
+    for option, kind in (("--wheel", "wheel"), ("--rail", "rail")):
+        problem = profile_spec_problem(getattr(args, kind), kind)
+        if problem:
+            raise ValueError(f"{option}: {problem}")
+    GAUGE_M.check("--gauge", args.gauge)
+    BACK_TO_BACK_M.check("--back-to-back", args.back_to_back)
+    problem = back_to_back_problem(args.gauge, args.back_to_back, "--gauge")
+    if problem:
+        raise ValueError(f"--back-to-back: {problem}")
+    R0_M.check("--r0", args.r0)
+    _check_inclination("--inclination", args.inclination)
+    if str(args.rail_canted).lower() != "auto":
+        _check_inclination("--rail-canted", args.rail_canted)
+    Y_MAX_M.check("--y-max", args.y_max)
+    Y_STEP_M.check("--y-step", args.y_step)
+    if args.y_step > args.y_max:
+        raise ValueError(f"--y-step: {args.y_step:g} m is larger than --y-max {args.y_max:g} m")
+    WHEEL_LOAD_N.check("--wheel-load", args.wheel_load)
+
+
+def _check_geometry(args) -> None:
+    output_file("--out", args.out, what="CSV file")
+    _check_figure("--plot", args.plot)
+    _check_pair_options(args)
+
+
+def _check_conicity(args) -> None:
+    _check_pair_options(args)
+    CONICITY_AMPLITUDE_M.check("--amplitude", args.amplitude)
+    if args.contact_distance is not None:
+        CONTACT_DISTANCE_M.check("--contact-distance", args.contact_distance)
+
+
+def _check_creep_table(args) -> None:
+    from .creep.linear import table_poisson
+    output_file("--out", args.out, (".npz",), what="creep table")
+    table_poisson(args.nu, "--nu")
+
+
+def _check_rtri_common(args) -> None:
+    from .scenarios.scenario import QUANTITIES
+    output_dir("--out", args.out)
+    if args.dt is not None:
+        QUANTITIES["run.dt_s"].check("--dt", args.dt)
+    if args.delta_mm is not None:
+        DEVIATION_MM.check("--delta-mm", args.delta_mm)
+    if args.transition_m is not None:
+        QUANTITIES["track.*.transition_length_m"].check("--transition-m", args.transition_m)
+    if args.creep_law is not None:
+        from .multibody.connector import CREEP_LAWS
+        if args.creep_law not in CREEP_LAWS:
+            raise ValueError(f"--creep-law: {args.creep_law!r} is not one of {', '.join(sorted(CREEP_LAWS))}")
+
+
+def _check_rtri(args) -> None:
+    from .scenarios.scenario import QUANTITIES
+    _check_rtri_common(args)
+    QUANTITIES["track.*.span_length_m"].check("--span", args.span)
+    SPEED_KM_H.check("--speed-kmh", args.speed_kmh)
+    VIEW_SPEED.check("--view-speed", args.view_speed)
+
+
+def _check_rtri_sweep(args) -> None:
+    from .scenarios.scenario import QUANTITIES
+    _check_rtri_common(args)
+    for span in args.spans or ():
+        QUANTITIES["track.*.span_length_m"].check("--spans", span)
+    for speed in args.speeds_kmh or ():
+        SPEED_KM_H.check("--speeds-kmh", speed)
+
+
+def _check_out_dir(args) -> None:
+    output_dir("--out", args.out)
+
+
+def _check_sweep(args) -> None:
+    output_dir("--out", args.out)
+    if not args.param:
+        raise ValueError("--param: missing (give at least one --param KEY=V1,V2,...)")
+
+
+def _check_explore(args) -> None:
+    from .scenarios.scenario import QUANTITIES
+    QUANTITIES["run.dt_s"].check("--dt", args.dt)
+    _check_figure("--out", args.out)
 
 
 def _add_pair_arguments(p: argparse.ArgumentParser):
@@ -51,9 +230,10 @@ def _sweep(args, y_max=None):
     from .analysis.geometry_functions import contact_geometry_sweep
     y_max = args.y_max if y_max is None else y_max
     if not (np.isfinite(args.y_step) and np.isfinite(y_max) and args.y_step > 0 and y_max > 0):
-        raise ValueError("--y-max and --y-step must be positive finite numbers (metres)")
-    if y_max / args.y_step > 20000:
-        raise ValueError(f"--y-max / --y-step = {y_max / args.y_step:.0f} steps: too many")
+        raise ValueError("--y-max, --y-step: must be positive finite numbers (metres)")
+    if y_max / args.y_step > MAX_SWEEP_STEPS:
+        raise ValueError(f"--y-step: --y-max / --y-step = {y_max / args.y_step:.0f} steps, more than "
+                         f"{MAX_SWEEP_STEPS}")
     n = int(round(y_max / args.y_step))
     y = np.linspace(-n * args.y_step, n * args.y_step, 2 * n + 1)
     return contact_geometry_sweep(_pair_from_args(args), y, wheel_load_N=args.wheel_load)
@@ -120,7 +300,7 @@ def cmd_conicity(args):
 
 def _parse_option(text):
     if "=" not in text:
-        raise argparse.ArgumentTypeError(f"--option expects KEY=VALUE, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
     key, value = text.split("=", 1)
     for conv in (int, float):
         try:
@@ -144,9 +324,9 @@ def _steps_arg(text):
     try:
         n = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"--steps expects a positive integer or 'auto', got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {text!r}") from None
     if n < 1:
-        raise argparse.ArgumentTypeError(f"--steps expects a positive integer or 'auto', got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {text!r}")
     return n
 
 
@@ -234,7 +414,7 @@ def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
     p.add_argument("--preset", default=None, choices=tuple(PRESETS),
                    help="accuracy/speed preset (integrator, dt, contact geometry, creep law; explicit options "
                         "override it; the summary states what it set): "
-                        + "; ".join(f"{k}: {v.purpose}" for k, v in PRESETS.items())
+                        + "; ".join(f"{k}: {v.purpose}" for k, v in PRESETS.items()).replace("%", "%%")
                         + ".  Without a preset: the paper's settings (newmark, 1 ms, online geometry)")
     p.add_argument("--solver", default=None, choices=SOLVERS,
                    help="newmark: trapezoidal rule (beta 1/4, gamma 1/2, the paper's; default without a preset); "
@@ -279,16 +459,16 @@ def _split_values(text: str) -> list[str]:
 def _key_values(text: str, option: str, many: bool):
     from .scenarios.scenario import parse_value
     if "=" not in text:
-        raise argparse.ArgumentTypeError(f"{option} expects KEY={'V1,V2,...' if many else 'VALUE'}, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected KEY={'V1,V2,...' if many else 'VALUE'}, got {text!r}")
     key, value = text.split("=", 1)
     key = key.strip()
     if not key:
-        raise argparse.ArgumentTypeError(f"{option} {text!r}: empty key")
+        raise argparse.ArgumentTypeError(f"{text!r}: empty key")
     if not many:
         return key, parse_value(value)
     values = _split_values(value)
     if any(not v.strip() for v in values):
-        raise argparse.ArgumentTypeError(f"{option} {text!r}: empty value in the list")
+        raise argparse.ArgumentTypeError(f"{text!r}: empty value in the list")
     return key, [parse_value(v) for v in values]
 
 
@@ -335,8 +515,6 @@ def cmd_run_scenario(args):
 def cmd_sweep_scenario(args):
     from .scenarios.sweep import DEFAULT_PLOT_RESULT, sweep
     params = _overrides(args.param, "--param")
-    if not params:
-        raise ValueError("sweep: give at least one --param KEY=V1,V2,...")
     base = args.scenario
     overrides = _overrides(args.set, "--set")
     if overrides:
@@ -387,20 +565,20 @@ def cmd_explore(args):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
+    parser = _Parser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
     g = sub.add_parser("geometry", help="contact-geometry functions of a lateral sweep")
     _add_pair_arguments(g)
     g.add_argument("--out", required=True, help="CSV file to write")
     g.add_argument("--plot", default=None, help="PNG file to write (optional)")
-    g.set_defaults(func=cmd_geometry)
+    g.set_defaults(func=cmd_geometry, check=_check_geometry)
     c = sub.add_parser("conicity", help="equivalent conicity")
     _add_pair_arguments(c)
     c.add_argument("--amplitude", type=float, default=0.003, help="lateral amplitude [m] (EN 15302: 3 mm)")
     c.add_argument("--method", default="harmonic", choices=("harmonic", "wavelength", "regression"))
     c.add_argument("--contact-distance", type=float, default=None,
                    help="distance between the nominal contact points 2e [m] (default back-to-back + 140 mm)")
-    c.set_defaults(func=cmd_conicity)
+    c.set_defaults(func=cmd_conicity, check=_check_conicity)
     t = sub.add_parser("creep-table", help="build a creep table (Kalker exact theory or FASTSIM) into an npz file",
                        description="Build a USETAB-style creep table (exudyn_wheelrail.creep.table): parallel, "
                                    "chunked, resumable (re-run the same command to continue), deterministic.")
@@ -408,7 +586,8 @@ def build_parser() -> argparse.ArgumentParser:
                                                 "exudyn_wheelrail/data/creep_table.npz, exact generator only)")
     t.add_argument("--generator", default="exact", choices=("exact", "fastsim"),
                    help="exact: Kalker's exact theory (default); fastsim: FASTSIM stand-in (development)")
-    t.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    t.add_argument("--workers", type=_positive_int("--workers"), default=None,
+                   help="worker processes (default: all cores)")
     t.add_argument("--grid", default="default", choices=("coarse", "default"), help="node set (default: default)")
     t.add_argument("--nu", type=float, default=0.28, help="Poisson's ratio of the table (default 0.28, steel)")
     t.add_argument("--option", action="append", type=_parse_option, metavar="KEY=VALUE",
@@ -416,7 +595,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "keyword options, warm_start=1)")
     t.add_argument("--keep-parts", action="store_true", help="keep the per-chunk results after assembling")
     t.add_argument("--quiet", action="store_true", help="no progress output")
-    t.set_defaults(func=cmd_creep_table)
+    t.set_defaults(func=cmd_creep_table, check=_check_creep_table)
     r = sub.add_parser("rtri", help="the rigid-rail RTRI validation case (substitute inputs, see summary.json)",
                        description="RTRI rigid-rail case: Manchester vehicle 1 (substitute) on a rigid track with a "
                                    "span-deflection lateral deviation at constant speed; writes timeseries.csv, "
@@ -430,17 +609,18 @@ def build_parser() -> argparse.ArgumentParser:
                         "window stays open after the solve until closed (Q/Escape); solve_seconds then include it")
     r.add_argument("--view-speed", type=float, default=0.25,
                    help="with --view: simulated time per wall-clock time (default 0.25, slow motion)")
-    r.set_defaults(func=cmd_rtri)
+    r.set_defaults(func=cmd_rtri, check=_check_rtri)
     w = sub.add_parser("rtri-sweep", help="the RTRI case over spans and speeds in parallel (Fig. 7)",
                        description="Runs the RTRI case for every span x speed in parallel processes; writes "
                                    "sweep.csv, sweep.json, fig7_max_carbody_acceleration.png and cases/L*_V*/")
     w.add_argument("--spans", type=float, nargs="+", default=None, help="span lengths [m] (default 20 40)")
     w.add_argument("--speeds-kmh", type=float, nargs="+", default=None,
                    help="speeds [km/h] (default RtriAssumptions.speeds_km_h: 100 150 200 250)")
-    w.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    w.add_argument("--workers", type=_positive_int("--workers"), default=None,
+                   help="worker processes (default: all cores)")
     w.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
     _add_rtri_common(w, "auto")
-    w.set_defaults(func=cmd_rtri_sweep)
+    w.set_defaults(func=cmd_rtri_sweep, check=_check_rtri_sweep)
     sr = sub.add_parser("run", help="run a scenario file (TOML; schema: exudyn_wheelrail/scenarios/scenario.py)",
                         description="Build, solve and evaluate a scenario: writes timeseries.csv/.npz, summary.json "
                                     "(peaks, scalars, running criteria) and plots into --out.")
@@ -451,7 +631,7 @@ def build_parser() -> argparse.ArgumentParser:
                     type=lambda t: _key_values(t, "--set", many=False),
                     help="override a value by its dotted key, repeatable (run.duration_s=0.5, "
                          "track.0.amplitude_m=0.005)")
-    sr.set_defaults(func=cmd_run_scenario)
+    sr.set_defaults(func=cmd_run_scenario, check=_check_out_dir)
     ss = sub.add_parser("sweep", help="a scenario over a parameter grid in parallel: one table and one plot",
                         description="Runs the cartesian product of the --param values over a scenario in parallel "
                                     "processes; writes sweep.csv (one row per case), sweep.json, sweep_plot.png and "
@@ -465,12 +645,13 @@ def build_parser() -> argparse.ArgumentParser:
                     type=lambda t: _key_values(t, "--set", many=False),
                     help="a fixed override of the base scenario, repeatable")
     ss.add_argument("--out", required=True, help="output directory")
-    ss.add_argument("--workers", type=int, default=None, help="worker processes (default: all cores)")
+    ss.add_argument("--workers", type=_positive_int("--workers"), default=None,
+                    help="worker processes (default: all cores)")
     ss.add_argument("--plot-result", default=None,
                     help="scalar result plotted (default max_abs_Y_any_wheel_N; any column of sweep.csv)")
     ss.add_argument("--plot-param", default=None, help="parameter on the x axis (default: the first --param)")
     ss.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
-    ss.set_defaults(func=cmd_sweep_scenario)
+    ss.set_defaults(func=cmd_sweep_scenario, check=_check_sweep)
     vr = sub.add_parser("validation-report", help="re-run the validations into report.md with plots",
                         description="Kalker's exact solver vs Table E.3, the creep table vs the exact solver, "
                                     "Klingel's wavelength, Frýba's moving force and the RTRI 20 m vs 40 m peaks: "
@@ -478,7 +659,7 @@ def build_parser() -> argparse.ArgumentParser:
     vr.add_argument("--out", required=True, help="output directory")
     vr.add_argument("--quick", action="store_true",
                     help="fewer creep-table points, shorter Klingel/Frýba runs, no RTRI runs (< 60 s)")
-    vr.set_defaults(func=cmd_validation_report)
+    vr.set_defaults(func=cmd_validation_report, check=_check_out_dir)
     ex = sub.add_parser("explore", help="the RTRI explorer: sliders re-run the case and redraw Figs. 5/6 quantities",
                         description="Matplotlib window with sliders for speed, span, deviation amplitude, friction and "
                                     "suspension factors; releasing a slider re-runs the RTRI case (RK44 1 ms over the "
@@ -496,17 +677,27 @@ def build_parser() -> argparse.ArgumentParser:
     ex.add_argument("--window", default="passage", choices=("passage", "published"),
                     help="passage: until the whole car has left the span + run-out (default); published: 2500 steps")
     ex.add_argument("--out", default=None, help="headless: run once with the --set values and save the window here")
-    ex.set_defaults(func=cmd_explore)
+    ex.set_defaults(func=cmd_explore, check=_check_explore)
     return parser
 
 
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, RuntimeError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+    """Run a command; bad input gives one line ``error: <what>: <problem>`` on stderr and exit code 2 (module
+    docstring), an unusual value one line ``warning: ...``."""
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        warnings.simplefilter("always", InputWarning)
+        args = build_parser().parse_args(argv)
+        try:
+            args.check(args)           # cheap checks of every option before any work
+            return args.func(args)
+        except (ValueError, RuntimeError) as exc:
+            _print_line("error", exc)
+            return 2
+        except OSError as exc:         # a file that cannot be read or written
+            where = f"{exc.filename}: " if exc.filename else ""
+            _print_line("error", f"{where}{exc.strerror or exc}")
+            return 2
 
 
 if __name__ == "__main__":

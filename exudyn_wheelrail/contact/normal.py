@@ -98,6 +98,8 @@ from numba import njit
 from scipy.interpolate import CubicSpline
 from scipy.special import ellipe, ellipkm1
 
+from ..validation import finite, poisson_ratio, youngs_modulus
+
 __all__ = [
     "DEFAULT_MIN_CURVATURE",
     "E_STEEL",
@@ -214,10 +216,16 @@ _LAST = _N_NODES - 2
 
 
 # ------------------------------------------------------------------------------------------- numba kernels
-@njit(cache=True)
-def effective_modulus(E_wheel, nu_wheel, E_rail, nu_rail):
-    """E* in Pa: 1/E* = (1-ν_w²)/E_w + (1-ν_r²)/E_r (Johnson 1985, §4.2)."""
-    return 1.0 / ((1.0 - nu_wheel * nu_wheel) / E_wheel + (1.0 - nu_rail * nu_rail) / E_rail)
+def effective_modulus(E_wheel, nu_wheel, E_rail, nu_rail) -> float:
+    """E* in Pa: 1/E* = (1-ν_w²)/E_w + (1-ν_r²)/E_r (Johnson 1985, §4.2).
+
+    ``ValueError`` for a Young's modulus that is not finite and > 0 or a Poisson's ratio outside -1 < ν <= 0.5
+    (:mod:`exudyn_wheelrail.validation`): outside that range 1 - ν² may vanish or change sign."""
+    E_w = youngs_modulus("E_wheel", E_wheel)
+    E_r = youngs_modulus("E_rail", E_rail)
+    nu_w = poisson_ratio("nu_wheel", nu_wheel)
+    nu_r = poisson_ratio("nu_rail", nu_rail)
+    return 1.0 / ((1.0 - nu_w * nu_w) / E_w + (1.0 - nu_r * nu_r) / E_r)
 
 
 @njit(cache=True)
@@ -340,6 +348,9 @@ class HertzContact:
     Kh: float = field(init=False)  #: N/m^1.5
 
     def __post_init__(self):
+        E_star = finite("E_star", self.E_star)
+        if not E_star > 0.0:
+            raise ValueError(f"E_star: {E_star:g} Pa is not an effective modulus (must be > 0)")
         A, B, status = clamp_curvatures(float(self.A), float(self.B), float(self.min_curvature))
         mx, my, kappa, q, sat = _oriented(A, B)
         set_ = object.__setattr__
@@ -349,14 +360,16 @@ class HertzContact:
         set_(self, "m_x", float(mx))
         set_(self, "m_y", float(my))
         set_(self, "kappa", float(kappa))
-        set_(self, "Kh", float(kappa * self.E_star / math.sqrt(A + B)))
+        set_(self, "E_star", E_star)
+        set_(self, "Kh", float(kappa * E_star / math.sqrt(A + B)))
 
     @classmethod
     def from_curvatures(cls, k_wx, k_wy, k_rx, k_ry, E_wheel=E_STEEL, nu_wheel=NU_STEEL,
                         E_rail=E_STEEL, nu_rail=NU_STEEL, min_curvature=DEFAULT_MIN_CURVATURE):
-        """From principal curvatures (1/m, convex positive) of wheel (w) and rail (r) in x and y."""
+        """From principal curvatures (1/m, convex positive) of wheel (w) and rail (r) in x and y; ``ValueError`` for
+        materials outside the elastic range (:func:`effective_modulus`)."""
         return cls(0.5 * (k_wx + k_rx), 0.5 * (k_wy + k_ry),
-                   float(effective_modulus(E_wheel, nu_wheel, E_rail, nu_rail)), min_curvature)
+                   effective_modulus(E_wheel, nu_wheel, E_rail, nu_rail), min_curvature)
 
     @property
     def clamped(self) -> bool:

@@ -14,6 +14,29 @@ import numpy as np
 from ..conventions import DEFAULT_BACK_TO_BACK_M, GAUGE_MEASURING_DEPTH_M, STANDARD_GAUGE_M, parse_inclination
 from ..profiles.curve import ProfileCurve, pack_curves
 from ..profiles.profiles import RailProfile, WheelProfile, resolve_rail, resolve_wheel
+from ..validation import Quantity
+
+# Plausibility of the placement parameters (used by the pair, the vehicle files and the command line).
+#: track gauge: 600 mm narrow gauge up to 1676 mm broad gauge, with margin
+GAUGE_M = Quantity("track gauge", "m", 0.6, 1.8)
+#: flange back-to-back distance (1.360 m for standard gauge; below the gauge, see back_to_back_problem)
+BACK_TO_BACK_M = Quantity("flange back-to-back distance", "m", 0.5, 1.8)
+#: nominal rolling radius: small tram and light-rail wheels (~0.15 m) up to large locomotive wheels (~0.65 m)
+R0_M = Quantity("nominal rolling radius", "m", 0.1, 1.0)
+#: rail inclination (tan of the cant angle): vertical up to 1:10
+INCLINATION_TAN = Quantity("rail inclination (tan of the cant angle)", "", 0.0, 0.1)
+#: gauge minus back-to-back distance: two flange thicknesses plus the play, > 0 and < 0.15 m
+FLANGE_CLEARANCE_M = (0.0, 0.15)
+
+
+def back_to_back_problem(gauge_m: float, back_to_back_m: float, gauge_name: str = "the gauge") -> str | None:
+    """Why a back-to-back distance does not fit the gauge (it must lie below it by :data:`FLANGE_CLEARANCE_M`: two
+    flanges and their play), or None; ``gauge_name`` names the gauge in the message."""
+    lo, hi = FLANGE_CLEARANCE_M
+    if lo < gauge_m - back_to_back_m < hi:
+        return None
+    return (f"{back_to_back_m:g} m must be below {gauge_name} {gauge_m:g} m by more than {lo:g} and less than "
+            f"{hi:g} m (two flanges and their play)")
 
 
 def gauge_point(curve: ProfileCurve, depth_m: float = GAUGE_MEASURING_DEPTH_M, spacing_m: float = 2e-6):
@@ -51,16 +74,20 @@ class WheelRailPair:
 
     def __init__(self, wheel="S1002", rail="UIC60", gauge_m: float = STANDARD_GAUGE_M, inclination="1/40",
                  back_to_back_m: float = DEFAULT_BACK_TO_BACK_M, r0_m: float = 0.46):
+        # the numbers first (cheap), then the profiles
+        self.gauge_m = GAUGE_M.check("gauge_m", gauge_m)
+        self.back_to_back_m = BACK_TO_BACK_M.check("back_to_back_m", back_to_back_m)
+        problem = back_to_back_problem(self.gauge_m, self.back_to_back_m)
+        if problem:
+            raise ValueError(f"back_to_back_m: {problem}")
+        self.r0_m = R0_M.check("r0_m", r0_m)
+        try:
+            tan = parse_inclination(inclination)
+        except ValueError as exc:
+            raise ValueError(f"inclination: {exc}") from None
+        self.inclination_tan = INCLINATION_TAN.check("inclination", tan)
         self.wheel: WheelProfile = resolve_wheel(wheel)
         self.rail: RailProfile = resolve_rail(rail)
-        self.gauge_m = float(gauge_m)
-        self.inclination_tan = parse_inclination(inclination)
-        self.back_to_back_m = float(back_to_back_m)
-        self.r0_m = float(r0_m)
-        for label, value, lo, hi in (("gauge_m", self.gauge_m, 0.5, 2.0), ("back_to_back_m", back_to_back_m, 0.4, 2.0),
-                                     ("r0_m", r0_m, 0.1, 1.0), ("inclination (tan)", self.inclination_tan, 0.0, 0.1)):
-            if not (lo <= value <= hi) or not np.isfinite(value):
-                raise ValueError(f"{label} = {value} is outside the plausible range [{lo}, {hi}] (metres)")
         # rail: rotate towards the track centre by the net inclination, then place the gauge point and the top
         cant_rad = np.arctan(self.inclination_tan) - np.arctan(self.rail.canted_tan)
         rotated = self.rail.curve.transformed(-cant_rad)

@@ -13,13 +13,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..validation import poisson_ratio, youngs_modulus
 from . import kernel as K
-from .normal import effective_modulus
+from .normal import E_STEEL as E_STEEL_PA
+from .normal import NU_STEEL, effective_modulus
 from .pair import WheelRailPair
 from .search import monotone_rows
 
-E_STEEL_PA = 2.1e11
-NU_STEEL = 0.28
+#: the entries of a wheelset pose (track frame), in the order of the pose arrays
+POSE_ENTRIES = ("y_m", "z_m", "roll_rad")
 
 REGIONS = ("tread", "flange")
 #: region of each kernel output slot (K.SLOT_*): tread, flange, and the tread's second zone (two-point tread contact)
@@ -74,6 +76,14 @@ class WheelsetContact:
                  nu_wheel: float = NU_STEEL, E_rail_Pa: float = E_STEEL_PA, nu_rail: float = NU_STEEL,
                  global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100, n_concave_rail: int = 100,
                  refine: bool = True):
+        if not isinstance(pair, WheelRailPair):
+            raise TypeError(f"pair: expected a WheelRailPair, got {type(pair).__name__}")
+        if isinstance(n_wheelsets, bool) or int(n_wheelsets) != n_wheelsets or n_wheelsets < 1:
+            raise ValueError(f"n_wheelsets: expected a positive integer, got {n_wheelsets!r}")
+        E_wheel_Pa = youngs_modulus("E_wheel_Pa", E_wheel_Pa)
+        E_rail_Pa = youngs_modulus("E_rail_Pa", E_rail_Pa)
+        nu_wheel = poisson_ratio("nu_wheel", nu_wheel)
+        nu_rail = poisson_ratio("nu_rail", nu_rail)
         self.pair = pair
         self.n_wheelsets = int(n_wheelsets)
         self.nodes, self.meta = pair.packed()
@@ -101,9 +111,32 @@ class WheelsetContact:
         """Forget the warm start (and the separation bounds)."""
         self.warm[:] = np.nan
 
+    def checked_poses(self, poses) -> np.ndarray:
+        """Wheelset poses as an (n_wheelsets, 3) float array (y_m, z_m, roll_rad per wheelset, track frame);
+        ``ValueError`` for another size or a non-finite entry, naming the wheelset and the entry."""
+        try:
+            arr = np.asarray(poses, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"wheelset poses: expected numbers (y_m, z_m, roll_rad per wheelset), got "
+                             f"{poses!r}") from None
+        if arr.size != 3 * self.n_wheelsets:
+            raise ValueError(f"wheelset poses: expected {self.n_wheelsets} pose(s) of 3 entries "
+                             f"({', '.join(POSE_ENTRIES)}), got {arr.size} number(s) (shape {arr.shape})")
+        arr = arr.reshape(self.n_wheelsets, 3)
+        if not np.isfinite(arr).all():
+            bad = np.argwhere(~np.isfinite(arr))
+            k, j = (int(v) for v in bad[0])
+            value = arr[k, j]
+            what = "NaN" if np.isnan(value) else "infinity" if value > 0 else "-infinity"
+            raise ValueError(f"wheelset {k} pose: {POSE_ENTRIES[j]} is {what} (NaN or infinity is not a pose; "
+                             f"{len(bad)} such entr{'y' if len(bad) == 1 else 'ies'})")
+        return arr
+
     def side_poses(self, poses: np.ndarray) -> np.ndarray:
         """Wheelset poses (n, 3) (y, z, roll) in the track frame -> per-wheel side-frame poses (2n, 3)."""
-        poses = np.asarray(poses, dtype=float).reshape(-1, 3)
+        return self._fill_side_poses(self.checked_poses(poses))
+
+    def _fill_side_poses(self, poses: np.ndarray) -> np.ndarray:
         sp = self._side_poses
         sp[0::2] = poses
         sp[1::2, 0] = -poses[:, 0]
@@ -113,12 +146,8 @@ class WheelsetContact:
 
     def evaluate(self, poses) -> np.ndarray:
         """Raw kernel output (2n, N_SLOTS, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
-        poses = np.asarray(poses, dtype=float).reshape(-1, 3)
-        if poses.shape[0] != self.n_wheelsets:
-            raise ValueError(f"expected {self.n_wheelsets} wheelset poses, got {poses.shape[0]}")
-        if not np.all(np.isfinite(poses)):
-            raise ValueError(f"wheelset pose contains NaN or infinity: {poses.tolist()}")
-        K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self.side_poses(poses), self.warm,
+        poses = self.checked_poses(poses)
+        K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self._fill_side_poses(poses), self.warm,
                           self.params, self.out)
         self.poses[:] = poses
         return self.out
@@ -126,6 +155,8 @@ class WheelsetContact:
     def contact_points(self, y_m: float, z_m: float, roll_rad: float = 0.0, wheelset: int = 0,
                        include_separated: bool = False) -> list[ContactPoint]:
         """Readable contact points of one wheelset pose (track frame); other wheelsets keep their last pose."""
+        if isinstance(wheelset, bool) or int(wheelset) != wheelset or not 0 <= wheelset < self.n_wheelsets:
+            raise ValueError(f"wheelset: expected an index 0 ... {self.n_wheelsets - 1}, got {wheelset!r}")
         poses = self.poses.copy()
         poses[wheelset] = (y_m, z_m, roll_rad)
         out = self.evaluate(poses)

@@ -1,15 +1,7 @@
 """Input checks shared by every creep law of the package (one contract, one validation)."""
 from __future__ import annotations
 
-import math
-
-
-def finite(name: str, value) -> float:
-    """``float(value)``, or ``ValueError`` naming the argument when it is NaN or infinite."""
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value}")
-    return value
+from ..validation import finite  # noqa: F401  (the package's one finiteness check, re-exported for the creep laws)
 
 
 def check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus):

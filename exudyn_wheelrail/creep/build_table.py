@@ -58,7 +58,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients
+from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients, table_poisson
 from .table import (FASTSIM_TABLE_PATH, FORMAT, FORMAT_VERSION, NORMALISATION, NU_TABLE, TABLE_PATH,
                     normalisation_coefficients, physical_creepages, save_table)
 
@@ -354,9 +354,7 @@ def build_table(out, generator: str = "exact", grid="default", workers: int | No
     None.  Raises ``RuntimeError`` if cases failed (the finished chunks stay in the parts directory)."""
     if generator not in GENERATORS:
         raise ValueError(f"unknown generator {generator!r}; choose one of {GENERATORS}")
-    poisson = float(poisson)
-    if not (0.0 <= poisson <= 0.5):
-        raise ValueError(f"poisson must lie in [0, 0.5], got {poisson}")
+    poisson = table_poisson(poisson)
     out = Path(out)
     if out.suffix != ".npz":
         raise ValueError(f"--out must be an .npz file, got {out}")

@@ -72,6 +72,7 @@ import numpy as np
 from numba import njit, prange
 
 from ._inputs import check_contact_inputs, finite as _finite
+from .linear import table_poisson
 
 __all__ = [
     "DEFAULT_N_X", "DEFAULT_N_Y", "DEFAULT_TOL", "DEFAULT_MAX_SWEEPS", "DEFAULT_MAX_INNER", "KalkerSolution",
@@ -409,9 +410,7 @@ class KalkerSolution:
 
 def _check(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x, n_y, tol, max_sweeps):
     a, b, xi, eta, phi, N, mu, G = check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus)
-    nu = _finite("poisson", poisson)
-    if not 0.0 <= nu <= 0.5:
-        raise ValueError(f"poisson must lie in [0, 0.5], got {nu}")
+    nu = table_poisson(poisson)
     if int(n_x) != n_x or int(n_y) != n_y or n_x < 2 or n_y < 2:
         raise ValueError(f"n_x and n_y must be integers >= 2, got {n_x}, {n_y}")
     tol = _finite("tol", tol)

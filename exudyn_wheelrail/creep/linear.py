@@ -38,9 +38,11 @@ import numpy as np
 from numba import njit
 from scipy.interpolate import PchipInterpolator
 
+from ..validation import finite, poisson_ratio
+
 __all__ = [
     "TABLE_PATH", "A_OVER_B_MIN", "A_OVER_B_MAX", "NU_NODES", "load_table", "kalker_coefficients",
-    "kalker_coefficients_core", "fastsim_spin_moment_coefficient", "linear_creep_forces",
+    "kalker_coefficients_core", "fastsim_spin_moment_coefficient", "linear_creep_forces", "table_poisson",
 ]
 
 #: The package copy of Kalker's Table E.3.
@@ -150,17 +152,26 @@ def _nu_mode(nu_interpolation: str) -> int:
     raise ValueError(f"nu_interpolation must be 'quadratic' or 'linear', got {nu_interpolation!r}")
 
 
+def table_poisson(poisson, name: str = "poisson") -> float:
+    """A Poisson's ratio the creep theories of this package cover: an elastic material's
+    (:func:`~exudyn_wheelrail.validation.poisson_ratio`) within Kalker's Table E.3, ``NU_NODES[0] <= nu <=
+    NU_NODES[-1]`` (round-off at the ends clamped); ``ValueError`` naming ``name`` otherwise."""
+    nu = poisson_ratio(name, poisson)
+    lo, hi = NU_NODES[0], NU_NODES[-1]
+    if nu < lo - _REL_TOL or nu > hi + _REL_TOL:
+        raise ValueError(f"{name}: {nu:g} is outside the range the creep theories of this package cover "
+                         f"({lo:g} <= nu <= {hi:g}, that of Kalker's Table E.3); no extrapolation is done")
+    return min(max(nu, lo), hi)
+
+
 def _check_ratio_nu(a_over_b, poisson):
     a_over_b = float(a_over_b)
-    poisson = float(poisson)
     if not math.isfinite(a_over_b) or a_over_b <= 0.0:
         raise ValueError(f"a/b must be finite and > 0, got {a_over_b}")
     if a_over_b < A_OVER_B_MIN * (1 - _REL_TOL) or a_over_b > A_OVER_B_MAX * (1 + _REL_TOL):
         raise ValueError(f"a/b = {a_over_b:g} is outside Kalker's table (Table E.3) range "
                          f"[{A_OVER_B_MIN:g}, {A_OVER_B_MAX:g}]; no extrapolation is done")
-    if not math.isfinite(poisson) or poisson < -_REL_TOL or poisson > 0.5 + _REL_TOL:
-        raise ValueError(f"Poisson's ratio must lie in [0, 0.5] (the table's range), got {poisson}")
-    return a_over_b, min(max(poisson, 0.0), 0.5)
+    return a_over_b, table_poisson(poisson)
 
 
 def kalker_coefficients(a_over_b, poisson, nu_interpolation: str = "quadratic"):
@@ -191,11 +202,8 @@ def linear_creep_forces(a, b, xi, eta, phi, shear_modulus, poisson, nu_interpola
     ``C33*`` is the simplified-theory (FASTSIM) spin-moment coefficient
     (:func:`fastsim_spin_moment_coefficient`), because Kalker's Table E.3 has no C33: the spin term of Mz is
     FASTSIM's small-creepage limit, not Kalker's exact theory.  No saturation (valid for small creepage only)."""
-    vals = dict(a=a, b=b, xi=xi, eta=eta, phi=phi, shear_modulus=shear_modulus)
-    for k, v in vals.items():
-        if not math.isfinite(float(v)):
-            raise ValueError(f"{k} must be finite, got {v}")
-    a, b, G = float(a), float(b), float(shear_modulus)
+    a, b, xi, eta, phi = (finite(k, v) for k, v in dict(a=a, b=b, xi=xi, eta=eta, phi=phi).items())
+    G = finite("shear_modulus", shear_modulus)
     if a <= 0.0 or b <= 0.0:
         raise ValueError(f"semi-axes must be > 0, got a={a}, b={b}")
     if G <= 0.0:
@@ -203,7 +211,6 @@ def linear_creep_forces(a, b, xi, eta, phi, shear_modulus, poisson, nu_interpola
     c11, c22, c23 = kalker_coefficients(a / b, poisson, nu_interpolation)
     c33 = 32.0 / (15.0 * math.pi) * c23 * (a / b) ** -1.5
     c = math.sqrt(a * b)
-    xi, eta, phi = float(xi), float(eta), float(phi)
     Fx = -G * c * c * c11 * xi
     Fy = -G * c * c * (c22 * eta + c * c23 * phi)
     Mz = G * c ** 3 * (c23 * eta - c * c33 * phi)

@@ -121,8 +121,8 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients
-from ._inputs import check_contact_inputs, finite as _finite
+from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients, table_poisson
+from ._inputs import check_contact_inputs
 
 __all__ = [
     "TABLE_PATH", "FASTSIM_TABLE_PATH", "FORMAT", "FORMAT_VERSION", "NU_TABLE", "NU_TOLERANCE",
@@ -550,7 +550,7 @@ def table_forces(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, t
     or ``|ν - ν_table| > NU_TOLERANCE``.  ``normal_force == 0`` or ``mu == 0`` gives zeros.  Creepages beyond the
     table are scaled back onto its edge keeping their direction (module docstring)."""
     a, b, xi, eta, phi, N, mu, G = check_contact_inputs(a, b, xi, eta, phi, normal_force, mu, shear_modulus)
-    nu = _finite("poisson", poisson)
+    nu = table_poisson(poisson)
     if interpolation == "cubic":
         order = ORDER_CUBIC
     elif interpolation == "linear":

@@ -107,10 +107,15 @@ from ..creep.fastsim import DEFAULT_NX, DEFAULT_NY, fastsim_core
 from ..creep.laws import polach_core, she_core
 from ..creep.table import table_core
 from ..structures.bridge import add_projected_force, rail_state_at
+from ..validation import finite, poisson_ratio, youngs_modulus
 from .track import RigidStraightTrack, irregularity_at
 
 __all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", "ContactStateError",
            "CREEP_LAWS", "N_RES"] + [n for n in dir() if n.startswith("RES_")]
+
+#: Exudyn node type (``mbs.GetNode(n)['nodeType']``) of the wheelset nodes the connector accepts: the Lie-group
+#: rigid-body node with a rotation vector, created with ``nodeType=exu.NodeType.RotationRotationVector``
+WHEELSET_NODE_TYPE_PREFIX = "RigidBodyRotVec"
 
 # ---- creep laws --------------------------------------------------------------------------------------------------
 LAW_FASTSIM = 0
@@ -760,23 +765,47 @@ class WheelRailContact:
             raise ValueError(f"creep_law={creep_law!r}: expected one of {sorted(CREEP_LAWS)}")
         if geometry not in GEOMETRY_MODES:
             raise ValueError(f"geometry={geometry!r}: expected one of {GEOMETRY_MODES}")
-        if not (math.isfinite(speed_m_s) and speed_m_s >= 0.0):
-            raise ValueError(f"speed_m_s={speed_m_s!r}: expected a finite speed >= 0")
-        if not (math.isfinite(mu) and mu >= 0.0):
-            raise ValueError(f"mu={mu!r}: expected a finite value >= 0")
+        if not isinstance(pair, WheelRailPair):
+            raise TypeError(f"pair: expected a WheelRailPair (exudyn_wheelrail.contact), got {type(pair).__name__}")
+        speed_m_s = finite("speed_m_s", speed_m_s)
+        if not speed_m_s >= 0.0:
+            raise ValueError(f"speed_m_s: {speed_m_s!r}: expected a finite speed >= 0")
+        mu = finite("mu", mu)
+        if not mu >= 0.0:
+            raise ValueError(f"mu: {mu!r}: expected a finite friction coefficient >= 0")
+        E_wheel_Pa = youngs_modulus("E_wheel_Pa", E_wheel_Pa)
+        E_rail_Pa = youngs_modulus("E_rail_Pa", E_rail_Pa)
+        nu_wheel = poisson_ratio("nu_wheel", nu_wheel)
+        nu_rail = poisson_ratio("nu_rail", nu_rail)
+        s_start_m = finite("s_start_m", s_start_m)
+        try:
+            n_x, n_y = fastsim_grid
+        except (TypeError, ValueError):
+            raise ValueError(f"fastsim_grid: expected two positive integers (n_x, n_y), got {fastsim_grid!r}") from None
+        if not all(not isinstance(v, bool) and int(v) == v and v >= 1 for v in (n_x, n_y)):
+            raise ValueError(f"fastsim_grid: expected two positive integers (n_x, n_y), got {fastsim_grid!r}")
+        v_min_m_s = finite("v_min_m_s", v_min_m_s)
+        if not v_min_m_s > 0.0:
+            raise ValueError(f"v_min_m_s: {v_min_m_s!r}: expected a speed > 0 (the creepages' standstill guard)")
         self.nodes_exu = list(wheelset_nodes)
         if not self.nodes_exu:
-            raise ValueError("no wheelset nodes given")
+            raise ValueError("wheelset_nodes: no wheelset nodes given")
         n_ws = len(self.nodes_exu)
         p_ref = np.zeros((n_ws, 3))
         for k, n in enumerate(self.nodes_exu):
+            try:
+                node_type = str(mbs.GetNode(n).get("nodeType", ""))
+            except Exception as exc:          # Exudyn raises its own error types for a bad index
+                raise ValueError(f"wheelset_nodes: node {n!r} is not a node of this system ({exc})") from None
+            if not node_type.startswith(WHEELSET_NODE_TYPE_PREFIX):
+                raise ValueError(f"wheelset_nodes: node {n} is a {node_type or 'non-rigid'} node; the wheel-rail "
+                                 f"contact needs Lie-group rigid-body nodes with a rotation vector: create the "
+                                 f"wheelset bodies with nodeType=exu.NodeType.RotationRotationVector "
+                                 f"(NodeRigidBodyRotVecLG)")
             ref = np.asarray(mbs.GetNodeParameter(n, "referenceCoordinates"), dtype=float)
-            if ref.size != 6:
-                raise ValueError(f"node {n}: expected a rigid-body node with 6 coordinates (rotation vector), "
-                                 f"got {ref.size}")
             if np.any(np.abs(ref[3:]) > 1e-12):
-                raise ValueError(f"node {n}: the reference rotation must be zero (wheelset axes parallel to the "
-                                 "track axes); put the initial rotation into the initial coordinates")
+                raise ValueError(f"wheelset_nodes: node {n}: the reference rotation must be zero (wheelset axes "
+                                 "parallel to the track axes); put the initial rotation into the initial coordinates")
             p_ref[k] = ref[:3]
         self.p_ref = p_ref
         self.pair = pair

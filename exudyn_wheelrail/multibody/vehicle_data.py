@@ -54,7 +54,9 @@ Validation raises :class:`VehicleDataError` (a ``ValueError``) naming the key (`
 missing or unknown keys, wrong types, non-finite numbers, non-positive masses/inertias/lengths, negative
 stiffness or damping, inertias violating the triangle inequality, a non-monotonic bump-stop table, and
 inconsistent geometry (CG heights or the secondary springs at or below the axle, r0 <= 0, overlapping wheels,
-back-to-back not below the gauge, a car-body CG outside its supports, a profile file that does not exist).
+back-to-back not below the gauge, a car-body CG outside its supports, a profile file that does not exist), and
+implausible lengths (:data:`QUANTITIES`, a value in millimetres is named as such).  Masses and loads far from the
+usual ones give an :class:`~exudyn_wheelrail.validation.InputWarning` naming the file and the key.
 """
 from __future__ import annotations
 
@@ -65,7 +67,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..contact.pair import BACK_TO_BACK_M, GAUGE_M, INCLINATION_TAN, R0_M, back_to_back_problem
 from ..conventions import parse_inclination
+from ..profiles.profiles import RAIL_PROFILE_NAMES, WHEEL_PROFILE_NAMES
+from ..validation import Quantity
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -85,6 +90,27 @@ __all__ = [
 
 SCHEMA_VERSION = 1
 LAYOUTS = ("car", "bogie", "wheelset")
+
+# Plausibility of the data (beyond sign and type): lengths outside these ranges are errors (a value in millimetres
+# is recognised as such), masses and loads outside their typical ranges are warnings.  The wheel-rail placement
+# (r0_m, gauge_m, back_to_back_m, rail_inclination) is judged by the ranges of :mod:`..contact.pair`.
+QUANTITIES = {
+    "geometry.semi_wheelbase_m": Quantity("semi-wheelbase (half the axle spacing of a bogie)", "m", 0.3, 2.5),
+    "geometry.semi_bogie_centre_distance_m": Quantity("semi bogie-centre distance", "m", 0.5, 15.0),
+    "geometry.primary_lateral_semi_spacing_m": Quantity("lateral semi-spacing of the primary suspension", "m",
+                                                        0.2, 1.8),
+    "geometry.secondary_lateral_semi_spacing_m": Quantity("lateral semi-spacing of the secondary suspension", "m",
+                                                          0.2, 1.8),
+    "geometry.secondary_spring_height_m": Quantity("secondary spring height above the rail", "m", 0.1, 3.0),
+    "bogie_frame.cg_height_m": Quantity("bogie-frame CG height above the rail", "m", 0.1, 2.0),
+    "car_body.cg_height_m": Quantity("car-body CG height above the rail", "m", 0.1, 4.5),
+    "bump_stop.clearance_m": Quantity("bump-stop clearance", "m", 0.0, 0.3),
+    "bump_stop.displacement_m": Quantity("bump-stop displacement", "m", 0.0, 0.5),
+    "wheelset.mass_kg": Quantity("wheelset mass", "kg", typical=(300.0, 5000.0)),
+    "bogie_frame.mass_kg": Quantity("bogie-frame mass", "kg", typical=(500.0, 15000.0)),
+    "car_body.mass_kg": Quantity("car-body mass", "kg", typical=(3000.0, 150000.0)),
+    "load.vertical_force_per_side_N": Quantity("vertical load per side", "N", typical=(1.0e3, 3.0e5)),
+}
 
 #: The shipped vehicle files (``vehicles/`` at the repository root, beside the package).
 VEHICLES_DIR = Path(__file__).resolve().parents[2] / "vehicles"
@@ -335,6 +361,12 @@ class _Reader:
             raise self.error(f"{table}.{key}", f"must not be negative, got {value!r}")
         return value
 
+    def plausible(self, table: str, key: str, value: float, quantity: Quantity | None = None) -> float:
+        """``value`` judged by its :class:`~..validation.Quantity` (default ``QUANTITIES['table.key']``): an error
+        naming the file and the key if implausible, an :class:`~..validation.InputWarning` naming them if unusual."""
+        q = quantity if quantity is not None else QUANTITIES[f"{table}.{key}"]
+        return q.check(f"{self.where}: {table}.{key}", value, error=VehicleDataError)
+
     def string(self, table: str, key: str, default=None) -> str:
         tab = self.data.get(table, {})
         if key not in tab:
@@ -393,12 +425,14 @@ def _check_keys(r: _Reader, layout: str) -> None:
 
 def _body(r: _Reader, table: str, cg_height_m: float | None = None) -> BodyData:
     m, ixx, iyy, izz = (r.number(table, k, positive=True) for k in _BODY_KEYS)
+    r.plausible(table, "mass_kg", m)
     for a, b, c, names in ((ixx, iyy, izz, "Ixx + Iyy >= Izz"), (iyy, izz, ixx, "Iyy + Izz >= Ixx"),
                            (izz, ixx, iyy, "Izz + Ixx >= Iyy")):
         if a + b < c * (1.0 - 1e-12):
             raise r.error(f"{table}.Ixx_kg_m2/Iyy_kg_m2/Izz_kg_m2",
                           f"principal inertias ({ixx:g}, {iyy:g}, {izz:g}) violate {names} (no rigid body has them)")
-    h = cg_height_m if cg_height_m is not None else r.number(table, "cg_height_m", positive=True)
+    h = (cg_height_m if cg_height_m is not None else
+         r.plausible(table, "cg_height_m", r.number(table, "cg_height_m", positive=True)))
     return BodyData(m, ixx, iyy, izz, h, r.number(table, "cg_x_m", default=0.0),
                     r.number(table, "cg_y_m", default=0.0))
 
@@ -430,15 +464,12 @@ def _geometry(r: _Reader, layout: str, base: Path | None) -> GeometryData:
     r0 = r.number(g, "r0_m")
     if not r0 > 0.0:
         raise r.error(f"{g}.r0_m", f"the nominal rolling radius must be positive, got {r0!r}")
-    if r0 > 1.0:
-        raise r.error(f"{g}.r0_m", f"r0 = {r0} m is not a railway wheel radius (expected below 1 m; units?)")
-    gauge = r.number(g, "gauge_m", positive=True)
-    b2b = r.number(g, "back_to_back_m", positive=True)
-    if not 0.5 <= gauge <= 2.0:
-        raise r.error(f"{g}.gauge_m", f"gauge {gauge} m is outside 0.5 ... 2.0 m (units?)")
-    if not 0.0 < gauge - b2b < 0.15:
-        raise r.error(f"{g}.back_to_back_m", f"back-to-back {b2b} m must be below the gauge {gauge} m by less than "
-                                             "0.15 m (flange clearance)")
+    r.plausible(g, "r0_m", r0, R0_M)
+    gauge = r.plausible(g, "gauge_m", r.number(g, "gauge_m", positive=True), GAUGE_M)
+    b2b = r.plausible(g, "back_to_back_m", r.number(g, "back_to_back_m", positive=True), BACK_TO_BACK_M)
+    problem = back_to_back_problem(gauge, b2b, "the gauge (geometry.gauge_m)")
+    if problem:
+        raise r.error(f"{g}.back_to_back_m", problem)
     raw_inclination = tab.get("rail_inclination")
     if isinstance(raw_inclination, bool) or not isinstance(raw_inclination, (str, int, float)):
         raise r.error(f"{g}.rail_inclination", f"expected '1/40', '1/20', 'none' or a number, got {raw_inclination!r}")
@@ -446,14 +477,18 @@ def _geometry(r: _Reader, layout: str, base: Path | None) -> GeometryData:
         inclination = parse_inclination(raw_inclination)
     except ValueError as exc:
         raise r.error(f"{g}.rail_inclination", str(exc)) from None
-    wheel = _profile(r, "wheel_profile", ("S1002",), base)
-    rail = _profile(r, "rail_profile", ("UIC60", "60E1"), base)
-    b1 = r.number(g, "primary_lateral_semi_spacing_m", positive=True)
-    a = r.number(g, "semi_wheelbase_m", positive=True) if "semi_wheelbase_m" in tab else None
-    lb = r.number(g, "semi_bogie_centre_distance_m", positive=True) if "semi_bogie_centre_distance_m" in tab else None
-    b2 = (r.number(g, "secondary_lateral_semi_spacing_m", positive=True)
-          if "secondary_lateral_semi_spacing_m" in tab else None)
-    hs = r.number(g, "secondary_spring_height_m", positive=True) if "secondary_spring_height_m" in tab else None
+    r.plausible(g, "rail_inclination", inclination, INCLINATION_TAN)
+    wheel = _profile(r, "wheel_profile", WHEEL_PROFILE_NAMES, base)
+    rail = _profile(r, "rail_profile", RAIL_PROFILE_NAMES, base)
+
+    def length(key):
+        return r.plausible(g, key, r.number(g, key, positive=True)) if key in tab else None
+
+    b1 = length("primary_lateral_semi_spacing_m")
+    a = length("semi_wheelbase_m")
+    lb = length("semi_bogie_centre_distance_m")
+    b2 = length("secondary_lateral_semi_spacing_m")
+    hs = length("secondary_spring_height_m")
     if a is not None and a <= r0:
         raise r.error(f"{g}.semi_wheelbase_m", f"{a} m is not larger than r0 = {r0} m: the wheels of a bogie "
                                                "would overlap")
@@ -467,8 +502,10 @@ def _geometry(r: _Reader, layout: str, base: Path | None) -> GeometryData:
 
 def _bump_stop(r: _Reader) -> BumpStopData:
     t = "bump_stop"
-    clearance = r.number(t, "clearance_m", non_negative=True)
+    clearance = r.plausible(t, "clearance_m", r.number(t, "clearance_m", non_negative=True))
     u = r.numbers(t, "displacement_m")
+    for v in u:
+        r.plausible(t, "displacement_m", v)
     f = r.numbers(t, "force_N")
     if len(u) != len(f):
         raise r.error(f"{t}.displacement_m/force_N", f"arrays of different length ({len(u)} and {len(f)})")
@@ -523,7 +560,9 @@ def vehicle_from_dict(data: dict, source: str | Path = "<dict>", base_dir: Path 
                 raise r.error(f"{table}.kz_N_per_m", "must be positive in layout 'car' (it carries the weight)")
     primary = _suspension(r, "primary", layout)
     bump = _bump_stop(r) if "bump_stop" in data else None
-    load = r.number("load", "vertical_force_per_side_N", non_negative=True) if "load" in data else 0.0
+    load = (r.plausible("load", "vertical_force_per_side_N", r.number("load", "vertical_force_per_side_N",
+                                                                      non_negative=True))
+            if "load" in data else 0.0)
     return VehicleData(
         name=r.string("vehicle", "name"), layout=layout, source=r.string("vehicle", "source"), wheelset=wheelset,
         primary=primary, geometry=geometry, bogie_frame=bogie, car_body=car, secondary=secondary, bump_stop=bump,

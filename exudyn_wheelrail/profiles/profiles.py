@@ -13,10 +13,14 @@ import numpy as np
 
 from .curve import ProfileCurve
 from .dense import DenseProfile
+from .validation import FLANGE_HEIGHT_RANGE_M, FLANGE_TIP_MAX_Y_M, ProfileError, check_profile_kind
 
 
 #: Flange back relative to the tape circle for EN 13715 wheel profiles [m].
 DEFAULT_FLANGE_BACK_Y_M = -0.070
+#: Built-in profiles by name (upper case; :func:`resolve_wheel`, :func:`resolve_rail`): anything else is a file.
+WHEEL_PROFILE_NAMES = ("S1002",)
+RAIL_PROFILE_NAMES = ("UIC60", "60E1")
 
 
 class WheelProfile:
@@ -57,11 +61,14 @@ class WheelProfile:
         if self.flange is not None:
             self.flange.end_flags = 1          # flange back end is a profile end, the split is not
             self.tread.end_flags = 2           # field-side end is a profile end, the split is not
-            if split_y_m is None and not (0.015 <= self.flange_height_m <= 0.045 and self.flange_tip_y_m < -0.020):
+            lo, hi = FLANGE_HEIGHT_RANGE_M
+            if split_y_m is None and not (lo <= self.flange_height_m <= hi
+                                          and self.flange_tip_y_m < FLANGE_TIP_MAX_Y_M):
                 raise ValueError(
                     f"{name}: flange height {self.flange_height_m * 1e3:.2f} mm with its tip at y = "
                     f"{self.flange_tip_y_m * 1e3:.2f} mm; expected a wheel profile in metres with the origin at the "
-                    "tape circle, y to the field side and z = radius increase (flange 15-45 mm high, at y < -20 mm)")
+                    "tape circle, y to the field side and z = radius increase (flange "
+                    f"{lo * 1e3:g}-{hi * 1e3:g} mm high, at y < {FLANGE_TIP_MAX_Y_M * 1e3:g} mm)")
             # steepest point of the flange flank (largest contact angle); a contact beyond it towards the tip means
             # the flange has ridden up past its flank (climbing)
             s_f = np.linspace(self.flange.s_min, self.flange.s_max, 4001)
@@ -111,7 +118,10 @@ class WheelProfile:
     # ------------------------------------------------------------------------------------------- factories
     @classmethod
     def from_dense(cls, dense: DenseProfile, node_spacing_m: float = 2.5e-4, **kw) -> "WheelProfile":
+        """A wheel profile from dense profile-frame samples; a rail head given here is an error
+        (:func:`~.validation.check_profile_kind`)."""
         kw.setdefault("name", dense.name)
+        check_profile_kind(dense.y, dense.z, "wheel", kw["name"])
         return cls(ProfileCurve.from_dense(dense, outward="+z", node_spacing_m=node_spacing_m), **kw)
 
     @classmethod
@@ -196,7 +206,10 @@ class RailProfile:
 
     @classmethod
     def from_dense(cls, dense: DenseProfile, node_spacing_m: float = 2.5e-4, **kw) -> "RailProfile":
+        """A rail profile from dense profile-frame samples; a wheel profile given here is an error
+        (:func:`~.validation.check_profile_kind`)."""
         kw.setdefault("name", dense.name)
+        check_profile_kind(dense.y, dense.z, "rail", kw["name"])
         return cls(ProfileCurve.from_dense(dense, outward="-z", node_spacing_m=node_spacing_m), **kw)
 
     @classmethod
@@ -227,19 +240,41 @@ class RailProfile:
         return f"RailProfile({self.name!r}, {self.curve!r})"
 
 
+def profile_spec_problem(spec, kind: str) -> str | None:
+    """Why ``spec`` names no ``kind`` ('wheel' / 'rail') profile — neither a built-in name
+    (:data:`WHEEL_PROFILE_NAMES`, :data:`RAIL_PROFILE_NAMES`) nor an existing file — or None."""
+    names = WHEEL_PROFILE_NAMES if kind == "wheel" else RAIL_PROFILE_NAMES
+    if str(spec).strip().upper() in names:
+        return None
+    path = Path(spec)
+    if path.is_file():
+        return None
+    if path.is_dir():
+        return f"{str(spec)!r} is a directory, not a {kind} profile file"
+    return f"{str(spec)!r} is neither a built-in {kind} profile ({', '.join(names)}) nor an existing file"
+
+
 def resolve_wheel(spec) -> WheelProfile:
-    """A :class:`WheelProfile` from a profile object, the name 'S1002' or a file path."""
+    """A :class:`WheelProfile` from a profile object, a built-in name (:data:`WHEEL_PROFILE_NAMES`) or a file path;
+    :class:`~.validation.ProfileError` for anything else."""
     if isinstance(spec, WheelProfile):
         return spec
-    if str(spec).upper() == "S1002":
+    problem = profile_spec_problem(spec, "wheel")
+    if problem:
+        raise ProfileError(f"wheel: {problem}")
+    if str(spec).strip().upper() == "S1002":
         return WheelProfile.s1002()
     return WheelProfile.from_file(spec)
 
 
 def resolve_rail(spec, canted_tan: float | None = None) -> RailProfile:
-    """A :class:`RailProfile` from a profile object, the name 'UIC60'/'60E1' or a file path."""
+    """A :class:`RailProfile` from a profile object, a built-in name (:data:`RAIL_PROFILE_NAMES`: 'UIC60'/'60E1')
+    or a file path; :class:`~.validation.ProfileError` for anything else."""
     if isinstance(spec, RailProfile):
         return spec
-    if str(spec).upper() in ("UIC60", "60E1"):
+    problem = profile_spec_problem(spec, "rail")
+    if problem:
+        raise ProfileError(f"rail: {problem}")
+    if str(spec).strip().upper() in RAIL_PROFILE_NAMES:
         return RailProfile.uic60(canted_tan=0.0 if canted_tan is None else canted_tan)
     return RailProfile.from_file(spec, canted_tan=canted_tan)

@@ -27,7 +27,7 @@ from .fitting import (DEFAULT_GAUGE_NOISE_M, DEFAULT_SPACING_M, FITPACK_RESIDUAL
 from .simpack import _EXTENSION_KIND, read_simpack_profile
 from .table import read_yz_table
 from .validation import (DUPLICATE_TOL_M, FOLD_BACK_DEG, MIN_POINTS, PLAUSIBLE_EXTENT_M,  # noqa: F401
-                         ProfileError, validate_profile_points)
+                         ProfileError, check_profile_kind, profile_shape, validate_profile_points)
 
 __all__ = [
     "ProfileError",
@@ -36,6 +36,8 @@ __all__ = [
     "dense_from_points",
     "load_profile",
     "validate_profile_points",
+    "profile_shape",
+    "check_profile_kind",
     "MIN_POINTS",
     "DUPLICATE_TOL_M",
     "PLAUSIBLE_EXTENT_M",
@@ -52,10 +54,14 @@ def load_profile(path, kind: str | None = None, *, smoothing: float | None = Non
     ``smoothing=None`` uses the file's nature: a SIMPACK file with ``approx.smooth = 0`` holds exact points and is
     interpolated (``smoothing=0``); a SIMPACK file with ``approx.smooth > 0`` and a table are treated as
     measurements with the default gauge noise (:data:`DEFAULT_GAUGE_NOISE_M`).  SIMPACK's ``approx.smooth`` value
-    itself is not translated (its scale is SIMPACK's own).  ``name`` defaults to the file stem.
+    itself is not translated (its scale is SIMPACK's own).  ``name`` defaults to the file stem.  A file whose content
+    is a SIMPACK profile (a ``point.begin`` line) is read as one whatever its extension.
+
+    A profile requested as ``kind`` (or declared one by its SIMPACK header or extension) that looks like the other
+    kind raises :class:`ProfileError` (:func:`~exudyn_wheelrail.profiles.validation.check_profile_kind`).
     """
     path = Path(path)
-    if path.suffix.lower() in _EXTENSION_KIND:
+    if path.suffix.lower() in _EXTENSION_KIND or _looks_like_simpack(path):
         if reader_kw:
             raise TypeError(f"read_simpack_profile takes no options {sorted(reader_kw)}")
         y, z, meta = read_simpack_profile(path, kind=kind)
@@ -63,4 +69,15 @@ def load_profile(path, kind: str | None = None, *, smoothing: float | None = Non
             smoothing = 0.0 if not meta.get("approx_smooth") else DEFAULT_GAUGE_NOISE_M
     else:
         y, z, meta = read_yz_table(path, kind=kind, **reader_kw)
+    check_profile_kind(y, z, kind or meta.get("kind"), str(path))
     return dense_from_points(y, z, smoothing=smoothing, name=name or path.stem, spacing=spacing, validate=False)
+
+
+def _looks_like_simpack(path: Path) -> bool:
+    """A file with another extension whose content is a SIMPACK profile (it has a ``point.begin`` line)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(1 << 20)
+    except OSError:
+        return False          # the table reader reports the file
+    return any(line.split(b"!", 1)[0].strip().lower() == b"point.begin" for line in head.splitlines())

@@ -14,6 +14,10 @@ where there is one, and the problem:
   :data:`FOLD_BACK_DEG` degrees between consecutive segments (a spike or zig-zag);
 * the polyline through the points may not intersect itself.
 
+:func:`profile_shape` tells a wheel from a rail profile by its shape (a rail head is a cap whose two ends lie well
+below its top; a wheel has a flange summit on the gauge side and its lowest point at the field side), and
+:func:`check_profile_kind` raises :class:`ProfileError` when a profile given as one kind looks like the other.
+
 Unit checks: the bounding-box diagonal of a wheel or rail profile is 0.05-0.2 m; anything within
 :data:`PLAUSIBLE_EXTENT_M` is accepted (the ranges in m and mm do not overlap, so values that are evidently
 millimetres where metres were declared, or the reverse, can be recognised).  The private helpers ``_extent``,
@@ -38,6 +42,18 @@ FOLD_BACK_DEG = 150.0
 PLAUSIBLE_EXTENT_M = (0.01, 0.5)
 
 _KINDS = ("wheel", "rail")
+
+#: A wheel profile's flange in the profile frame: 15-45 mm high over the tape circle, its tip at y < -20 mm.
+FLANGE_HEIGHT_RANGE_M = (0.015, 0.045)
+FLANGE_TIP_MAX_Y_M = -0.020
+#: A rail head is a cap: both ends of a rail profile lie at least this far below its top [m].  A wheel's field-side
+#: end is its lowest point or, on a hollow-worn tread, a few millimetres above it — never this much.
+RAIL_HEAD_MIN_END_DEPTH_M = 0.010
+#: Depth below the top at which the width of a rail head is reported [m] (the gauge measuring depth, EN 13848-1).
+RAIL_HEAD_WIDTH_DEPTH_M = 0.014
+#: A flange tip is a summit: the points on its gauge side (flange back) lie at least this much lower [m].  A rail
+#: head, a convex cap, has no summit between its ends.
+FLANGE_BACK_MIN_DROP_M = 0.002
 
 
 class ProfileError(ValueError):
@@ -200,3 +216,56 @@ def _check_kind(kind, source) -> str | None:
     if kind not in _KINDS:
         raise ProfileError(f"{source}: kind must be 'wheel' or 'rail', got {kind!r}")
     return kind
+
+
+def profile_shape(y, z) -> tuple[str | None, str]:
+    """``('rail' | 'wheel' | 'wheel mirrored' | None, description)``: what ordered profile-frame points (metres,
+    gauge side first) look like.  ``'rail'``: a cap — the lowest z (the top of the head) lies between the ends and both ends are at least
+    :data:`RAIL_HEAD_MIN_END_DEPTH_M` deeper.  ``'wheel'``: a flange — a summit of z on the gauge side of the lowest
+    point, at least ``FLANGE_HEIGHT_RANGE_M[0]`` above the field-side end and :data:`FLANGE_BACK_MIN_DROP_M` above the
+    gauge-side end, with the field-side end no deeper than a rail's; ``'wheel mirrored'``: the same with the sides
+    exchanged (a flange on the field side: y runs the wrong way).  ``None`` when neither is clear (a partial
+    measurement, a cone, a crown): nothing is concluded then."""
+    y = np.asarray(y, dtype=float)
+    z = np.asarray(z, dtype=float)
+    i_low = int(np.argmin(z))
+    top = z[i_low]
+    d_gauge, d_field = z[0] - top, z[-1] - top
+    if d_gauge >= RAIL_HEAD_MIN_END_DEPTH_M and d_field >= RAIL_HEAD_MIN_END_DEPTH_M:
+        d = min(d_gauge, d_field, RAIL_HEAD_WIDTH_DEPTH_M)
+        left = int(np.flatnonzero(z[:i_low] - top >= d)[-1])
+        right = i_low + int(np.flatnonzero(z[i_low:] - top >= d)[0])
+        return "rail", (f"a cap {(y[right] - y[left]) * 1e3:.0f} mm wide {d * 1e3:.0f} mm below its top, its ends "
+                        f"{d_gauge * 1e3:.0f} and {d_field * 1e3:.0f} mm below the top")
+    i_tip = int(np.argmax(z))
+    for near, far, depth_far, kind, side in ((0, -1, d_field, "wheel", "gauge"),
+                                              (-1, 0, d_gauge, "wheel mirrored", "field")):
+        height = z[i_tip] - z[far]
+        summit_side = 0 < i_tip < i_low if side == "gauge" else i_low < i_tip < len(z) - 1
+        if (summit_side and height >= FLANGE_HEIGHT_RANGE_M[0] and z[i_tip] - z[near] >= FLANGE_BACK_MIN_DROP_M
+                and depth_far < RAIL_HEAD_MIN_END_DEPTH_M):
+            return kind, (f"a flange summit at y = {y[i_tip] * 1e3:.0f} mm, {height * 1e3:.0f} mm above the tread's "
+                          f"end, on the {side} side of the tread")
+    return None, ""
+
+
+def check_profile_kind(y, z, kind: str | None, source: str) -> None:
+    """Raise :class:`ProfileError` if points given as a ``kind`` ('wheel' / 'rail') profile look like the other
+    kind (:func:`profile_shape`); nothing when ``kind`` is None or the shape is not conclusive."""
+    if kind is None:
+        return
+    seen, description = profile_shape(y, z)
+    if seen is None or seen == kind:
+        return
+    if seen == "wheel mirrored":
+        if kind == "wheel":
+            raise ProfileError(f"{source}: the wheel profile is mirrored: {description}; the profile frame has y towards "
+                               "the field side and the flange at negative y (mirror the y coordinate: mirror_y=True "
+                               "for a table, mirror.y = 1 in a SIMPACK file)")
+        seen = "wheel"
+    if kind == "wheel":
+        raise ProfileError(f"{source}: given as a wheel profile but it looks like a rail head: {description} (a wheel "
+                           "profile has a flange on the gauge side and its lowest point at the field side); is it the "
+                           "rail profile?")
+    raise ProfileError(f"{source}: given as a rail profile but it looks like a wheel profile: {description} (a rail "
+                       "head is a cap whose two ends lie well below its top); is it the wheel profile?")

@@ -20,7 +20,9 @@ Schema (``schema_version = 1``)
 SI units, the unit in every key name; track frame of :mod:`exudyn_wheelrail.conventions` (x forward, y right,
 z down); ``s`` is the track distance.  Tables and keys not listed are errors, as are missing required keys and
 values of the wrong type or range: :class:`ScenarioError` (a ``ValueError``) names the file and the key
-(``track.0.amplitude_m``, the dotted form the sweep overrides use).  File paths are relative to the scenario file.
+(``track.0.amplitude_m``, the dotted form the sweep overrides use); lengths and times outside their plausible
+range (:data:`QUANTITIES`; e.g. an amplitude in millimetres) are errors too.  File paths are relative to the
+scenario file.
 
 ``schema_version = 1``  (required)
 
@@ -147,6 +149,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..validation import Quantity
 from ._recording import StepRecorder
 
 __all__ = [
@@ -194,6 +197,23 @@ MODES_CUTOFF_MARGIN = 1.01
 MAX_STEPS = 10_000_000
 SIDES_OUT = ("right", "left")
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+#: Plausibility of the scenario's lengths and times beyond their type and sign, by key (``track.*`` for every
+#: track component): a value outside is an error, one evidently given in millimetres (milliseconds) is named so.
+QUANTITIES = {
+    "track.*.amplitude_m": Quantity("track irregularity amplitude", "m", 0.0, 0.1, magnitude=True),
+    "track.*.span_length_m": Quantity("span length of a span deflection", "m", 1.0, 1000.0),
+    "track.*.transition_length_m": Quantity("transition length", "m", 0.0, 200.0),
+    "track.*.wavelength_m": Quantity("irregularity wavelength", "m", 0.01, 1000.0),
+    "structure.spans_m": Quantity("bridge span length", "m", 1.0, 1000.0),
+    "structure.rail_height_m": Quantity("height of the rail top above the deck's beam axis", "m", 0.0, 10.0),
+    "run.dt_s": Quantity("time step", "s", 1e-7, 0.01),
+    "run.run_out_m": Quantity("run-out length", "m", 0.0, 1000.0),
+    "outputs.carbody_points.x_m": Quantity("car-body point position (x from the vehicle centre)", "m", 0.0, 30.0,
+                                           magnitude=True),
+    "outputs.carbody_points.y_m": Quantity("car-body point position (y from the centre line)", "m", 0.0, 2.5,
+                                           magnitude=True),
+    "outputs.carbody_points.height_m": Quantity("car-body point height above the rail", "m", -1.0, 6.0),
+}
 
 
 class ScenarioError(ValueError):
@@ -236,6 +256,10 @@ class _Check:
         if hi is not None and (x >= hi if hi_open else x > hi):
             raise self.error(key, f"{value!r}: must be {'<' if hi_open else '<='} {hi}")
         return x
+
+    def plausible(self, x: float, key: str, quantity_key: str) -> float:
+        """``x`` judged by ``QUANTITIES[quantity_key]`` (error naming the key if implausible, warning if unusual)."""
+        return QUANTITIES[quantity_key].check(f"{self.source}: {key}", x, error=ScenarioError)
 
     def integer(self, value, key: str, lo=None, hi=None) -> int:
         if isinstance(value, bool) or not isinstance(value, int):
@@ -343,20 +367,24 @@ def _track_component(c: _Check, comp, key: str) -> dict:
     if kind == "span_deflection":
         c.table(comp, key, required=("type", "span_length_m", "amplitude_m", "start_m"),
                 optional=("transition_length_m", "direction"))
-        L = c.number(comp["span_length_m"], f"{key}.span_length_m", lo=0.0)
-        lt = c.number(comp.get("transition_length_m", 0.0), f"{key}.transition_length_m", lo=0.0, lo_open=False)
+        L = c.plausible(c.number(comp["span_length_m"], f"{key}.span_length_m", lo=0.0), f"{key}.span_length_m",
+                        "track.*.span_length_m")
+        lt = c.plausible(c.number(comp.get("transition_length_m", 0.0), f"{key}.transition_length_m", lo=0.0,
+                                  lo_open=False), f"{key}.transition_length_m", "track.*.transition_length_m")
         if not lt < L:
             raise c.error(f"{key}.transition_length_m", f"{lt}: must be shorter than the span ({L} m)")
         return {"type": kind, "span_length_m": L,
-                "amplitude_m": c.number(comp["amplitude_m"], f"{key}.amplitude_m", lo=-1.0, hi=1.0, lo_open=True,
-                                        hi_open=True),
+                "amplitude_m": c.plausible(c.number(comp["amplitude_m"], f"{key}.amplitude_m"), f"{key}.amplitude_m",
+                                           "track.*.amplitude_m"),
                 "start_m": c.number(comp["start_m"], f"{key}.start_m"), "transition_length_m": lt,
                 "direction": c.string(comp.get("direction", "lateral"), f"{key}.direction", DIRECTIONS)}
     if kind == "harmonic":
         c.table(comp, key, required=("type", "amplitude_m", "wavelength_m"), optional=("phase_rad", "direction"))
         return {"type": kind,
-                "amplitude_m": c.number(comp["amplitude_m"], f"{key}.amplitude_m", lo=-1.0, hi=1.0, hi_open=True),
-                "wavelength_m": c.number(comp["wavelength_m"], f"{key}.wavelength_m", lo=0.0),
+                "amplitude_m": c.plausible(c.number(comp["amplitude_m"], f"{key}.amplitude_m"), f"{key}.amplitude_m",
+                                           "track.*.amplitude_m"),
+                "wavelength_m": c.plausible(c.number(comp["wavelength_m"], f"{key}.wavelength_m", lo=0.0),
+                                            f"{key}.wavelength_m", "track.*.wavelength_m"),
                 "phase_rad": c.number(comp.get("phase_rad", 0.0), f"{key}.phase_rad"),
                 "direction": c.string(comp.get("direction", "lateral"), f"{key}.direction", DIRECTIONS)}
     c.table(comp, key, required=("type", "file"))
@@ -386,11 +414,13 @@ def _structure(c: _Check, st) -> dict:
         cut = c.string(cut, "structure.modes_cutoff_Hz", ("en1990",))
     else:
         cut = c.number(cut, "structure.modes_cutoff_Hz", lo=0.0)
-    return {"spans_m": [c.number(L, f"structure.spans_m.{i}", lo=0.0, hi=1000.0) for i, L in enumerate(spans)],
+    return {"spans_m": [c.plausible(c.number(L, f"structure.spans_m.{i}", lo=0.0), f"structure.spans_m.{i}",
+                                    "structure.spans_m") for i, L in enumerate(spans)],
             "start_m": c.number(st["start_m"], "structure.start_m"),
             "damping_ratio": c.number(st["damping_ratio"], "structure.damping_ratio", lo=0.0, hi=1.0,
                                       lo_open=False, hi_open=True),
-            "rail_height_m": c.number(st["rail_height_m"], "structure.rail_height_m", lo=0.0, lo_open=False),
+            "rail_height_m": c.plausible(c.number(st["rail_height_m"], "structure.rail_height_m", lo=0.0,
+                                                  lo_open=False), "structure.rail_height_m", "structure.rail_height_m"),
             "continuous": c.boolean(st.get("continuous", False), "structure.continuous"),
             "elements_per_span": c.integer(st.get("elements_per_span", 20), "structure.elements_per_span", 2, 1000),
             "formulation": c.string(st.get("formulation", "modal"), "structure.formulation", FORMULATIONS),
@@ -414,13 +444,14 @@ def _run(c: _Check, run, scn: dict) -> dict:
     out = {"speed_km_h": c.number(run["speed_km_h"], "run.speed_km_h", lo=0.0, hi=600.0),
            "duration_s": dur,
            "solver": c.string(run.get("solver", "newmark"), "run.solver", SOLVERS),
-           "dt_s": c.number(run.get("dt_s", 1e-3), "run.dt_s", lo=0.0, hi=0.01),
+           "dt_s": c.plausible(c.number(run.get("dt_s", 1e-3), "run.dt_s", lo=0.0), "run.dt_s", "run.dt_s"),
            "creep_law": c.string(run.get("creep_law", "table"), "run.creep_law", tuple(sorted(CREEP_LAWS))),
            "friction": c.number(run.get("friction", 0.3), "run.friction", lo=0.0, hi=2.0, lo_open=False,
                                 hi_open=True),
            "fastsim_grid": [c.integer(g, f"run.fastsim_grid.{i}", 1, 1000) for i, g in enumerate(grid)],
            "start_s_m": c.number(run.get("start_s_m", 0.0), "run.start_s_m"),
-           "run_out_m": c.number(run.get("run_out_m", 10.0), "run.run_out_m", lo=0.0, lo_open=False),
+           "run_out_m": c.plausible(c.number(run.get("run_out_m", 10.0), "run.run_out_m", lo=0.0, lo_open=False),
+                                    "run.run_out_m", "run.run_out_m"),
            "newton_tolerance": c.number(run.get("newton_tolerance", 1e-6), "run.newton_tolerance", lo=0.0, hi=1.0)}
     if isinstance(dur, float) and dur / out["dt_s"] > MAX_STEPS:
         raise c.error("run.duration_s", f"{dur} s at dt_s = {out['dt_s']} s: more than {MAX_STEPS} steps")
@@ -470,9 +501,13 @@ def _outputs(c: _Check, o, vehicle, has_structure: bool) -> dict:
             raise c.error(f"{key}.name", f"{name!r}: used twice")
         names.add(name)
         x = p["x_m"]
-        x = c.string(x, f"{key}.x_m", NAMED_X) if isinstance(x, str) else c.number(x, f"{key}.x_m")
-        points.append({"name": name, "x_m": x, "y_m": c.number(p.get("y_m", 0.0), f"{key}.y_m"),
-                       "height_m": c.number(p["height_m"], f"{key}.height_m", lo=-10.0, hi=10.0)})
+        x = (c.string(x, f"{key}.x_m", NAMED_X) if isinstance(x, str) else
+             c.plausible(c.number(x, f"{key}.x_m"), f"{key}.x_m", "outputs.carbody_points.x_m"))
+        points.append({"name": name, "x_m": x,
+                       "y_m": c.plausible(c.number(p.get("y_m", 0.0), f"{key}.y_m"), f"{key}.y_m",
+                                          "outputs.carbody_points.y_m"),
+                       "height_m": c.plausible(c.number(p["height_m"], f"{key}.height_m"), f"{key}.height_m",
+                                               "outputs.carbody_points.height_m")})
     fm = c.array(o.get("formats", ["csv"]), "outputs.formats", min_length=1)
     for i, f in enumerate(fm):
         c.string(f, f"outputs.formats.{i}", FORMATS)
@@ -1154,11 +1189,6 @@ def _jsonable(o):
     raise TypeError(f"{type(o).__name__} is not JSON serialisable")
 
 
-_PLOTS = {"Y": ("lateral force Y, rail on wheel [kN]", 1e-3), "Q": ("wheel load Q [kN]", 1e-3),
-          "YQ": ("Y/Q (Y towards the field side)", 1.0), "wheelset_lateral": ("wheelset - rails lateral [mm]", 1e3),
-          "carbody": ("car-body acceleration [m/s²]", 1.0), "deck": (None, 1.0)}
-
-
 def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
     """Write ``timeseries.csv`` / ``.npz`` (the written groups), ``summary.json`` and the plots; returns the paths."""
     out = Path(out_dir)
@@ -1184,7 +1214,7 @@ def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
         json.dump(s, fh, indent=2, allow_nan=True, default=_jsonable)
     if o["plots"] and len(ts["time_s"]) > 1:
         for g in o["timeseries"]:
-            if g in _PLOTS and s["columns"].get(g):
+            if g in _FIGURES and s["columns"].get(g):
                 paths[f"plot_{g}"] = out / f"plot_{g}.png"
                 _plot_group(result, g, paths[f"plot_{g}"])
     return {k: str(v) for k, v in paths.items()}
@@ -1197,36 +1227,307 @@ def _pyplot():
     return plt
 
 
-def _plot_group(result: ScenarioResult, group: str, path) -> None:
-    plt = _pyplot()
+# ----------------------------------------------------------------------------------------------------- plots
+# What a plot shows (one quantity per axis, its unit in the label) and how the lines are named: wheelset j
+# (1 = leading) and the side as the user reads it.  Colours: one per side in the per-wheel plots, one per wheelset
+# (or car-body point) where the wheelsets share an axis.
+_SIDE_COLOUR = {"right": "C0", "left": "C3"}
+_SIDE_NOTE = "right/left: looking in the running direction (track y + right)"
+_WHEEL_COLUMN = re.compile(r"_w(\d+)_(right|left)")
+#: colour of the criteria's limit lines
+_LIMIT_COLOUR = "k"
+_FIG_WIDTH_IN = 12.0
+
+
+def _wheel_of(column: str) -> tuple[int, str]:
+    """(wheelset number, side) of a per-wheel column name (``Y_w2_left_N`` -> (2, "left"))."""
+    m = _WHEEL_COLUMN.search(column)
+    return int(m.group(1)), m.group(2)
+
+
+def _wheel_label(wheelset: int, side: str) -> str:
+    """Legend name of a wheel: ``"wheelset 1, right"`` (wheelsets numbered from 1 = leading)."""
+    return f"wheelset {wheelset}, {side}"
+
+
+def _run_title(s: dict) -> str:
+    run = s["scenario"]["run"]
+    return (f"{s['scenario_name']}: {s['model']['vehicle']}, {run['speed_km_h']:g} km/h, {run['solver']}, "
+            f"dt {run['dt_s'] * 1e3:g} ms, creep law {run['creep_law']}\nwheelset 1 = leading; {_SIDE_NOTE}")
+
+
+def _criteria_inputs(s: dict) -> dict:
+    """Limits and evaluation settings of the run's criteria: those the run applied (``summary["criteria"]``), or,
+    where the criteria were not evaluated, those it would have applied (the scenario's settings and the defaults
+    of :mod:`~..analysis.safety`)."""
+    from ..analysis import safety
+    o = s["scenario"]["outputs"]["criteria"]
+    ev = s.get("criteria") if isinstance(s.get("criteria"), dict) else {}
+    inp = ev.get("inputs", {})
+    return {"yq_limit": inp.get("yq_limit_en14363", o["yq_limit"]),
+            "unloading_limit": inp.get("unloading_limit", o["unloading_limit"]),
+            "window_m": inp.get("window_m_requested", safety.EN14363_WINDOW_M),
+            "lowpass_hz": inp.get("force_lowpass_hz", safety.EN14363_FORCE_LOWPASS_HZ),
+            "nadal_limit": inp.get("nadal_limit"),
+            "alpha": inp.get("prudhomme_alpha", safety.PRUDHOMME_ALPHA[o["vehicle"]]),
+            "criteria": ev.get("criteria", {})}
+
+
+def _sliding_2m(x: np.ndarray, t: np.ndarray, speed_m_s: float, ci: dict, ignore_nan: bool = False):
+    """The EN 14363 sliding mean over the criteria's window (2 m) of a series (already low-passed with
+    :func:`_lowpassed`), as :mod:`~..analysis.safety` evaluates it: (window centre times, means), or ``None`` when
+    the record is shorter than the window."""
+    from ..analysis import comfort
+    dt = float(t[1] - t[0])
+    try:
+        n = comfort.window_samples(ci["window_m"], speed_m_s, dt)
+        m = comfort.sliding_mean(x, n, ignore_nan=ignore_nan)
+    except ValueError:
+        return None
+    return t[: len(m)] + 0.5 * (n - 1) * dt, m
+
+
+def _lowpassed(x: np.ndarray, dt: float, ci: dict, name: str):
+    """The criteria's force low-pass (EN 14363: 20 Hz) of a series; ``ValueError`` if the record is too short."""
+    from ..analysis import comfort
+    if ci["lowpass_hz"] is None:
+        return x
+    return comfort.lowpass(x, dt, ci["lowpass_hz"], name=name)
+
+
+def _limit_line(ax, value: float, label: str, gid: str, style: str = "--") -> None:
+    ax.axhline(value, color=_LIMIT_COLOUR, ls=style, lw=1.3, label=label, gid=gid)
+
+
+def _wheelsets(cols) -> list[int]:
+    return sorted({_wheel_of(c)[0] for c in cols})
+
+
+def _per_wheelset_axes(plt, n_rows: int, title: str):
+    fig, axes = plt.subplots(n_rows, 1, figsize=(_FIG_WIDTH_IN, 1.2 + 2.1 * n_rows), sharex=True, squeeze=False,
+                             layout="constrained")
+    axes = axes[:, 0]
+    fig.suptitle(title, fontsize=8)
+    return fig, axes
+
+
+def _figure_Y(plt, result: ScenarioResult):
+    """Y per wheel, one axis per wheelset; below, the track shift force ΣY_2m per wheelset with Prud'homme's
+    limit (EN 14363) when the run has both wheels of a wheelset."""
+    from ..analysis.safety import prudhomme_limit_N
     s, ts = result.summary, result.timeseries
     t = ts["time_s"]
-    cols = s["columns"][group]
-    run = s["scenario"]["run"]
-    title = (f"{s['scenario_name']}: {s['model']['vehicle']}, {run['speed_km_h']:g} km/h, {run['solver']}, "
-             f"dt {run['dt_s'] * 1e3:g} ms, creep law {run['creep_law']}")
-    if group == "deck":
-        fig, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    cols = s["columns"]["Y"]
+    ci = _criteria_inputs(s)
+    ws = _wheelsets(cols)
+    both = [j for j in ws if f"Y_w{j}_right_N" in ts and f"Y_w{j}_left_N" in ts]
+    fig, axes = _per_wheelset_axes(plt, len(ws) + (1 if both else 0), _run_title(s))
+    for ax, j in zip(axes, ws):
         for c in cols:
-            ax = axes[0] if "deflection" in c else axes[1]
-            ax.plot(t, ts[c] * (1e3 if "deflection" in c else 1.0), lw=0.9, label=c)
-        axes[0].set(ylabel="mid-span deflection [mm] (+ down)", title=title)
-        axes[1].set(xlabel="time [s]", ylabel="mid-span acceleration [m/s²] (+ down)")
-        axes[0].title.set_fontsize(8)
-        for ax in axes:
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=7)
-    else:
-        ylabel, scale = _PLOTS[group]
-        if group == "carbody":
-            cols = [c for c in cols if "_acceleration_" in c]
-        fig, ax = plt.subplots(figsize=(9, 4.5))
+            if _wheel_of(c)[0] == j:
+                side = _wheel_of(c)[1]
+                ax.plot(t, ts[c] * 1e-3, color=_SIDE_COLOUR[side], lw=0.7, label=_wheel_label(j, side))
+        ax.set_ylabel("Y [kN]")
+    axes[0].set_title("Y: lateral force of the rail on the wheel, track y (+ right)", fontsize=8)
+    if both:
+        ax = axes[len(ws)]
+        dt = float(t[1] - t[0])
+        v = s["speed_m_s"]
+        limits = set()
+        for k, j in enumerate(both):
+            sum_y = -(ts[f"Y_w{j}_right_N"] + ts[f"Y_w{j}_left_N"])
+            try:
+                curve = _sliding_2m(_lowpassed(sum_y, dt, ci, "sum_Y_N"), t, v, ci)
+            except ValueError:
+                curve = None
+            if curve is not None:
+                ax.plot(curve[0], curve[1] * 1e-3, color=f"C{k}", lw=1.0, label=f"wheelset {j}")
+            q0 = 0.5 * (s["model"]["static_wheel_loads_N"][f"w{j}_right"] +
+                        s["model"]["static_wheel_loads_N"][f"w{j}_left"])
+            limits.add(round(prudhomme_limit_N(q0, ci["alpha"]), 6))
+        for lim in sorted(limits):
+            label = f"Prud'homme limit α(10 kN + 2Q₀/3) = ±{lim * 1e-3:.1f} kN"
+            _limit_line(ax, lim * 1e-3, label, "limit:prudhomme")
+            _limit_line(ax, -lim * 1e-3, None, "limit:prudhomme")
+        ax.set_ylabel("ΣY₂ₘ [kN]")
+        ax.set_title(f"track shift force ΣY₂ₘ = −(F_y,right + F_y,left), {ci['lowpass_hz']:g} Hz low-pass, "
+                     f"{ci['window_m']:g} m sliding mean (EN 14363), at the window centre", fontsize=8)
+    return fig, axes
+
+
+def _figure_Q(plt, result: ScenarioResult):
+    """Q per wheel, one axis per wheelset, with the static wheel load and the wheel-unloading limit
+    ΔQ/Q₀ as the wheel load Q = (1 − limit) Q₀ it allows."""
+    s, ts = result.summary, result.timeseries
+    t = ts["time_s"]
+    cols = s["columns"]["Q"]
+    ci = _criteria_inputs(s)
+    q_static = s["model"]["static_wheel_loads_N"]
+    ws = _wheelsets(cols)
+    fig, axes = _per_wheelset_axes(plt, len(ws), _run_title(s))
+    lim = ci["unloading_limit"]
+    for ax, j in zip(axes, ws):
+        statics = set()
         for c in cols:
-            ax.plot(t, ts[c] * scale, lw=0.8, label=c)
-        ax.set(xlabel="time [s]", ylabel=ylabel, title=title)
-        ax.title.set_fontsize(8)
+            jj, side = _wheel_of(c)
+            if jj == j:
+                ax.plot(t, ts[c] * 1e-3, color=_SIDE_COLOUR[side], lw=0.6, label=_wheel_label(j, side))
+                statics.add(round(q_static[f"w{j}_{side}"], 6))
+        for q0 in sorted(statics):
+            ax.axhline(q0 * 1e-3, color="0.4", ls=":", lw=1.0, label=f"static wheel load Q₀ = {q0 * 1e-3:.1f} kN",
+                       gid="static_wheel_load")
+            _limit_line(ax, (1.0 - lim) * q0 * 1e-3,
+                        f"wheel-unloading limit ΔQ/Q₀ = {lim:g} (Q = {(1.0 - lim) * q0 * 1e-3:.1f} kN)",
+                        "limit:wheel_unloading")
+        ax.set_ylabel("Q [kN]")
+    axes[0].set_title("Q: wheel load (vertical force of the rail on the wheel, + pressing)", fontsize=8)
+    return fig, axes
+
+
+def _figure_YQ(plt, result: ScenarioResult):
+    """Y/Q per wheel, one axis per wheelset: the instantaneous quotient (thin; the JNR criterion's limit, for
+    exceedances of at least its reference duration) and the EN 14363 quotient (Y, Q low-passed, 2 m sliding mean;
+    bold) with its limit; Nadal's limit when the run evaluated it."""
+    from ..analysis import safety
+    s, ts = result.summary, result.timeseries
+    t = ts["time_s"]
+    dt = float(t[1] - t[0])
+    cols = s["columns"]["YQ"]
+    ci = _criteria_inputs(s)
+    ws = _wheelsets(cols)
+    fig, axes = _per_wheelset_axes(plt, len(ws), _run_title(s))
+    for ax, j in zip(axes, ws):
+        for c in cols:
+            jj, side = _wheel_of(c)
+            if jj != j:
+                continue
+            ax.plot(t, ts[c], color=_SIDE_COLOUR[side], lw=0.5, alpha=0.45,
+                    label=f"{_wheel_label(j, side)}: Y/Q instantaneous")
+            y_col, q_col = f"Y_w{j}_{side}_N", f"Q_w{j}_{side}_N"
+            if y_col in ts and q_col in ts:
+                try:
+                    y = _lowpassed(safety.flange_lateral_force_N(ts[y_col], side), dt, ci, "Y_N")
+                    q = _lowpassed(ts[q_col], dt, ci, "Q_N")
+                    curve = _sliding_2m(safety.derailment_quotient(y, q), t, s["speed_m_s"], ci, ignore_nan=True)
+                except ValueError:
+                    curve = None
+                if curve is not None:
+                    ax.plot(curve[0], curve[1], color=_SIDE_COLOUR[side], lw=1.6,
+                            label=f"{_wheel_label(j, side)}: (Y/Q)₂ₘ (EN 14363)", gid=f"yq2m:w{j}_{side}")
+        if abs(ci["yq_limit"] - safety.JNR_YQ_LIMIT) < 1e-12:
+            _limit_line(ax, ci["yq_limit"], f"limit {ci['yq_limit']:g}: EN 14363 on (Y/Q)₂ₘ; JNR on Y/Q lasting "
+                        f"≥ {safety.JNR_DURATION_S * 1e3:g} ms", "limit:yq_en14363")
+        else:
+            _limit_line(ax, ci["yq_limit"], f"EN 14363 limit on (Y/Q)₂ₘ: {ci['yq_limit']:g}", "limit:yq_en14363")
+            _limit_line(ax, safety.JNR_YQ_LIMIT, f"JNR limit on Y/Q lasting ≥ {safety.JNR_DURATION_S * 1e3:g} ms: "
+                        f"{safety.JNR_YQ_LIMIT:g}", "limit:yq_jnr", style="-.")
+        if ci["nadal_limit"] is not None:
+            _limit_line(ax, ci["nadal_limit"], f"Nadal limit {ci['nadal_limit']:.3g}", "limit:nadal", style=":")
+        ax.set_ylabel("Y/Q [-]")
+    axes[0].set_title(f"Y/Q, Y towards the wheel's field side; (Y/Q)₂ₘ: {ci['lowpass_hz']:g} Hz low-pass, "
+                      f"{ci['window_m']:g} m sliding mean, at the window centre", fontsize=8)
+    return fig, axes
+
+
+def _figure_wheelset_lateral(plt, result: ScenarioResult):
+    s, ts = result.summary, result.timeseries
+    t = ts["time_s"]
+    fig, ax = plt.subplots(figsize=(_FIG_WIDTH_IN, 4.5), layout="constrained")
+    for c in s["columns"]["wheelset_lateral"]:
+        j = int(re.search(r"_w(\d+)_", c).group(1))
+        ax.plot(t, ts[c] * 1e3, color=f"C{(j - 1) % 10}", lw=0.9, label=f"wheelset {j}")
+    ax.set(xlabel="time [s]", ylabel="lateral displacement [mm]")
+    fig.suptitle(_run_title(s), fontsize=8)
+    ax.set_title("axle centre relative to the rails' centre line (+ right, looking in the running direction)",
+                 fontsize=8)
+    return fig, np.array([ax])
+
+
+def _point_label(p: dict) -> str:
+    x = p["x_m"]
+    where = {"front_bogie": "above the front bogie", "rear_bogie": "above the rear bogie",
+             "centre": "at the vehicle centre"}.get(x) if isinstance(x, str) else f"x = {x:g} m"
+    side = f", y = {p['y_m']:g} m" if p.get("y_m") else ""
+    return f"car body '{p['name']}' ({where}{side}, {p['height_m']:g} m above rail)"
+
+
+def _figure_carbody(plt, result: ScenarioResult):
+    """Lateral and vertical car-body acceleration (one axis each) of every car-body point; the criteria's
+    point also with the signal the comfort criteria evaluate, and their results (Sperling's Wz, the EN 14363
+    band-passed peak and RMS) written on the axis."""
+    s, ts = result.summary, result.timeseries
+    t = ts["time_s"]
+    ci = _criteria_inputs(s)
+    points = s["scenario"]["outputs"]["carbody_points"]
+    fig, axes = plt.subplots(2, 1, figsize=(_FIG_WIDTH_IN, 6.5), sharex=True, layout="constrained")
+    fig.suptitle(_run_title(s), fontsize=8)
+    for ax, direction in zip(axes, ("lateral", "vertical")):
+        assessed = ci["criteria"].get(f"carbody_{direction}", {}).get("column")
+        for k, p in enumerate(points):
+            c = f"carbody_{direction}_acceleration_{p['name']}_m_s2"
+            if c in ts:
+                ax.plot(t, ts[c], color=f"C{k}", lw=0.9, label=_point_label(p))
+            if assessed and assessed != c and assessed.endswith(f"_{p['name']}_m_s2"):
+                ax.plot(t, ts[assessed], color=f"C{k}", lw=0.7, ls="--",
+                        label=f"car body '{p['name']}', floor accelerometer (body axes, a − g)")
+        ax.set_ylabel(f"{direction} acceleration [m/s²]")
+        # the comfort criteria are numbers, not time series: their results are legend entries
+        sp = ci["criteria"].get(f"sperling_{direction}")
+        cb = ci["criteria"].get(f"carbody_{direction}")
+        if sp or cb:
+            what = "floor accelerometer" if "accelerometer" in assessed else "track frame"
+            name = next((p["name"] for p in points if assessed.endswith(f"_{p['name']}_m_s2")), assessed)
+            ax.plot([], [], " ", label=f"criteria on car body '{name}', {what}:")
+        if sp:
+            limit = "no limit set" if sp.get("limit") is None else f"limit {sp['limit']:g}"
+            ax.plot([], [], " ", gid=f"criteria:sperling_{direction}",
+                    label=f"  Sperling Wz = {sp['Wz']:.2f} ({sp['ride_quality']}; {limit})")
+        if cb:
+            lim = {k: v.get("limit") for k, v in cb.get("assessment", {}).items()}
+            limit = ("no limit set" if not any(v is not None for v in lim.values()) else
+                     ", ".join(f"{k} limit {v:g} m/s²" for k, v in lim.items() if v is not None))
+            ax.plot([], [], " ", gid=f"criteria:carbody_{direction}",
+                    label=f"  EN 14363 band-pass {cb['band_hz'][0]:g}–{cb['band_hz'][1]:g} Hz: peak "
+                          f"{cb['peak_m_s2']:.3f} m/s², RMS {cb['rms_m_s2']:.3f} m/s² ({limit})")
+    axes[0].set_title("acceleration: track frame (y right, z down), kinematic (no gravity)", fontsize=8)
+    return fig, axes
+
+
+def _figure_deck(plt, result: ScenarioResult):
+    s, ts = result.summary, result.timeseries
+    t = ts["time_s"]
+    fig, axes = plt.subplots(2, 1, figsize=(_FIG_WIDTH_IN, 6), sharex=True, layout="constrained")
+    fig.suptitle(_run_title(s), fontsize=8)
+    for c in s["columns"]["deck"]:
+        i = int(re.search(r"_s(\d+)_", c).group(1))
+        deflection = "deflection" in c
+        ax = axes[0] if deflection else axes[1]
+        ax.plot(t, ts[c] * (1e3 if deflection else 1.0), color=f"C{(i - 1) % 10}", lw=0.9, label=f"span {i}")
+    axes[0].set(ylabel="deflection [mm]")
+    axes[0].set_title("deck at mid-span, on the track centre line, vertical (+ down)", fontsize=8)
+    axes[1].set(ylabel="acceleration [m/s²]")
+    return fig, axes
+
+
+_FIGURES = {"Y": _figure_Y, "Q": _figure_Q, "YQ": _figure_YQ, "wheelset_lateral": _figure_wheelset_lateral,
+            "carbody": _figure_carbody, "deck": _figure_deck}
+
+
+def group_figure(result: ScenarioResult, group: str):
+    """The matplotlib figure of one column group (``plot_<group>.png``), not saved; returns (figure, axes)."""
+    plt = _pyplot()
+    fig, axes = _FIGURES[group](plt, result)
+    for ax in axes:
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=6, ncol=2)
-    fig.tight_layout()
+        handles, labels = ax.get_legend_handles_labels()
+        if handles:
+            ax.legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(1.005, 1.0), borderaxespad=0.0)
+    axes[-1].set_xlabel("time [s]")
+    return fig, axes
+
+
+def _plot_group(result: ScenarioResult, group: str, path) -> None:
+    plt = _pyplot()
+    fig, _ = group_figure(result, group)
     fig.savefig(path, dpi=100)
     plt.close(fig)
