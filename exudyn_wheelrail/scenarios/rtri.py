@@ -838,6 +838,17 @@ def _spans(ax, summary):
                label="rear bogie's leading wheelset on the deviation")
 
 
+def _passage(ax, summary, t_peak_s, y_plotted, text):
+    """The end of the passage window (the window of ``peaks_passage``: what ``rtri`` prints and the validation
+    report tabulates) and the passage peak, circled on the plotted curve (``y_plotted`` in the plot's unit)."""
+    c = summary["coverage"]
+    t_end = c["t_needed_with_run_out_s"]
+    if t_end <= c["t_end_s"]:
+        ax.axvline(t_end, color="0.3", ls=":", lw=1.0, label=f"end of the passage window ({t_end:.3f} s)")
+    ax.plot([t_peak_s], [y_plotted], "o", mfc="none", mec="k", ms=8, gid="passage_peak",
+            label=f"passage peak {text} at {t_peak_s:.3f} s")
+
+
 def _pyplot():
     import matplotlib
     matplotlib.use("Agg")
@@ -852,10 +863,16 @@ def plot_fig5(result: RtriResult, path):
     fig, ax = plt.subplots(figsize=(9, 4.5))
     _spans(ax, s)
     ax.plot(ts["time_s"], ts["carbody_lateral_acceleration_rear_m_s2"], "C0-", lw=1.0,
-            label="car body above rear bogie, floor level (track frame)")
+            label="car body above the rear bogie, floor level (track frame)")
     ax.plot(ts["time_s"], ts["carbody_lateral_accelerometer_rear_m_s2"], "C3-", lw=0.6, alpha=0.6,
             label="same point, body-fixed accelerometer (incl. g·roll)")
-    ax.set(xlabel="time [s]", ylabel="lateral acceleration [m/s²]", title=_title(s))
+    p = s.get("peaks_passage") or {}
+    if "time_of_max_carbody_acceleration_s" in p:
+        t_pk = p["time_of_max_carbody_acceleration_s"]
+        i = int(np.argmin(np.abs(ts["time_s"] - t_pk)))
+        _passage(ax, s, t_pk, ts["carbody_lateral_acceleration_rear_m_s2"][i],
+                 f"|a| = {p['max_abs_carbody_lateral_acceleration_rear_m_s2']:.3f} m/s²")
+    ax.set(xlabel="time [s]", ylabel="car-body lateral acceleration [m/s²]", title=_title(s))
     _finish(plt, fig, ax, path)
 
 
@@ -875,8 +892,15 @@ def plot_fig6(result: RtriResult, path):
                 label=f"{AVERAGE_WINDOW_S * 1e3:g} ms moving average")
     fl = ts["flange_contact_w1_right"] > 0.5
     if fl.any():
-        ax.plot(t[fl], ts["lateral_contact_force_w1_right_N"][fl] * 1e-3, "r.", ms=3, label="flange region in contact")
-    ax.set(xlabel="time [s]", ylabel="lateral contact force, w1 right [kN]", title=_title(s))
+        ax.plot(t[fl], ts["lateral_contact_force_w1_right_N"][fl] * 1e-3, "r.", ms=3,
+                label="flange region in contact")
+    p = s.get("peaks_passage") or {}
+    if "time_of_max_abs_lateral_force_10ms_avg_s" in p:
+        t_pk = p["time_of_max_abs_lateral_force_10ms_avg_s"]
+        k = int(np.argmin(np.abs(t[n - 1:] - 0.5 * (n - 1) * s["dt_s"] - t_pk)))
+        _passage(ax, s, t_pk, avg[k] * 1e-3, f"|Y| ({AVERAGE_WINDOW_S * 1e3:g} ms average) = "
+                 f"{p['max_abs_lateral_contact_force_w1_right_10ms_avg_N'] * 1e-3:.2f} kN")
+    ax.set(xlabel="time [s]", ylabel="Y, wheelset 1 (leading), right wheel [kN]", title=_title(s))
     _finish(plt, fig, ax, path)
 
 
@@ -963,6 +987,7 @@ def plot_fig7(rows, path):
     """Maximum car-body lateral acceleration vs speed, one line per span (cf. paper Fig. 7)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
+    flange_labelled = False
     for i, L in enumerate(sorted({r["span_m"] for r in rows})):
         sel = sorted((r for r in rows if r["span_m"] == L and r["status"] == "ok"), key=lambda r: r["speed_km_h"])
         if not sel:
@@ -973,8 +998,10 @@ def plot_fig7(rows, path):
         fl = [r for r in sel if r["flange_contact_w1_right"]]
         if fl:
             ax.plot([r["speed_km_h"] for r in fl], [r["max_abs_carbody_lateral_acceleration_rear_m_s2"] for r in fl],
-                    "s", mfc="none", mec="r", ms=10, label="flange contact (w1 right)" if i == 0 else None)
-    ax.set(xlabel="speed [km/h]", ylabel="max car-body lateral acceleration, rear [m/s²]",
+                    "s", mfc="none", mec="r", ms=10,
+                    label=None if flange_labelled else "flange contact (wheelset 1, right wheel)")
+            flange_labelled = True
+    ax.set(xlabel="speed [km/h]", ylabel="passage peak |a|, car body, rear [m/s²]",
            title="RTRI case — SUBSTITUTE inputs (Manchester vehicle 1, assumed δ, l_t)")
     ax.title.set_fontsize(9)
     ax.grid(True, alpha=0.3)
