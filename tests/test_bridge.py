@@ -204,6 +204,7 @@ def test_compiled_functions_agree_with_the_wrappers_and_finite_differences(span_
     state = np.empty(9)
     for s in (0.0, 3.3, 10.0, 19.99, L):
         assert modal_shape_at(s, *tab, out)
+        # exact by construction: shape_at runs the same compiled interpolation on the same inputs
         np.testing.assert_array_equal(out, span_modes.shape_at(s))
         assert modal_shape_and_slope_at(s, *tab, out, out_ds)
         assert rail_state_at(s, V, *tab, q, q_t, work, work_ds, state)
@@ -232,6 +233,13 @@ def test_compiled_functions_agree_with_the_wrappers_and_finite_differences(span_
 
 
 # ------------------------------------------------------------------------------------ (ii) moving force
+def newton_relative_tolerance():
+    """Relative residual tolerance of the implicit solver's Newton iteration in the library's simulation settings."""
+    from exudyn_wheelrail.multibody.vehicle_builder import simulation_settings
+
+    return simulation_settings(1.0, 1.0).timeIntegration.newton.relativeTolerance
+
+
 def _fryba_textbook(x, t, P, v, n_terms=60):
     """Frýba (1999, Ch. 1), undamped, force on the span: v0 Σ 1/(j²(j²-α²)) [sin jωt - α/j sin ω_j t] sin(jπx/L)."""
     v0 = 2 * P * L ** 3 / (math.pi ** 4 * SEC.EI_y_Nm2)
@@ -291,7 +299,12 @@ def test_ffrf_formulation_equals_the_modal_one_and_has_the_beam_inertia(span_mod
     ref = fryba_moving_force(L / 2, t, force_N=P, speed_m_s=v, span_m=L, EI_Nm2=SEC.EI_y_Nm2, m_kg_m=SEC.m_kg_m,
                              n_terms=60)
     assert np.max(np.abs(runs["ffrf"] - ref)) < 0.01 * np.max(np.abs(ref))
-    np.testing.assert_allclose(runs["ffrf"], runs["modal"], atol=1e-9 * np.max(np.abs(ref)))
+    # the same equations by two code paths: the modal run is linear (Newton exact in one iteration), the FFRF run's
+    # Newton stops once the residual has dropped by the relative tolerance, so each step's correction may be off by
+    # that fraction; summed over the run this is bounded by tolerance x total variation of the response (measured:
+    # 2.3e-10 of the peak, i.e. ~1e-4 of this bound; the exact agreement depends on the CPU's rounding)
+    np.testing.assert_allclose(runs["ffrf"], runs["modal"], rtol=0,
+                               atol=newton_relative_tolerance() * np.abs(np.diff(runs["modal"])).sum())
     # the rigid-body data Exudyn derived from the point mesh are those of the beam
     SC = exu.SystemContainer()
     mbs = SC.AddSystem()

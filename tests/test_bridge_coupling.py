@@ -263,6 +263,8 @@ def test_wheels_off_the_deck_see_the_rigid_track():
     np.testing.assert_array_equal(on, [1.0, 1.0, 0.0, 0.0])
     mbs0, contact0, _, q0, v0 = _vehicle_on_deck(deck_start_m=0.0, s_start_m=8.0, track=track, with_bridge=False)
     f0 = contact0.forces(q0, v0, 0.0).copy()
+    # exact by construction: off the deck the bridge path adds exact zero offsets and rotates by the identity, and
+    # each wheel is evaluated on its own by the same compiled code
     np.testing.assert_array_equal(f[12:24], f0[12:24])
     np.testing.assert_array_equal(contact.results[4:, :, :C.RES_DECK_Y], contact0.results[4:, :, :C.RES_DECK_Y])
     assert np.all(contact.results[4:, :, C.RES_DECK_Y:] == 0.0)
@@ -281,8 +283,12 @@ def test_wheels_off_the_deck_see_the_rigid_track():
         out.append(np.array(mbs.GetNodeOutput(node, exu.OutputVariableType.Coordinates)))
         if with_bridge:
             qb, vb = bridge.coordinates(mbs)
-            assert np.all(qb == 0.0) and np.all(vb == 0.0)
-    np.testing.assert_allclose(out[0], out[1], rtol=0, atol=1e-12)
+            assert np.all(qb == 0.0) and np.all(vb == 0.0)        # exact: unloaded, uncoupled, from rest
+    # two different systems (the bridge adds decoupled coordinates, so the linear solves may round differently and
+    # Newton may stop one iteration apart): equal to the Newton tolerance, relative to the wheelset's motion
+    # (bit-identical on the CPU this was written on)
+    tol = simulation_settings(1.0, 1.0).timeIntegration.newton.relativeTolerance
+    np.testing.assert_allclose(out[0], out[1], rtol=tol, atol=tol * np.abs(out[1][:3]).max())
     assert abs(out[0][1]) > 1e-5                                  # the irregularity moved the wheelset
 
 
@@ -339,7 +345,7 @@ def test_structured_jacobian_with_bridge_equals_column_by_column_differences():
         np.testing.assert_allclose(J_fine[:, j], ref, atol=1e-4 * scale)     # measured ≤ 1.9e-5
         checked += 1
     assert checked >= 6
-    # no coupling to the wheelsets off the deck (rear: rows/columns 12..23)
+    # no coupling to the wheelsets off the deck (rear: rows/columns 12..23): structural zeros, exact
     np.testing.assert_array_equal(J[12:24, 24:], 0.0)
     np.testing.assert_array_equal(J[24:, 12:24], 0.0)
 

@@ -34,8 +34,8 @@ from exudyn_wheelrail.profiles.profiles import RailProfile, WheelProfile
 
 # ---- tolerances (see the module docstring and each test for where they come from) ----------------------------
 PEN_TOL_M = 1e-7          # penetration / gap vs brute force: 0.1 µm (brute-force error ~1e-11 m)
-POS_TOL_M = 1e-5          # contact point vs brute force: 0.01 mm (the issue's target for convex contact)
-CONCAVE_POS_TOL_M = 5e-5  # concave search location vs its own criterion: 0.05 mm (the issue's concave target)
+POS_TOL_M = 1e-5          # contact point vs brute force: 0.01 mm (the accuracy target for convex contact)
+CONCAVE_POS_TOL_M = 5e-5  # concave search location vs its own criterion: 0.05 mm (the concave search's accuracy target)
 # Position is only checked where it is well conditioned.  Near an interior minimum the normal distance along the
 # wheel is d(s) = d* + (kappa_w + kappa_r)/2 (s - s*)^2, so a distance error eps (brute force: ~1e-11 m from the
 # nearest-sample projection) moves the located minimum by up to sqrt(2 eps / |kappa_w + kappa_r|): 4.5 µm at
@@ -92,7 +92,7 @@ def check_region_against_brute_force(setup, pose, out_row, reg, bf):
             assert np.hypot(*(pw - p_bf)) <= POS_TOL_M, (pose, reg, status, kappa_rel)
         return
     # concave search: the reported wheel point is either the maximum of the vertical overlap (the paper's criterion,
-    # within the issue's 0.05 mm), or — after the kernel's normal refinement — a local maximum of the normal
+    # within the 0.05 mm target), or — after the kernel's normal refinement — a local maximum of the normal
     # penetration that is deeper than the normal penetration at the vertical maximum (checked by brute force:
     # no wheel point within +-0.2 mm is deeper by more than the sampling noise)
     mv = max_vertical_overlap(cv, setup.pair.rail_side, pose)
@@ -117,7 +117,7 @@ def _uniform_pose(seed):
 # Hypothesis draws a seed and the pose is uniform in the box: drawing the three floats directly concentrates the
 # examples on 0 and the box edges (of 52 examples only 42 distinct poses, 16 with y = 0).  The edges and the
 # interesting spots are added as explicit examples.
-@settings(max_examples=50, deadline=None, derandomize=True, database=None,
+@settings(max_examples=50, deadline=None,
           suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2 ** 32 - 1))
 @example(seed=(-8e-3, -4e-3, 200e-6))
@@ -183,7 +183,10 @@ def test_warm_start_equals_global_search(s1002, y_range):
                 if og[w, r, K.F_STATUS] > 0:
                     n_contacts += 1
                     assert ow[w, r, K.F_STATUS] == og[w, r, K.F_STATUS]
-                    # both Newton runs stop on a step < 1e-11 m (quadratic convergence): agreement far below 1 nm
+                    # both Newton runs stop on a step < 1e-11 m (quadratic convergence, so the location error is
+                    # far smaller; Newton on the contact conditions is well conditioned for a convex pair, unlike a
+                    # search by distance values): points within 1e-10 m, the contact angle (the rail normal) within
+                    # kappa_r,max x 1e-11 m = 7.7e-10 rad
                     np.testing.assert_allclose(ow[w, r, fields], og[w, r, fields], rtol=0, atol=1e-10)
                     np.testing.assert_allclose(ow[w, r, K.F_CONTACT_ANGLE], og[w, r, K.F_CONTACT_ANGLE], atol=1e-9)
                     if i > 0:
@@ -234,11 +237,12 @@ def test_flange_only_contact(s1002):
 def test_centred_wheelset_left_equals_right(s1002):
     for z in (-0.46, -0.46 + 50e-6, -0.46 - 50e-6):
         out = s1002.contact.evaluate(np.array([[0.0, z, 0.0]]))
-        # side frames: the two wheels see bit-identical inputs; allow 1e-12 for any order-dependent rounding
-        np.testing.assert_allclose(out[0], out[1], rtol=0, atol=1e-12)
+        # exact by construction: in their side frames the two wheels have the same pose (up to the sign of a zero),
+        # each wheel is evaluated on its own by the same compiled code and the global search has no memory
+        np.testing.assert_array_equal(out[0], out[1])
 
 
-@settings(max_examples=30, deadline=None, derandomize=True, database=None)
+@settings(max_examples=30, deadline=None)
 @given(y=st.floats(-10e-3, 10e-3), dz=st.floats(-100e-6, 300e-6), roll=st.floats(-5e-3, 5e-3))
 def test_mirrored_pose_swaps_left_and_right(s1002, y, dz, roll):
     a = s1002.contact.evaluate(np.array([[y, -0.46 + dz, roll]])).copy()
@@ -309,7 +313,7 @@ def test_cone_factory_builds():
     assert wheel.tread.length > 0.09
 
 
-@settings(max_examples=60, deadline=None, derandomize=True, database=None)
+@settings(max_examples=60, deadline=None)
 @given(c_y=st.floats(-10e-3, 10e-3), roll=st.floats(-4e-3, 4e-3), pen=st.floats(-50e-6, 200e-6))
 def test_cone_on_crown_matches_closed_form(cone_pair, c_y, roll, pen):
     contact = WheelsetContact(cone_pair, global_search=True)
@@ -365,8 +369,9 @@ def test_cone_rigid_sweep_and_conicity(cone_pair):
     exact = np.array([_rigid_cone(y) for y in ys])
     # every contact is on the tread (the dummy "flange" piece never touches)
     assert {r["region"] for r in sweep.rows} == {"tread"}
-    np.testing.assert_allclose(sweep.delta_r_m, exact[:, 2], rtol=0, atol=1e-7)     # the issue's target, 1e-7 m
-    # the sweep's Newton stops at penetrations < 1e-10 m: z within ~1e-10 / cos(gamma), roll within ~1e-10/0.75
+    np.testing.assert_allclose(sweep.delta_r_m, exact[:, 2], rtol=0, atol=1e-7)     # the accuracy target, 1e-7 m
+    # the sweep's Newton stops at penetrations < 1e-12 m: z within ~1e-12 / cos(gamma), roll within ~1e-12 / 0.75;
+    # 1e-9 also covers the closed form's root (xtol 1e-14) and the curves' fit error (~1e-16 m for a line, a circle)
     np.testing.assert_allclose(sweep.z_m, exact[:, 0], rtol=0, atol=1e-9)
     np.testing.assert_allclose(sweep.roll_rad, exact[:, 1], rtol=0, atol=1e-9)
     # equivalent conicity at 3 mm: swept vs closed form sampled 200 times denser; with |dDelta r| <= 1e-7 m the

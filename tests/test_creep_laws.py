@@ -458,6 +458,7 @@ def test_compiled_cores_usable_from_njit():
     from exudyn_wheelrail.creep.linear import fastsim_spin_moment_coefficient
     C33 = fastsim_spin_moment_coefficient(a / b, NU)
     args = (a, b, 1e-3, -2e-3, 0.4, N, MU, G)
+    # exact by construction: the wrappers call the cores with these coefficients
     assert she_core(*args, C11, C22, C23, C33) == shen_hedrick_elkins(*args, NU)
     assert polach_core(*args, C11, C22, C23, C33, 1.0, 1.0) == polach(*args, NU)
 

@@ -7,7 +7,7 @@ the profiles (flange clearance, published conicity range).
 Contact jumps of this pair, located with 5 µm sweeps and the brute force (jump between the two listed shifts):
 ``|y|`` 0.205 -> 0.210 mm (right-wheel contact from y_wheel = +3 mm to -8.5 mm), 4.845 -> 4.850 mm (-17 -> -28 mm on
 the wheel), 6.250 -> 6.255 mm (tread next to
-the throat -> flange flank, contact angle 0.67 -> 1.22 rad).  The issue quoted them as "near 0.5, 5 and 6.5 mm";
+the throat -> flange flank, contact angle 0.67 -> 1.22 rad).  They are commonly quoted as "near 0.5, 5 and 6.5 mm";
 the tests below bracket the measured positions and check the bracket (the main contact moves by more than 1 mm
 inside it).
 """
@@ -22,8 +22,9 @@ from brute_force import FastRailDistance, deepest_point
 from exudyn_wheelrail.analysis.conicity import equivalent_conicity
 from exudyn_wheelrail.analysis.geometry_functions import solve_rigid_contact, CSV_COLUMNS, contact_geometry_sweep
 from exudyn_wheelrail.contact import kernel as K
+from exudyn_wheelrail.contact.normal import hertz_from_force
 from exudyn_wheelrail.contact.pair import WheelRailPair
-from exudyn_wheelrail.contact.wheelset import WheelsetContact
+from exudyn_wheelrail.contact.wheelset import SIDES, SLOT_REGIONS, WheelsetContact
 
 Y_GRID = np.round(np.arange(-20, 21) * 0.5e-3, 12)          # -10 .. +10 mm, 0.5 mm
 JUMP_BRACKETS_MM = [(0.205, 0.210), (4.845, 4.855), (6.250, 6.255)]   # see the module docstring
@@ -55,23 +56,136 @@ def main_row(rows, side):
 
 
 # ---- 6. both directions, brute-force rigid check, hysteresis of a warm-start sweep -------------------------------
-def test_sweep_up_and_down_identical(sweeps):
+# What two runs of the sweep may differ by (rounding, a different Newton start, a different search path), derived
+# from the conditioning of each output, not from what one CPU printed.
+#
+# * Pose (z, roll): the rigid Newton stops when both penetrations are below 1e-12 m.  Its Jacobian has
+#   d(delta)/dz = cos(gamma) >= cos(1.25 rad) = 0.32 on a flange and ~1 on the other (tread) wheel, and
+#   d(delta)/d(roll) = +-(lever ~0.75 m), so each run is within ~1.5e-12 (m, rad) of the exact pose; two runs differ
+#   by ~3e-12.  POSE_TOL is three times that bound.
+# * Contact location: at a rigid touch the penetration is ~1e-17 m, so whether the kernel reports the point from
+#   the convex Newton (step 1e-11 m) or from the concave search (the deepest point by comparing distance values,
+#   golden section down to 1e-10 m) is decided by rounding.  Comparing values locates a minimum of
+#   d(s) = d* + kappa_rel / 2 (s - s*)^2 only to sqrt(2 EPS_DISTANCE / kappa_rel), kappa_rel = kappa_w + kappa_r:
+#   5e-8 m on the S1002/UIC60 tread at y = 0 (kappa_rel = 0.76 1/m), where the overlap is flat to 1e-15 m over
+#   1e-7 m.  A pose error moves the point by d(roll) / kappa_rel (slope change) plus the translation times
+#   max|kappa| / kappa_rel.  The location is compared only where kappa_rel >= MIN_KAPPA_REL_FOR_POSITION.
+# * Everything reported at the location (profile coordinates, contact angle, rolling radius, Hertz semi-axes) may
+#   differ by its own change over that location uncertainty, evaluated below with the kernel's output routine at
+#   the perturbed surface parameters.  The gap is well posed (second order in the location, first order in the
+#   pose with a Lipschitz constant of 1), and so is Delta r up to sin(gamma) times the location uncertainty.
+POSE_TOL = 1e-11                 # [m] for z, [rad] for the roll (see above)
+EPS_DISTANCE_M = 1e-15           # rounding of a normal distance: ~10 roundings of metre-sized side-frame coordinates
+SEARCH_STOP_M = 1e-10            # the coarsest stopping tolerance on a location (golden section of the concave search)
+LEVER_M = 1.0                    # bound of the distance of a wheel point from the axle centre (S1002 at r0 0.46 m)
+GAP_TOL_M = POSE_TOL * (1.0 + LEVER_M) + 4 * EPS_DISTANCE_M   # 1-Lipschitz in the pose, second order in location
+TWO_POINT_TOLERANCE_M = 1e-6     # contact_geometry_sweep's default: a second point with a smaller gap is listed
+LOCATION_FIELDS = ("y_rail_m", "y_wheel_m", "contact_angle_rad", "rolling_radius_m", "a_m", "b_m")
+
+
+def _slot(contact, out, w, row):
+    """Kernel output slot of a sweep row (the region name is shared by the two tread slots: match the point)."""
+    slots = [k for k, name in enumerate(SLOT_REGIONS)
+             if name == row["region"] and out[w, k, K.F_STATUS] != K.STATUS_NO_OVERLAP]
+
+    def y_wheel(k):
+        return contact.pair.profile_coordinates(out[w, k, K.F_S_WHEEL], out[w, k, K.F_S_RAIL])[0]
+
+    return min(slots, key=lambda k: abs(y_wheel(k) - row["y_wheel_m"]))
+
+
+def _fields_at(contact, out_row, w, slot, s_w, s_r, side_pose, wheel_load_N=10e3):
+    """The location-dependent columns of a sweep row for a contact at surface parameters (s_w, s_r): the kernel's
+    own output routine, then the same Hertz call as the sweep (nominal load Q / cos(gamma))."""
+    scratch = np.zeros((1, K.N_SLOTS, K.N_FIELDS))
+    c_y, c_z, roll = side_pose
+    # curve_ids[w] = (rail, tread, flange); slots 0 and 2 are tread points, slot 1 the flange point
+    rail, wheel = contact.curve_ids[w, 0], contact.curve_ids[w, 2 if SLOT_REGIONS[slot] == "flange" else 1]
+    K._fill(scratch, 0, slot, int(out_row[K.F_STATUS]), s_w, s_r, contact.nodes, contact.meta, int(rail), int(wheel),
+            c_y, c_z, np.cos(roll), np.sin(roll), 0, contact.params)
+    o = scratch[0, slot]
+    _, a, b, _ = hertz_from_force(o[K.F_A_REL], o[K.F_B_REL], contact.E_star,
+                                  wheel_load_N / max(np.cos(o[K.F_CONTACT_ANGLE]), 1e-3))
+    y_wheel, y_rail = contact.pair.profile_coordinates(s_w, s_r)
+    return dict(y_rail_m=y_rail, y_wheel_m=y_wheel, contact_angle_rad=o[K.F_CONTACT_ANGLE],
+                rolling_radius_m=o[K.F_ROLLING_RADIUS], a_m=a, b_m=b)
+
+
+def run_to_run_tolerances(pair, sweep):
+    """Per row (y, side, region): the tolerance of every numeric column for a second run of the same sweep, or no
+    entry for the location columns where kappa_rel is too small to locate the point.  See the comment above."""
+    contact = WheelsetContact(pair, global_search=True)
+    assert contact.params[K.P_WHEEL_LEVER] <= LEVER_M
+    tols, skipped = {}, []
+    for i, y in enumerate(sweep.y_m):
+        pose = np.array([[y, sweep.z_m[i], sweep.roll_rad[i]]])
+        out = contact.evaluate(pose).copy()              # the global search depends on the pose only: as in the sweep
+        side_poses = contact.side_poses(pose).copy()
+        for row in (r for r in sweep.rows if r["y_m"] == y):
+            w = SIDES.index(row["side"])
+            slot = _slot(contact, out, w, row)
+            o = out[w, slot]
+            kw, kr = o[K.F_KW_LAT], o[K.F_KR_LAT]
+            tol = dict(z_m=POSE_TOL, roll_rad=POSE_TOL, gap_m=GAP_TOL_M)
+            kappa_rel = kw + kr
+            if kappa_rel >= MIN_KAPPA_REL_FOR_POSITION:
+                # one run's location error; two runs differ by up to twice that
+                delta = (np.sqrt(2 * EPS_DISTANCE_M / kappa_rel) + SEARCH_STOP_M
+                         + (POSE_TOL + (abs(kw) + abs(kr)) * POSE_TOL * (1.0 + LEVER_M)) / kappa_rel)
+                here = _fields_at(contact, o, w, slot, o[K.F_S_WHEEL], o[K.F_S_RAIL], side_poses[w])
+                # the sensitivity model evaluates the row's own numbers (same routines, inputs; rtol: a few ulp in
+                # case a compiler contracts the arithmetic differently in the two call sites)
+                assert all(here[c] == pytest.approx(row[c], rel=1e-14) for c in LOCATION_FIELDS), (row, here)
+                for dw in (-2 * delta, 2 * delta):
+                    for dr in (-2 * delta, 2 * delta):
+                        there = _fields_at(contact, o, w, slot, o[K.F_S_WHEEL] + dw, o[K.F_S_RAIL] + dr, side_poses[w])
+                        for c in LOCATION_FIELDS:
+                            # + 4 ulp of the value for the rounding of the output itself
+                            spread = abs(there[c] - here[c]) + 4 * np.spacing(abs(here[c]))
+                            tol[c] = max(tol.get(c, 0.0), spread)
+            else:
+                skipped.append((y, row["side"], row["region"]))
+            tols[(y, row["side"], row["region"])] = tol
+    # Delta r = r_right - r_left of the main contacts: the sum of the two rolling-radius tolerances
+    rows = rows_by_y(sweep)
+    for y in sweep.y_m:
+        main = [main_row(rows[y], side) for side in SIDES]
+        dr_tol = sum(tols[(y, m["side"], m["region"])].get("rolling_radius_m", np.inf) for m in main)
+        for key in tols:
+            if key[0] == y:
+                tols[key]["delta_r_m"] = dr_tol
+    return tols, skipped
+
+
+@pytest.fixture(scope="module")
+def up_tolerances(pair, sweeps):
+    return run_to_run_tolerances(pair, sweeps[0])
+
+
+def test_sweep_up_and_down_identical(sweeps, up_tolerances):
+    # the sweep is global at every shift, so the direction (and the Newton start for z, roll) must not matter: the
+    # same contact points, and every number within what two runs may differ by (tolerances: see above)
     up, down = sweeps
-    # the sweep is global at every shift, so the direction (and the Newton start for z, roll) must not matter; the
-    # (z, roll) Newton stops at penetrations < 1e-10 m, so 1e-9 bounds every length and the roll in the rows
-    np.testing.assert_allclose(up.delta_r_m, down.delta_r_m[::-1], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(up.z_m, down.z_m[::-1], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(up.roll_rad, down.roll_rad[::-1], rtol=0, atol=1e-9)
+    tols, skipped = up_tolerances
+    assert len(skipped) <= len(tols) // 10, skipped      # the location is checked almost everywhere (now: everywhere)
+    np.testing.assert_allclose(up.z_m, down.z_m[::-1], rtol=0, atol=POSE_TOL)
+    np.testing.assert_allclose(up.roll_rad, down.roll_rad[::-1], rtol=0, atol=POSE_TOL)
+    dr_tol = np.array([tols[next(k for k in tols if k[0] == y)]["delta_r_m"] for y in up.y_m])
+    assert np.all(np.abs(up.delta_r_m - down.delta_r_m[::-1]) <= dr_tol)
     ru, rd = rows_by_y(up), rows_by_y(down)
     assert sorted(ru) == sorted(rd) and len(ru) == len(Y_GRID)
     for y in ru:
-        assert set(ru[y]) == set(rd[y]), y                  # the same contact points (incl. two-point shifts)
-        for key in ru[y]:
+        # the same contact points (incl. two-point shifts), except a second point whose gap is within rounding of
+        # the sweep's two-point threshold (none on this grid: the second points' gaps are below 1e-12 m)
+        for key in set(ru[y]) ^ set(rd[y]):
+            row = ru[y].get(key) or rd[y].get(key)
+            assert abs(row["gap_m"] - TWO_POINT_TOLERANCE_M) <= GAP_TOL_M, (y, key, row["gap_m"])
+        for key in set(ru[y]) & set(rd[y]):
+            tol = tols[(y, *key)]
             for c in NUMERIC:
-                # the contact angle is the rail normal's direction: 1e-9 m along a rail of curvature up to
-                # 77 1/m (R13 gauge corner) turns it by 7.7e-8 rad (measured: 1.0e-8 rad at y = -7 mm)
-                tol = 1e-7 if c == "contact_angle_rad" else 1e-9
-                assert ru[y][key][c] == pytest.approx(rd[y][key][c], abs=tol), (y, key, c)
+                if c in tol:
+                    diff = abs(ru[y][key][c] - rd[y][key][c])
+                    assert diff <= tol[c], (y, key, c, ru[y][key][c], rd[y][key][c], tol[c])
 
 
 def _bf_shifts():
@@ -165,13 +279,15 @@ def test_two_local_solutions_exist_where_a_warm_newton_would_hysterese(pair):
 
 
 # ---- 7. physics sanity ---------------------------------------------------------------------------------------------
-def test_delta_r_is_odd_and_z_even(sweeps):
+def test_delta_r_is_odd_and_z_even(sweeps, up_tolerances):
     up, _ = sweeps
+    tols, _ = up_tolerances
     # mirror symmetry of wheelset and track: Delta r(-y) = -Delta r(y), z(-y) = z(y), roll(-y) = -roll(y); each
-    # computed by its own Newton (1e-10 m penetration tolerance) -> 1e-9
-    np.testing.assert_allclose(up.delta_r_m, -up.delta_r_m[::-1], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(up.z_m, up.z_m[::-1], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(up.roll_rad, -up.roll_rad[::-1], rtol=0, atol=1e-9 / 0.75)
+    # computed by its own Newton, so they agree within what two runs may (see POSE_TOL and run_to_run_tolerances)
+    dr_tol = np.array([tols[next(k for k in tols if k[0] == y)]["delta_r_m"] for y in up.y_m])
+    assert np.all(np.abs(up.delta_r_m + up.delta_r_m[::-1]) <= dr_tol)
+    np.testing.assert_allclose(up.z_m, up.z_m[::-1], rtol=0, atol=POSE_TOL)
+    np.testing.assert_allclose(up.roll_rad, -up.roll_rad[::-1], rtol=0, atol=POSE_TOL)
     # and it increases (restoring) -- monotone on the grid
     assert np.all(np.diff(up.delta_r_m) > 0)
 

@@ -2,7 +2,7 @@
 
 References: the online kernel in global mode (brute-force scan + Newton) at the same poses; the table's own
 construction (exact at its nodes); the connector with geometry="online" on the same short RTRI run.
-Tolerances are stated with each test and come from the measurements in the closing note of issue 6 (default grid
+Tolerances are stated with each test and come from measurements of the table against the online search (default grid
 0.1 mm x 0.5 mrad; conformal tread contact on S1002/UIC60 moves by millimetres per milliradian of roll, which is
 where the table differs most).
 """
@@ -79,7 +79,7 @@ def test_table_is_exact_at_its_nodes(setup):
 
 def test_normal_force_against_online_search_off_the_nodes(setup):
     """Random poses between the nodes: c_y within ±12 mm (tread to flange contact), roll ±3 mrad, penetration
-    from lift-off to about three times the static one.  Measured (issue 6 note): 90 % of the poses within 0.5 %
+    from lift-off to about three times the static one.  Measured: 90 % of the poses within 0.5 %
     of max(N, 50 kN), RMS 4 %; the outliers are conformal-tread and tread/flange two-point poses where the online
     kernel's own answer jumps between zones."""
     kc, tab = setup

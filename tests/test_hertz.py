@@ -217,7 +217,7 @@ def test_equivalent_sphere_approximation_mild_ellipticity(ratio, tol):
     assert delta < (9.0 * N**2 / (16.0 * Re * Es**2)) ** (1.0 / 3.0)  # the approximation overestimates
 
 
-@settings(max_examples=200, deadline=None, database=None)
+@settings(max_examples=200, deadline=None)
 @given(lA=st.floats(-3.0, 4.0), lB=st.floats(-3.0, 4.0), ldelta=st.floats(-9.0, -3.0))
 def test_symmetry_swap(lA, lB, ldelta):
     A, B, delta, Es = 10.0**lA, 10.0**lB, 10.0**ldelta, 1.1e11
@@ -232,7 +232,7 @@ def test_symmetry_swap(lA, lB, ldelta):
         assert a1 <= b1
 
 
-@settings(max_examples=200, deadline=None, database=None)
+@settings(max_examples=200, deadline=None)
 @given(lA=st.floats(-1.0, 2.5), lr=st.floats(-2.8, 2.8), ldelta=st.floats(-8.0, -3.0))
 def test_derivative_and_round_trip(lA, lr, ldelta):
     A, B, delta, Es = 10.0**lA, 10.0 ** (lA + lr), 10.0**ldelta, 1.1e11

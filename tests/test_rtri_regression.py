@@ -8,8 +8,9 @@ Tolerances (fail on drift):
 * the peak |lateral contact force| of the leading right wheel, the peak car-body lateral acceleration and the peak
   lateral excursion of the leading wheelset within 1 %;
 * RMS of the difference of each of these time series within 2 % of the reference peak;
-* the flange-contact flag of the leading right wheel: the number of steps in contact within ±1 and the first step
-  identical (±1 step).
+* the flange-contact flag of the leading right wheel: the first step in contact within ±1 step, the number of steps
+  in contact within ±2 per contact episode (each episode's start and end are threshold crossings; rounding or a
+  different Newton stop may move either by one step).
 """
 import csv
 import json
@@ -72,5 +73,6 @@ def test_flange_contact_unchanged(fresh_and_reference):
     fresh, ref_ts, _ = fresh_and_reference
     new = fresh.timeseries["flange_contact_w1_right"] > 0.5
     old = ref_ts["flange_contact_w1_right"] > 0.5
-    assert abs(int(new.sum()) - int(old.sum())) <= 1
+    episodes = int(np.count_nonzero(np.diff(old.astype(int)) == 1) + old[0])
+    assert abs(int(new.sum()) - int(old.sum())) <= 2 * episodes
     assert new.any() and abs(int(np.argmax(new)) - int(np.argmax(old))) <= 1

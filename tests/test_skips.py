@@ -1,4 +1,4 @@
-"""Each thing the contact evaluation skips changes the results by less than a stated tolerance (issue 6, item 3).
+"""Each thing the contact evaluation skips changes the results by less than a stated tolerance.
 
 Runs the RTRI 20 m case at 250 km/h for 450 steps of 1 ms with RK44 (the leading bogie enters the span, the
 lateral force builds up) with and without each skip, and compares the lateral contact force of wheelset 1's right

@@ -51,6 +51,8 @@ def test_manchester_file_matches_the_published_table():
     text = (SHARED_REFERENCE / "manchester_vehicle1.md").read_text()
     v = load_vehicle("manchester_vehicle1")
     assert "Iwnicki" in v.source
+    # Exact comparisons below are exact by construction: the data file and the reference print the same decimals,
+    # and the TOML reader, float() and the literals here all give the correctly rounded double of a decimal.
     for label, body in (("wheelset", v.wheelset), ("bogie frame", v.bogie_frame), ("car body", v.car_body)):
         m, ixx, iyy, izz, h = _md_numbers(text, label)[:5]
         assert (body.mass_kg, body.Ixx_kg_m2, body.Iyy_kg_m2, body.Izz_kg_m2, body.cg_height_m) == (m, ixx, iyy, izz, h)
@@ -60,8 +62,13 @@ def test_manchester_file_matches_the_published_table():
     assert list(v.secondary.damping_N_s_per_m) == [0.0, 32e3, 20e3]
     assert (v.secondary.yaw_stiffness_N_m_per_rad, v.secondary.anti_roll_stiffness_N_m_per_rad) == (10.5e3, 940e3)
     table = re.search(r"force \[N\] vs deflection \[mm\]:\s*(.*?)\(antisymmetric\)", text, re.S).group(1)
-    pairs = [(float(a) * 1e-3, float(b)) for a, b in re.findall(r"(\d+)→(\d+)", table)]
-    assert list(zip(v.bump_stop.displacement_m, v.bump_stop.force_N)) == pytest.approx(pairs)
+    published = np.array([(float(a), float(b)) for a, b in re.findall(r"(\d+)→(\d+)", table)])   # [mm], [N]
+    assert published.shape == (8, 2)
+    # the table is transcribed exactly (to the printed digits): the forces are integers, exact in binary; the file's
+    # metres and mm / 1000 are each the correctly rounded double of the same decimal, so one unit in the last place
+    # (rtol = machine epsilon) is all a conversion may differ by
+    np.testing.assert_allclose(v.bump_stop.displacement_m, published[:, 0] / 1000.0, rtol=np.finfo(float).eps, atol=0)
+    np.testing.assert_array_equal(v.bump_stop.force_N, published[:, 1])
     assert v.bump_stop.clearance_m == pytest.approx(0.025)
     g = v.geometry
     assert (g.r0_m, g.back_to_back_m, g.semi_wheelbase_m, g.semi_bogie_centre_distance_m) == (0.46, 1.360, 1.28, 9.5)

@@ -113,5 +113,8 @@ def test_lift_off_and_re_contact_over_a_vertical_bump():
         assert lift.peak > 1e-3                           # a gap of millimetres in the flight
         assert 54e3 < wheel.max_normal_force_N < 1e8      # the landing impact: large, finite
     r0, l0 = (w.lift_offs[0] for w in m.monitor.wheels)
-    assert (r0.start_s, r0.end_s) == (l0.start_s, l0.end_s)
+    # mirror-symmetric model and excitation: both wheels lift and land at the same step; the events are detected on
+    # the 0.1 ms step grid, so a rounding-level asymmetry at a threshold crossing may move one of them by a step
+    dt = 1e-4
+    assert abs(r0.start_s - l0.start_s) <= 1.01 * dt and abs(r0.end_s - l0.end_s) <= 1.01 * dt
     assert not m.monitor.events_of("derailment") and not m.monitor.events_of("invalid_state")
