@@ -76,13 +76,66 @@ def test_40m_span_has_no_flange_contact(short_runs):
     assert p["flange_contact_w1_right_duration_s"] == 0.0
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "paper finding NOT reproduced with the stated assumptions (delta 10 mm, l_t 3 m, Manchester vehicle 1, 250 "
-    "km/h): the leading wheelset reaches 6.24 mm relative to the track, the flange-flank contact jump of S1002/UIC60 "
-    "1:40 is at 6.25 mm, so the contact stays on the flange root (tread region, angle <= 0.56 rad). With delta >= "
-    "11 mm or l_t <= 1.5 m the flange region is hit (sensitivity runs; the defaults are not tuned)."))
-def test_20m_span_gives_a_flange_contact(short_runs):
-    assert short_runs[20.0].summary["peaks"]["flange_contact_w1_right"]
+#: The deviation amplitude at which the paper's flange impact at 20 m is asserted.  The sensitivity sweep
+#: (benchmarks/rtri_sensitivity.py, results/rtri_sensitivity.*; Newmark 1 ms, RK44 1 ms and Newmark 0.5 ms agree)
+#: puts the threshold of a flange-flank contact at 20 m between δ = 11 and 12 mm for l_t = 1-3 m and between 12 and
+#: 13 mm for l_t = 6 m; 14 mm (end rotation π δ / L = 2.2 mrad on 20 m, inside the 1.5-3.5 mrad range of deck-end
+#: rotation limits) is at least 2 mm above it for l_t <= 3 m (1 mm for l_t up to 6 m), and the 40 m span then stays
+#: at least 1.08 mm short of its flanges.
+FLANGE_FINDING_DELTA_M = 0.014
+
+
+@pytest.fixture(scope="module")
+def larger_deviation_runs():
+    """As ``short_runs`` with δ = FLANGE_FINDING_DELTA_M."""
+    return {L: run_rtri(RtriCase(span_m=L, speed_km_h=V_REP, solver="newmark", steps=short_steps(L),
+                                 deviation_amplitude_m=FLANGE_FINDING_DELTA_M)) for L in (20.0, 40.0)}
+
+
+@pytest.fixture(scope="module")
+def flange_flank_jump_m():
+    """The lateral shift at which the rigid contact of the case's wheel/rail pair (S1002 / UIC60 1:40, gauge 1.435 m,
+    back-to-back 1.360 m) jumps to the flange flank of the right wheel: the contact-geometry sweep, bisected."""
+    from exudyn_wheelrail.analysis.geometry_functions import contact_geometry_sweep
+    from exudyn_wheelrail.contact.pair import WheelRailPair
+
+    pair = WheelRailPair("S1002", "UIC60", gauge_m=1.435, inclination="1/40", back_to_back_m=1.360, r0_m=0.46)
+
+    def on_flange(y):
+        rows = contact_geometry_sweep(pair, np.array([y])).rows
+        right = [r for r in rows if r["side"] == "right"]
+        deepest = min(right, key=lambda r: r["gap_m"])
+        return deepest["region"] == "flange"
+
+    lo, hi = 0.004, 0.009
+    assert not on_flange(lo) and on_flange(hi)
+    while hi - lo > 1e-6:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if on_flange(mid) else (mid, hi)
+    return hi
+
+
+def test_20m_span_gives_a_flange_contact_above_the_threshold_deviation(larger_deviation_runs):
+    """The paper's findings together, strictly, at δ = 14 mm: a flange contact at 20 m, none at 40 m, and a lateral
+    force at 20 m at least twice that at 40 m (raw and 10 ms-averaged peaks)."""
+    p20, p40 = larger_deviation_runs[20.0].summary["peaks"], larger_deviation_runs[40.0].summary["peaks"]
+    assert larger_deviation_runs[20.0].summary["status"] == "ok"
+    assert p20["flange_contact_w1_right"] and p20["flange_contact_w1_right_duration_s"] > 0.0
+    assert not p40["flange_contact_w1_right"] and not p40["flange_contact_w1_left"]
+    for key in ("max_abs_lateral_contact_force_w1_right_N", "max_abs_lateral_contact_force_w1_right_10ms_avg_N"):
+        assert p20[key] >= MUCH_LARGER * p40[key], key
+
+
+def test_with_the_stated_deviation_the_20m_run_stays_short_of_the_flange_flank(short_runs, flange_flank_jump_m):
+    """With the stated δ = 10 mm the leading wheelset does NOT reach the flange flank at 20 m: the paper's flange
+    impact is not reproduced there (the margin, about 0.36 mm, is stated in rtri_assumptions.py).  Asserted both
+    ways so that a change of the physics that moves the threshold across the stated δ is seen: the largest excursion
+    relative to the track lies between 0.1 mm and 1 mm short of the quasi-static flange-flank jump (the dynamic
+    contact may touch the flank slightly beyond it, so only 'short of the jump' is conclusive)."""
+    p = short_runs[20.0].summary["peaks"]
+    margin = p["max_abs_wheelset1_lateral_rel_track_m"] - flange_flank_jump_m
+    assert -1e-3 < margin < -1e-4, margin
+    assert not p["flange_contact_w1_right"]
 
 
 # ------------------------------------------------------------------------- closed forms and consistency
