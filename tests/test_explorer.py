@@ -9,8 +9,6 @@ References, independent of the code under test:
   cheaper settings (RK44 1 ms, passage window) must agree within the tolerances stated in explorer.py;
 * the vehicle file (the overridden values must reach the model; unknown keys must be refused).
 """
-import os
-import statistics
 
 import matplotlib
 import numpy as np
@@ -28,12 +26,8 @@ from exudyn_wheelrail.scenarios.rtri import RtriCase, build_rtri, run_rtri  # no
 TOL_ACCELERATION = 0.02
 TOL_FORCE_AVERAGED = 0.05
 TOL_FORCE_RAW = 0.15
-#: the update-time target is 1 s on the RTRI case; the check allows 2x (the measured times are in the README and
-#: benchmarks).  A wall-clock limit says as much about the machine and its load as about the code, so it runs only
-#: when asked for: WHEELRAIL_TIMING=1 python -m pytest tests/test_explorer.py (the machine-independent part, the
-#: explorer being cheaper than the full run it replaces, is always checked)
-UPDATE_LIMIT_S = 2.0
-TIMING = os.environ.get("WHEELRAIL_TIMING") == "1"
+#: the update-time target (1 s on the RTRI case) is a wall-clock figure: benchmarks/bench_explorer.py measures it;
+#: the tests check only the machine-independent part (the explorer runs fewer steps than the full run it replaces)
 
 
 # -------------------------------------------------------------------------------------------- RtriCase overrides
@@ -98,12 +92,6 @@ def test_larger_deviation_gives_larger_force_and_car_body_acceleration(explorer)
                 "max_abs_wheelset1_lateral_rel_track_m"):
         assert large.peaks[key] > 1.2 * small.peaks[key], key
     assert large.values["deviation_mm"] == 12.0 and explorer.values["deviation_mm"] == 12.0
-
-
-@pytest.mark.skipif(not TIMING, reason="wall-clock target: set WHEELRAIL_TIMING=1 to check it on this machine")
-def test_update_time_target(explorer):
-    times = [explorer.update(deviation_mm=d).seconds for d in (8.0, 10.0, 12.0)]
-    assert statistics.median(times) < UPDATE_LIMIT_S, times
 
 
 def test_explorer_agrees_with_the_full_run_on_the_rtri_case(explorer):
