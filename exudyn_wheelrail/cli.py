@@ -76,14 +76,19 @@ def _show_warning(message, category, filename, lineno, file=None, line=None, _de
         _default(message, category, filename, lineno, file, line)
 
 
-def _positive_int(option: str):
+def _positive_int(option: str, keyword: str | None = None):
+    """argparse type: a positive integer (or the word ``keyword``, returned as it is)."""
+    expected = "a positive integer" + (f" or {keyword!r}" if keyword else "")
+
     def parse(text):
+        if keyword is not None and text == keyword:
+            return text
         try:
             n = int(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
         if n < 1:
-            raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
         return n
     parse.__name__ = option
     return parse
@@ -318,16 +323,7 @@ def cmd_creep_table(args):
     return 0
 
 
-def _steps_arg(text):
-    if text == "auto":
-        return text
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer or 'auto', got {text!r}")
-    return n
+_steps_arg = _positive_int("--steps", keyword="auto")
 
 
 def _rtri_deviation(args):
