@@ -240,10 +240,11 @@ def test_cubic_hermite_reproduces_quadratics_on_non_uniform_nodes(node_set, ship
 # ----------------------------------------------------------------------------------------------------------------
 # (c) the shipped table between its nodes against Kalker's exact theory
 # ----------------------------------------------------------------------------------------------------------------
-# Documented accuracy of the shipped table against the exact solver (README, validation table "creep table vs
-# exact"): limits 2 % of μN (forces) and 2 % of μNc (spin moment) at any point, 0.5 % RMS.  Points midway between
-# nodes in every axis are where a piecewise-cubic interpolant errs most, so the limits are checked there, on the
-# radial intervals from the linear range (r ≈ 0.005) to full sliding (r ≈ 21), in three a/b intervals.
+# Documented accuracy of the shipped table against the exact solver (docs/validation.md, table "Creep forces", with
+# this test's measured worst case): limits 2 % of μN (forces) and 2 % of μNc (spin moment) at any point, 0.5 % RMS.
+# Points midway between nodes in every axis are where a piecewise-cubic interpolant errs most, so the limits are
+# checked there, on the radial intervals from the linear range (r ≈ 0.005) to full sliding (r ≈ 21), in three a/b
+# intervals.
 MAX_ERR, RMS_ERR = 0.02, 0.005
 
 
