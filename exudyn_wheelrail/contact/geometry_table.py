@@ -51,51 +51,16 @@ from numba import njit, prange
 
 from ..profiles.curve import curve_eval
 from . import kernel as K
+from .layout import (  # noqa: F401  (the table's node fields, grid, counters; re-exported)
+    G_C2, G_DELTA, G_FLAGS, G_KR_LAT, G_KR_ROLL, G_KW_LAT, G_KW_ROLL, G_NR_Y, G_NR_Z, G_PR_Y, G_PR_Z, G_PW_Y, G_PW_Z,
+    G_QY, G_QZ, G_S_RAIL, G_S_WHEEL, G_STATUS, N_G, N_STATS, N_T, STAT_CONCAVE, STAT_FALLBACK, STAT_FLANGE_SKIPPED,
+    STAT_OFF_DECK, STAT_ON_DECK, STAT_TABLE, STAT_TREAD_SKIPPED, T_DR, T_DY, T_NR, T_NY, T_R0, T_USE, T_Y0)
 from .normal import hertz_from_penetration
 from .search import _overlap_at_wheel
 
-# ---- table fields per node and slot: data[i_y, i_roll, slot, G_*] ------------------------------------------------
-G_STATUS = 0        # kernel status at the reference height
-G_S_WHEEL = 1
-G_S_RAIL = 2
-G_QY = 3            # wheel point in the wheelset frame (curve coordinates) [m]
-G_QZ = 4
-G_PR_Y = 5          # rail point, side frame [m]
-G_PR_Z = 6
-G_NR_Y = 7          # outward rail normal, side frame
-G_NR_Z = 8
-G_DELTA = 9         # penetration at the reference height [m]
-G_C2 = 10           # d²δ/dc_z² / 2 [1/m]
-G_KW_LAT = 11
-G_KW_ROLL = 12
-G_KR_LAT = 13
-G_KR_ROLL = 14
-G_FLAGS = 15        # kernel flags at the reference height (FLAG_BLENDED: slot tread-2 shares the tread's zone)
-G_PW_Y = 16         # wheel point at the node's pose, side frame [m]
-G_PW_Z = 17
-N_G = 18
 #: fields interpolated between the nodes (the penetration is combined from each node's own prediction instead)
 _INTERPOLATED = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
                  G_KR_ROLL)
-
-# ---- grid parameters: par[...] ------------------------------------------------------------------------------
-T_Y0 = 0
-T_DY = 1
-T_NY = 2
-T_R0 = 3
-T_DR = 4
-T_NR = 5
-T_USE = 6
-N_T = 7
-
-STAT_TABLE = 0      # wheel evaluations answered by the table
-STAT_FALLBACK = 1   # wheel evaluations outside the table (or geometry "online"), answered by the online kernel
-STAT_FLANGE_SKIPPED = 2   # online: flange regions reported apart by the separation bound, without a search
-STAT_CONCAVE = 3          # online: regions that needed the concave search (the convex one sufficed elsewhere)
-STAT_TREAD_SKIPPED = 4    # online: tread regions reported apart by the separation bound (lift-off)
-STAT_ON_DECK = 5          # wheelset evaluations on a bridge deck (coupled to its modes)
-STAT_OFF_DECK = 6         # wheelset evaluations off the deck (or without a bridge): no deck coupling computed
-N_STATS = 7
 
 SAME_ZONE_DISTANCE_M = 1.0e-3
 ZONE_MATCH_DISTANCE_M = 5.0e-3

@@ -53,38 +53,20 @@ import numpy as np
 from numba import njit
 
 from ..profiles.curve import curve_eval
+from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, parameters; re-exported)
+    F_A_REL, F_B_REL, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_HERTZ_STATUS, F_ITERATIONS, F_KR_LAT, F_KR_ROLL,
+    F_KW_LAT, F_KW_ROLL, F_NORMAL_FORCE, F_NR_Y, F_NR_Z, F_PENETRATION, F_PR_Y, F_PR_Z, F_PW_Y, F_PW_Z,
+    F_ROLLING_RADIUS, F_S_RAIL, F_S_WHEEL, F_SEMI_A, F_SEMI_B, F_STATUS, N_FIELDS, N_PARAMS, N_SLOTS, N_WARM,
+    P_BLEND_DEPTH, P_CONCAVE_NORMAL_WINDOW, P_CONVEX_MIN_CURVATURE, P_CURVATURE_BOUND, P_DEDUP_DISTANCE, P_E_STAR,
+    P_GLOBAL, P_MAX_PENETRATION, P_MIN_CURVATURE, P_N_CONCAVE_RAIL, P_N_CONCAVE_WHEEL, P_N_SCAN, P_N_STARTS,
+    P_NEWTON_MAX_ITER, P_NEWTON_TOL, P_RAIL_ROLL_CURVATURE, P_REFINE, P_RESCAN_DISTANCE, P_WHEEL_LEVER,
+    SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_GAP, W_POSE_ROLL, W_POSE_Y, W_POSE_Z,
+    W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
 from .normal import hertz_from_penetration
 from .search import (_overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start, normal_foot,
-                     overlap_peaks, vertical_overlap_search, wheel_point)
+                     normal_penetration_ascent, overlap_peaks, vertical_overlap_search, wheel_point)
 
-# ---- output fields --------------------------------------------------------------------------------------------
-F_STATUS = 0          # STATUS_* below
-F_S_WHEEL = 1         # wheel surface parameter (arc length of the wheel curve, wheelset frame) [m]
-F_S_RAIL = 2          # rail surface parameter [m]
-F_PW_Y = 3            # wheel contact point, side frame [m]
-F_PW_Z = 4
-F_PR_Y = 5            # rail contact point, side frame [m]
-F_PR_Z = 6
-F_NR_Y = 7            # outward rail normal, side frame
-F_NR_Z = 8
-F_PENETRATION = 9     # delta [m], positive = interpenetration, negative = gap
-F_CONTACT_ANGLE = 10  # gamma [rad], positive leaning towards the track centre
-F_ROLLING_RADIUS = 11 # distance of the wheel point from the axle axis [m]
-F_KW_LAT = 12         # wheel curvature, lateral (profile) direction [1/m], convex positive
-F_KW_ROLL = 13        # wheel curvature, rolling direction [1/m]
-F_KR_LAT = 14         # rail curvature, lateral direction [1/m]
-F_KR_ROLL = 15        # rail curvature, rolling direction [1/m]
-F_A_REL = 16          # Hertz relative curvature A (rolling) [1/m]
-F_B_REL = 17          # Hertz relative curvature B (lateral) [1/m]
-F_SEMI_A = 18         # ellipse semi-axis along rolling [m]
-F_SEMI_B = 19         # ellipse semi-axis lateral [m]
-F_NORMAL_FORCE = 20   # N [N]
-F_DN_DDELTA = 21      # dN/ddelta [N/m]
-F_ITERATIONS = 22     # Newton iterations used
-F_HERTZ_STATUS = 23   # 0 ok, nonzero: curvature clamped (conformal), see contact.normal
-F_FLAGS = 24          # FLAG_* bits below
-N_FIELDS = 25
-
+# ---- flags (F_FLAGS bits) and status (F_STATUS) ------------------------------------------------------------------
 FLAG_PROFILE_END = 1        # the wheel or rail point is at an end of its profile: the contact may lie beyond the data
 FLAG_DEEP_PENETRATION = 2   # penetration above P_MAX_PENETRATION: far outside elastic contact (climbing, bad pose)
 FLAG_HERTZ_CLAMPED = 4      # relative curvature clamped (conformal contact): Hertz is an approximation there
@@ -96,46 +78,6 @@ STATUS_CONCAVE = 2    # contact from the concave search
 STATUS_NO_OVERLAP = -1  # the region does not face the rail (no vertical overlap at all)
 STATUS_MERGED = -2      # penetrating, but the tail of the other region's contact zone (reported there, no force)
 STATUS_INVALID_POSE = -3  # the pose contains NaN or infinity: every other output field is NaN
-
-# ---- output slots per wheel: out[w, slot, field] ----------------------------------------------------------------
-SLOT_TREAD = 0        # the tread region's (deepest) contact
-SLOT_FLANGE = 1       # the flange region's contact
-SLOT_TREAD_2 = 2      # the tread region's second, separate contact zone (two-point contact on the tread)
-N_SLOTS = 3
-
-# ---- warm-start state per wheel and region: warm[w, reg, :] ---------------------------------------------------
-W_S_RAIL = 0          # last rail parameter (NaN: none)
-W_S_WHEEL = 1         # last wheel parameter
-W_GAP = 2             # region's smallest gap [m] at the reference pose (global over the region), <= 0: unknown
-W_POSE_Y = 3          # reference pose at which W_GAP was computed
-W_POSE_Z = 4
-W_POSE_ROLL = 5
-W_ALT_S_RAIL = 6      # the region's other penetration zone (second-deepest local optimum of the last scan)
-W_ALT_S_WHEEL = 7
-W_SCAN_Y = 8          # c_y at the last global scan of the region
-N_WARM = 9
-
-# ---- parameters -----------------------------------------------------------------------------------------------
-P_E_STAR = 0
-P_NEWTON_TOL = 1
-P_NEWTON_MAX_ITER = 2
-P_N_SCAN = 3
-P_N_CONCAVE_WHEEL = 4
-P_N_CONCAVE_RAIL = 5
-P_REFINE = 6
-P_GLOBAL = 7
-P_RAIL_ROLL_CURVATURE = 8
-P_MIN_CURVATURE = 9          # [1/m] Hertz clamp of A and B (conformal contact)
-P_DEDUP_DISTANCE = 10
-P_CONVEX_MIN_CURVATURE = 11   # [1/m] kappa_w + kappa_r needed to accept the convex search
-P_MAX_PENETRATION = 12        # [m] penetration above which FLAG_DEEP_PENETRATION is set
-P_WHEEL_LEVER = 13            # [m] largest distance of a wheel curve point from the axle centre
-P_CURVATURE_BOUND = 14        # [1/m] bound of |kappa_w| + |kappa_r| (sampling margin of the gap bound)
-P_N_STARTS = 15               # Newton starts from the scan's deepest local maxima
-P_CONCAVE_NORMAL_WINDOW = 16  # [m] half-width around the concave maximum searched for the deepest normal point
-P_RESCAN_DISTANCE = 17        # [m] warm mode: rescan a region in contact after this lateral motion since its last scan
-P_BLEND_DEPTH = 18            # [-] blend two maxima of one overlap zone whose depths differ by less than this x depth
-N_PARAMS = 19
 
 
 def default_params(E_star: float, global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100,

@@ -1,7 +1,8 @@
-"""Creep forces (issue #3): Kalker's linear-theory coefficients, FASTSIM and Kalker's exact theory.
+"""Creep forces: Kalker's linear-theory coefficients, FASTSIM, Kalker's exact theory, its table and cheap laws.
 
-Forces are on the wheel, ``a`` along rolling, issue-#3 signs: for small creepage ``Fx = -G c² C11 ξ``,
-``Fy = -G c² (C22 η + c C23 φ)``, ``Mz = G c³ (C23 η - c C33 φ)``, ``c = √(ab)``.
+Forces are on the wheel, ``a`` along rolling, Kalker's signs: for small creepage ``Fx = -G c² C11 ξ``,
+``Fy = -G c² (C22 η + c C23 φ)``, ``Mz = G c³ (C23 η - c C33 φ)``, ``c = √(ab)``.  The laws the wheel–rail
+connector evaluates, by name, and their compiled dispatch: :mod:`.registry`.
 """
 from .linear import (
     A_OVER_B_MAX,

@@ -4,14 +4,9 @@
 
     from exudyn_wheelrail.multibody import load_vehicle, build_vehicle, SpanDeflection, add_wheel_rail_contact
 """
-from .connector import (
-    ContactStateError,
-    WheelRailContact,
-    add_wheel_rail_contact,
-    place_on_rails,
-    static_axle_offset_m,
-)
+from .connector import ContactStateError, WheelRailContact, add_wheel_rail_contact
 from .monitor import RunMonitor, Status, run_monitored
+from .placement import place_on_rails, static_axle_offset_m
 from .track import (
     Harmonic,
     Irregularity,

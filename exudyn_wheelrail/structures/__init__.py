@@ -4,8 +4,9 @@
 
     from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge
 
-See :mod:`exudyn_wheelrail.structures.bridge` (the model, its modes, the rail kinematics and force projection for
-the wheel–rail coupling, the Exudyn formulations and Frýba's moving-force reference solution).
+See :mod:`exudyn_wheelrail.structures.bridge` (the model, its modes, the Exudyn formulations and Frýba's
+moving-force reference solution) and :mod:`exudyn_wheelrail.structures.deck_kinematics` (how the deck moves the
+rails under the wheelsets and where the wheel forces go: the wheel–rail coupling).
 """
 from .bridge import (
     BridgeModel,

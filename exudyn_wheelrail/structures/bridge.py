@@ -91,38 +91,19 @@ solver (explicit ones refuse its Euler-parameter node: "explicit integrator dete
 algebraic variables").  Use ``"modal"`` for a bridge on fixed supports; ``"ffrf"`` only as the entry point for a
 moving or flexibly supported reference frame.
 
-Coupling to the wheel–rail connector (design note for the next part)
--------------------------------------------------------------------
-* Kinematics.  In the model frame translating with the running speed V (:mod:`..multibody.vehicle_builder`) a
-  wheel whose contact point is at model-frame ``x_w`` is at track distance ``s_w(t) = s_start + V t + x_w``.  The
-  rail (material) point under it belongs to the deck at ``x = s_w - start_m``; its displacement is
-  ``u_r = Φ(s_w) q`` (rows y, z, θ), added to the track irregularity.  Its **material velocity** in the model
-  frame is ``(-V, 0, 0)`` (the track moving backwards) plus the deck velocity ``Φ(s_w) q̇`` (rows: lateral and
-  vertical velocity of the centre line at rail top, roll rate → rail angular velocity ``(θ̇, 0, 0)``).  The
-  rail *geometry* under the moving wheel changes at ``d/dt u_r = Φ(s_w) q̇ + V Φ'(s_w) q`` (the second term is
-  the convective part, the deck slope ``Φ' q`` seen at speed V, :func:`modal_shape_and_slope_at`,
-  :func:`rail_state_at`) — the contact geometry sees it through the position dependence; only the material
-  velocity enters the creepages.  The wheelset pose the contact search needs is the pose relative to the rail
-  pair, which is displaced by ``(y_rail, z_rail)`` and rolled by ``θ_rail`` about the centre line at rail top:
-  ``R_x(-θ) (p - p_rail)`` and ``roll - θ``, i.e. for the connector's side poses ``y_rel = (p_y - y_r) cos θ +
-  (p_z - z_r) sin θ``, ``z_rel = -(p_y - y_r) sin θ + (p_z - z_r) cos θ``, ``roll_rel = roll - θ`` (the axle
-  centre is r0 above rail top, so the roll alone shifts it laterally by ``-r0 θ`` relative to the rails).
-* Forces.  The force on the rail is minus the force on the wheel, ``F_r = -F_w`` (model/track frame); with the
-  contact point ``(y_c, z_c)`` relative to the deflected centre line at rail top it gives ``Q += Φ(s_c)^T (F_ry,
-  F_rz, y_c F_rz - z_c F_ry)`` (plus the x component of the spin moment on the rail), summed over all wheels on
-  the deck (:func:`add_projected_force`).  Wheels off the deck see the rigid track (``Φ = 0``).
-* Exudyn mechanism (recommended, checked by ``tests/test_bridge.py::test_coupling_*``): extend the connector's
-  zero-mass ``ObjectGenericODE2`` ``nodeNumbers`` by :attr:`ExudynBridge.modal_node` — its coordinate vector becomes
-  ``[6 per wheelset..., n_modes modal]`` and its force user function returns the wheelset forces followed by
-  ``Q``, all in **one** compiled call per RHS evaluation (no extra Python call, no LoadCoordinate per mode, no
-  sensor/preStep lag).  Exudyn accepts a GenericODE2 over a Lie-group rigid node and a NodeGenericODE2 (explicit
-  RK44 and generalized-α: the experiment matches the closed-form linear solution).  Its ``massMatrix`` becomes
-  zeros of size ``6 n_ws + n_modes``.  For the implicit solvers' Jacobian the modal columns need not be
-  differenced one by one: the contact forces depend on ``q_modal`` only through the three rail offsets per
-  wheelset ``u_r = Φ(s_w) q_m`` (and on ``q̇_modal`` through ``Φ(s_w) q̇_m``), so ``∂f/∂q_m = (∂f/∂u_r) Φ(s_w)``
-  with 3 differenced columns per wheelset instead of n_modes; the modal rows are ``Φ^T`` times the rail-force
-  rows (action = reaction; the dependence of Φ on the contact point's s is negligible).  The modal node is the
-  same object for both formulations, so the coupling does not depend on the choice.
+Coupling to the wheel–rail connector
+------------------------------------
+The connector (:mod:`exudyn_wheelrail.multibody.connector`) extends its zero-mass ``ObjectGenericODE2`` by
+:attr:`ExudynBridge.modal_node`: its coordinate vector becomes ``[6 per wheelset..., n_modes modal]`` and its force
+user function returns the wheelset forces followed by the generalized modal forces ``Q``, all in **one** compiled
+call per right-hand-side evaluation (no LoadCoordinate per mode, no sensor or pre-step lag).  Exudyn accepts a
+GenericODE2 over a Lie-group rigid node and a NodeGenericODE2 (explicit RK44 and generalized-α; checked by
+``tests/test_bridge.py::test_coupling_*`` against the closed-form linear solution); the modal node is the same for
+both formulations, so the coupling does not depend on the choice.  How the deck moves the rails under a wheel
+(displacement ``Φ(s) q``, material velocity ``Φ(s) q̇``, roll) and where the rail forces go (``Q += Φ(s)^T (F_y,
+F_z, M_x)``) is :mod:`.deck_kinematics`, built on :func:`rail_state_at` and :func:`add_projected_force`.  The rate
+of the rail geometry under the moving wheel, ``Φ(s) q̇ + V Φ'(s) q`` (:func:`modal_shape_and_slope_at`), enters
+the contact through the position dependence only; the creepages see the material velocity.
 
 Lateral support motion (earthquake-like; :mod:`.support_motion`)
 -----------------------------------------------------------------

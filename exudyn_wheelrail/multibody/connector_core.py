@@ -1,0 +1,406 @@
+"""The compiled call behind the wheel–rail connector: the contact forces of all wheelsets (and on the bridge deck)
+in one call, and their Jacobian by structured forward differences.
+
+:class:`~.connector.WheelRailContact` packs everything once at construction and hands it over as
+
+``contact_forces_core(q, q_t, t, model, state, f_out, res)``
+
+* ``q``, ``q_t`` (6 n + n_m): per wheelset displacement (global), rotation vector, velocity (global) and body-frame
+  angular velocity (Lie-group node coordinates), then the n_m modal coordinates of the bridge (none without one);
+  ``t`` the time [s];
+* ``model`` — constant data, ``(vehicle, track, geometry, creep, deck)``:
+
+  - ``vehicle = (p_ref, frame)``: reference positions (n, 3) [m] of the wheelset nodes (track/model frame) and
+    ``frame[FRAME_*]`` (running speed V [m/s], 1.0 for a model frame moving with V, track distance s_start [m] of
+    the frame's origin at t = 0);
+  - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)`` (:func:`~.track.irregularity_at`);
+  - ``geometry = (nodes, meta, mono, curve_ids, params, table)``: the profiles and kernel parameters of a
+    :class:`~exudyn_wheelrail.contact.WheelsetContact` and the geometry table's ``(par, cz_ref, data)``
+    (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`);
+  - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
+  - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
+    ``par``);
+
+* ``state`` — arrays the call reads and updates, ``(warm, out, side_poses, stats, rail_delta, phi_ws, rail_f,
+  deck_state)``: the kernel's warm start and output, the per-wheel pose relative to the rails (2 n, 3), the
+  ``STAT_*`` counters, the increments added to the deck state of every wheelset on the deck (n, 6; zero, the
+  Jacobian perturbs it), and per wheelset ``Φ(s)`` (n, 3, n_m), the force on the rails ``(F_y, F_z, M_x)`` that is
+  projected (n, 3) and the deck state (n, ``N_DECK_STATE``);
+* ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
+  ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
+
+Per wheel it takes the wheelset pose from the node coordinates, subtracts the rails' position (irregularity, ground
+motion, deck: :mod:`~exudyn_wheelrail.structures.deck_kinematics`), solves the contact geometry and Hertz
+(:mod:`exudyn_wheelrail.contact.kernel` or the geometry table), places each contact point in 3-D (yaw lead),
+computes the creepages and the creep law (:mod:`exudyn_wheelrail.creep.registry`) and applies
+``N n_rail + Fx x_c + Fy y_c`` at the contact point and ``Mz z_c`` to the wheelset; the equal and opposite force
+goes to the rails and, on the deck, to the modal coordinates.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..contact import geometry_table as GT
+from ..contact.creepage import creepages_core, yawed_contact_point_core
+from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z, F_PENETRATION,
+                              F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, RES_A, RES_B, RES_CREEP_STATUS,
+                              RES_DECK_ROLL, RES_DECK_Y, RES_DECK_Z, RES_DELTA, RES_ETA, RES_F_TRACK_X,
+                              RES_F_TRACK_Y, RES_F_TRACK_Z, RES_FLAGS, RES_FX, RES_FY, RES_GAMMA, RES_GROUND_VY,
+                              RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_P_X, RES_P_Y, RES_P_Z, RES_PHI,
+                              RES_S_TRACK, RES_STATUS, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
+from ..creep.registry import creep_forces
+from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, deck_state_under, pose_relative_to_rails,
+                                          project_on_deck, rail_material_velocity, rail_moment_about_deck_line,
+                                          rail_pair_to_track, rails_under)
+from .rotations import rotation_from_vector, rotation_vector_from_matrix
+from .track import irregularity_at
+
+__all__ = ["contact_forces_core", "contact_jacobian_core", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START",
+           "N_FRAME"]
+
+# ---- model frame: frame[FRAME_*] ---------------------------------------------------------------------------------
+FRAME_SPEED = 0       # running speed V [m/s]
+FRAME_MOVING = 1      # 1.0: the model frame translates with V (rail material velocity -V); 0.0: fixed to the track
+FRAME_S_START = 2     # track distance of the frame's origin at t = 0 [m]
+N_FRAME = 3
+
+
+@njit(cache=True)
+def contact_forces_core(q, q_t, t, model, state, f_out, res):
+    """All wheelsets in one call (module docstring: the arguments).  Fills ``f_out`` and ``res`` and the state;
+    returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
+    vehicle, track, geometry, creep, deck = model
+    p_ref, frame_par = vehicle
+    irr_rows, irr_knots, irr_coefs = track
+    nodes, meta, mono, curve_ids, params, gtab = geometry
+    law, cp, t_nodes, coef, tab = creep
+    warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
+    speed = frame_par[FRAME_SPEED]
+    moving_frame = frame_par[FRAME_MOVING] != 0.0
+    s_start = frame_par[FRAME_S_START]
+    n_ws = p_ref.shape[0]
+    n_w6 = 6 * n_ws
+    n_m = q.shape[0] - n_w6
+    q_m = q[n_w6:]
+    q_m_t = q_t[n_w6:]
+    f_m = f_out[n_w6:]
+    y_g = deck[0][DECK_GROUND_Y]
+    v_g = deck[0][DECK_GROUND_VY]
+    work_ds = np.empty((3, n_m))
+    st = np.zeros(9)
+    R = np.empty((3, 3))
+    frame = np.empty((3, 3))
+    pc = np.empty(3)
+    nr = np.empty(3)
+    e_axle = np.empty(3)
+    p_centre = np.empty(3)
+    v_centre = np.empty(3)
+    omega = np.empty(3)
+    v_rail = np.zeros(3)
+    omega_rail = np.zeros(3)
+    if moving_frame:
+        v_rail[0] = -speed
+    bad = -1
+    s_ws = np.empty(n_ws)
+    rolls = np.empty(n_ws)
+    yaws = np.empty(n_ws)
+    rails = np.empty((n_ws, 2))
+    for k in range(n_ws):
+        o = 6 * k
+        finite = True
+        for i in range(6):
+            finite = finite and math.isfinite(q[o + i]) and math.isfinite(q_t[o + i])
+        if not finite:
+            if bad < 0:
+                bad = k
+            side_poses[2 * k, :] = np.nan
+            side_poses[2 * k + 1, :] = np.nan
+            continue
+        rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
+        ex, ey, ez = R[0, 1], R[1, 1], R[2, 1]        # axle direction (body y) in the track frame
+        roll = math.asin(min(max(ez, -1.0), 1.0))
+        yaw = math.atan2(-ex, ey)
+        px = p_ref[k, 0] + q[o]
+        py = p_ref[k, 1] + q[o + 1]
+        pz = p_ref[k, 2] + q[o + 2]
+        s = s_start + px + (speed * t if moving_frame else 0.0)
+        y_irr, _, _, z_irr, _, _ = irregularity_at(irr_rows, irr_knots, irr_coefs, s)
+        s_ws[k] = s
+        rolls[k] = roll
+        yaws[k] = yaw
+        on = deck_state_under(s, speed, deck, q_m, q_m_t, rail_delta[k], phi_ws[k], work_ds, st, deck_state[k])
+        stats[STAT_ON_DECK if on else STAT_OFF_DECK] += 1
+        # the pose relative to the rail pair (irregularity, ground motion and deck; without a bridge: p - p_irr)
+        y_r, z_r, th = rails_under(y_irr, z_irr, y_g, deck_state[k])
+        rails[k, 0] = y_r
+        rails[k, 1] = z_r
+        y_rel, z_rel, roll_rel = pose_relative_to_rails(py, pz, roll, y_r, z_r, th)
+        side_poses[2 * k, 0] = y_rel
+        side_poses[2 * k, 1] = z_rel
+        side_poses[2 * k, 2] = roll_rel
+        side_poses[2 * k + 1, 0] = -y_rel
+        side_poses[2 * k + 1, 1] = z_rel
+        side_poses[2 * k + 1, 2] = -roll_rel
+    if n_m > 0:
+        for i in range(n_m):
+            if not (math.isfinite(q_m[i]) and math.isfinite(q_m_t[i])):
+                if bad < 0:
+                    bad = n_ws
+    for i in range(f_out.shape[0]):
+        f_out[i] = 0.0
+    for k in range(n_ws):
+        rail_f[k, 0] = 0.0
+        rail_f[k, 1] = 0.0
+        rail_f[k, 2] = 0.0
+    res[:, :, :] = 0.0
+    if bad >= 0:
+        return bad
+    GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, side_poses, warm, params,
+                                 out, stats)
+    for k in range(n_ws):
+        o = 6 * k
+        rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
+        for i in range(3):
+            e_axle[i] = R[i, 1]
+            p_centre[i] = p_ref[k, i] + q[o + i]
+            v_centre[i] = q_t[o + i]
+            omega[i] = R[i, 0] * q_t[o + 3] + R[i, 1] * q_t[o + 4] + R[i, 2] * q_t[o + 5]
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        tx = 0.0
+        ty = 0.0
+        tz = 0.0
+        # the rails under this wheelset: centre line y_r, z_r (irregularity, ground, deck), roll th; the deck state
+        # (relative to the supports) and its roll rate, the rails' angular velocity
+        y_r = rails[k, 0]
+        z_r = rails[k, 1]
+        ds = deck_state[k]
+        th = ds[2]
+        c_th = math.cos(th)
+        s_th = math.sin(th)
+        omega_rail[0] = ds[5]
+        rfy = 0.0
+        rfz = 0.0
+        rmx = 0.0
+        for side in range(2):
+            w = 2 * k + side
+            mirror = 1.0 if side == 0 else -1.0
+            for reg in range(out.shape[1]):
+                ow = out[w, reg]
+                r = res[w, reg]
+                r[RES_STATUS] = ow[F_STATUS]
+                r[RES_FLAGS] = ow[F_FLAGS]
+                r[RES_S_TRACK] = s_ws[k]
+                r[RES_DECK_Y] = ds[0]
+                r[RES_DECK_Z] = ds[1]
+                r[RES_DECK_ROLL] = th
+                r[RES_ON_DECK] = ds[6]
+                r[RES_GROUND_Y] = y_g
+                r[RES_GROUND_VY] = v_g
+                if ow[F_STATUS] <= 0:
+                    continue
+                N = ow[F_NORMAL_FORCE]
+                # contact point and rail normal from the rail pair's frame (side frame mirrored) to the track frame
+                y_t, z_t, ny, nz = rail_pair_to_track(mirror * ow[F_PW_Y], ow[F_PW_Z], mirror * ow[F_NR_Y],
+                                                      ow[F_NR_Z], y_r, z_r, c_th, s_th)
+                x_c, y_c, z_c, _, ok = yawed_contact_point_core(y_t, z_t, ny, nz, p_centre[0], p_centre[1],
+                                                                 p_centre[2], rolls[k], yaws[k])
+                if not ok:
+                    x_c, y_c, z_c = p_centre[0], y_t, z_t
+                pc[0] = x_c
+                pc[1] = y_c
+                pc[2] = z_c
+                nr[0] = 0.0
+                nr[1] = ny
+                nr[2] = nz
+                rail_material_velocity(y_c, z_c, y_g, v_g, ds, v_rail)
+                xi, eta, phi, V, cstat = creepages_core(pc, nr, e_axle, p_centre, v_centre, omega, v_rail,
+                                                         omega_rail, cp[CP_V_MIN], frame)
+                Fx = 0.0
+                Fy = 0.0
+                Mz = 0.0
+                if math.isfinite(xi) and (cstat & 12) == 0:     # no degenerate frame / invalid input
+                    Fx, Fy, Mz, flag = creep_forces(law, ow[F_SEMI_A], ow[F_SEMI_B], xi, eta, phi, N, cp, t_nodes,
+                                                    coef, tab)
+                    cstat |= flag
+                else:
+                    for i in range(3):
+                        frame[0, i] = 0.0
+                        frame[1, i] = 0.0
+                        frame[2, i] = 0.0
+                Fgx = N * nr[0] + Fx * frame[0, 0] + Fy * frame[1, 0]
+                Fgy = N * nr[1] + Fx * frame[0, 1] + Fy * frame[1, 1]
+                Fgz = N * nr[2] + Fx * frame[0, 2] + Fy * frame[1, 2]
+                dx = pc[0] - p_centre[0]
+                dy = pc[1] - p_centre[1]
+                dz = pc[2] - p_centre[2]
+                fx += Fgx
+                fy += Fgy
+                fz += Fgz
+                tx += dy * Fgz - dz * Fgy + Mz * frame[2, 0]
+                ty += dz * Fgx - dx * Fgz + Mz * frame[2, 1]
+                tz += dx * Fgy - dy * Fgx + Mz * frame[2, 2]
+                # on the rail: minus the force on the wheel, its moment about the deck's rail-top centre line and
+                # the x component of minus the spin moment
+                rfy -= Fgy
+                rfz -= Fgz
+                rmx -= rail_moment_about_deck_line(y_c, z_c, Fgy, Fgz, Mz * frame[2, 0], y_g, ds)
+                r[RES_N] = N
+                r[RES_FX] = Fx
+                r[RES_FY] = Fy
+                r[RES_MZ] = Mz
+                r[RES_F_TRACK_X] = Fgx
+                r[RES_F_TRACK_Y] = Fgy
+                r[RES_F_TRACK_Z] = Fgz
+                r[RES_P_X] = pc[0]
+                r[RES_P_Y] = pc[1]
+                r[RES_P_Z] = pc[2]
+                r[RES_GAMMA] = ow[F_CONTACT_ANGLE]
+                r[RES_XI] = xi
+                r[RES_ETA] = eta
+                r[RES_PHI] = phi
+                r[RES_A] = ow[F_SEMI_A]
+                r[RES_B] = ow[F_SEMI_B]
+                r[RES_DELTA] = ow[F_PENETRATION]
+                r[RES_V] = V
+                r[RES_CREEP_STATUS] = cstat
+        f_out[o] = fx
+        f_out[o + 1] = fy
+        f_out[o + 2] = fz
+        # torque to the body frame: R^T tau
+        f_out[o + 3] = R[0, 0] * tx + R[1, 0] * ty + R[2, 0] * tz
+        f_out[o + 4] = R[0, 1] * tx + R[1, 1] * ty + R[2, 1] * tz
+        f_out[o + 5] = R[0, 2] * tx + R[1, 2] * ty + R[2, 2] * tz
+        rail_f[k, 0] = rfy
+        rail_f[k, 1] = rfz
+        rail_f[k, 2] = rmx
+        if ds[6] > 0.5:
+            # generalized modal forces Φ(s)^T (Fy, Fz, Mx) of the force on the rails
+            project_on_deck(s_ws[k], rfy, rfz, rmx, deck, work_ds, f_m)
+    return -1
+
+
+@njit(cache=True)
+def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
+    """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core` (same
+    ``model`` and ``state``; ``f0`` receives the unperturbed forces), steps ``h_pos`` [m], ``h_rot`` [rad],
+    ``h_vel`` [m/s, rad/s]; rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group
+    update.  Structured: a wheelset's contact forces depend on its own coordinates (and the deck under it) only,
+    so the same coordinate of all wheelsets is perturbed in one call — 12 calls whatever the number of wheelsets;
+    the modal rows of those columns are ``Φ(s_k)^T`` times the change of wheelset k's rail force (and of ``Φ(s_k)``
+    when s moves).  Bridge columns (chain rule): the contact depends on the modal coordinates only through the deck
+    state under each wheelset, ``u_k = Φ(s_k) q_m`` and ``u̇_k = Φ(s_k) q̇_m`` (rows y, z, θ), so the three offsets
+    and three rates of every wheelset on the deck are perturbed together (``rail_delta``: 6 calls for any number of
+    modes and wheelsets): ``∂f_k/∂q_m = (∂f_k/∂u_k) Φ(s_k)``, ``∂Q/∂q_m = Σ_k Φ(s_k)^T (∂F_rail,k/∂u_k) Φ(s_k)``.
+    The warm-start state is restored after every perturbed call."""
+    warm, _, _, _, rail_delta, phi_ws, rail_f, deck_state = state
+    n = q.shape[0]
+    n_ws = model[0][0].shape[0]
+    n_w6 = 6 * n_ws
+    n_m = n - n_w6
+    warm0 = warm.copy()
+    contact_forces_core(q, q_t, t, model, state, f0, res)
+    warm[:] = warm0
+    phi0 = phi_ws.copy()
+    rf0 = rail_f.copy()
+    on_deck = np.empty(n_ws, dtype=np.bool_)
+    any_on = False
+    for k in range(n_ws):
+        on_deck[k] = deck_state[k, 6] > 0.5
+        any_on = any_on or on_deck[k]
+    f1 = np.empty(n)
+    qp = q.copy()
+    vp = q_t.copy()
+    R = np.empty((3, 3))
+    Rd = np.empty((3, 3))
+    Rn = np.empty((3, 3))
+    for r in range(n):
+        for c in range(n):
+            jac[r, c] = 0.0
+    # the contact forces of a wheelset depend on its own coordinates only: the Jacobian is block diagonal, so the
+    # i-th coordinate of every wheelset is perturbed in the same call (6 + 6 calls for any number of wheelsets)
+    for i in range(6):
+        # ---- coordinates
+        h = h_pos if i < 3 else h_rot
+        for k in range(n_ws):
+            o = 6 * k
+            if i < 3:
+                qp[o + i] = q[o + i] + h_pos
+            else:
+                # body-frame increment: R' = R exp(h e_i) -> new rotation vector
+                rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
+                rotation_from_vector(h if i == 3 else 0.0, h if i == 4 else 0.0, h if i == 5 else 0.0, Rd)
+                for a in range(3):
+                    for b in range(3):
+                        Rn[a, b] = R[a, 0] * Rd[0, b] + R[a, 1] * Rd[1, b] + R[a, 2] * Rd[2, b]
+                rotation_vector_from_matrix(Rn, qp, o + 3)
+        contact_forces_core(qp, q_t, t, model, state, f1, res)
+        warm[:] = warm0
+        for k in range(n_ws):
+            o = 6 * k
+            for r in range(6):
+                jac[o + r, o + i] = -(f1[o + r] - f0[o + r]) / h * f_odeq
+            for m in range(6):
+                qp[o + m] = q[o + m]
+            # modal rows: change of Φ(s_k)^T F_rail,k (s_k moves with the x coordinate)
+            for j in range(n_m):
+                d = 0.0
+                for a in range(3):
+                    d += phi_ws[k, a, j] * rail_f[k, a] - phi0[k, a, j] * rf0[k, a]
+                jac[n_w6 + j, o + i] = -d / h * f_odeq
+        # ---- velocities
+        for k in range(n_ws):
+            vp[6 * k + i] = q_t[6 * k + i] + h_vel
+        contact_forces_core(q, vp, t, model, state, f1, res)
+        warm[:] = warm0
+        for k in range(n_ws):
+            o = 6 * k
+            for r in range(6):
+                jac[o + r, o + i] -= (f1[o + r] - f0[o + r]) / h_vel * f_odev
+            vp[o + i] = q_t[o + i]
+            for j in range(n_m):
+                d = 0.0
+                for a in range(3):
+                    d += phi0[k, a, j] * (rail_f[k, a] - rf0[k, a])
+                jac[n_w6 + j, o + i] -= d / h_vel * f_odev
+    # ---- bridge columns by the chain rule through the deck state under each wheelset (6 calls)
+    if n_m > 0 and any_on:
+        g = np.empty(n_m)
+        for a in range(6):
+            if a < 2:
+                h = h_pos
+            elif a == 2:
+                h = h_rot
+            else:
+                h = h_vel
+            scale = f_odeq if a < 3 else f_odev
+            row = a % 3                                  # the row of Φ the perturbed quantity belongs to
+            for k in range(n_ws):
+                rail_delta[k, a] = h
+            contact_forces_core(q, q_t, t, model, state, f1, res)
+            warm[:] = warm0
+            for k in range(n_ws):
+                rail_delta[k, a] = 0.0
+            for k in range(n_ws):
+                if not on_deck[k]:
+                    continue
+                o = 6 * k
+                for r in range(6):
+                    d = (f1[o + r] - f0[o + r]) / h * scale
+                    for j in range(n_m):
+                        jac[o + r, n_w6 + j] -= d * phi0[k, row, j]
+                for i2 in range(n_m):
+                    d = 0.0
+                    for b in range(3):
+                        d += phi0[k, b, i2] * (rail_f[k, b] - rf0[k, b])
+                    g[i2] = d / h * scale
+                for i2 in range(n_m):
+                    for j in range(n_m):
+                        jac[n_w6 + i2, n_w6 + j] -= g[i2] * phi0[k, row, j]
+    # leave res/out describing the unperturbed state
+    contact_forces_core(q, q_t, t, model, state, f0, res)
+    warm[:] = warm0
