@@ -20,16 +20,20 @@ Per wheel and region the search is (Montenegro et al. 2015, Sec. 2):
 3. otherwise the **concave search** (maximum vertical overlap, :func:`~.search.vertical_overlap_search`).  Its
    point is polished by Newton when the pair is convex there (then it is a convex contact); else it moves to the
    deepest point by *normal* distance within P_CONCAVE_NORMAL_WINDOW, when that is a true local maximum inside
-   the window (in a conformal throat the vertical and the normal maximum lie up to ~4 mm and ~8 µm apart), and the
-   rail point is its normal foot: the penetration is always the normal distance of the reported wheel point;
+   the window (in a conformal throat the vertical and the normal maximum lie up to ~4 mm and ~8 µm apart); else
+   (the normal penetration still rises at the window's edge) it follows the normal penetration uphill
+   (:func:`~.search.normal_penetration_ascent`) to the local maximum of its zone, or to the region's end if the
+   penetration rises all the way there.  The rail point is the normal foot: the penetration is always the normal
+   distance of the reported wheel point;
 4. **apart**: the region's gap is its smallest normal distance over the whole region
    (:func:`~.search.nearest_by_normal_distance`); for step 1 it is remembered less the largest dip a distance
    function can make between two scan samples, h^2/8 x P_CURVATURE_BOUND (h = sample spacing);
 5. **Hertz** for every contact: N = Kh delta^1.5, dN/ddelta, a, b.
 
 Both regions of a wheel may carry a contact (two-point contact).  One overlap zone that straddles the tread/flange
-split is reported once: a region whose maximum sits at its split end is the tail of the neighbour's zone and is
-dropped, and so is the shallower of two points closer than P_DEDUP_DISTANCE.  Two separate local maxima of the
+split is reported once: a region whose point sits at its split end (the normal penetration rises all the way to
+the split: no maximum of its own) is the tail of the neighbour's zone and is dropped, and so is the shallower of two
+points closer than P_DEDUP_DISTANCE.  Two separate local maxima of the
 penetration (e.g. flange flank and tread, even with the throat between them in overlap) stay two contacts.
 
 Several zones on one region (S1002/UIC60 has two tread zones ~10 mm apart near the centred position):
@@ -375,6 +379,7 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
         if ok and r_lo <= s_foot <= r_hi:
             c_sr = s_foot
         half = params[P_CONCAVE_NORMAL_WINDOW]
+        moved = False
         if half > 0.0:
             win_lo = max(s_lo, c_sw - half)
             win_hi = min(s_hi, c_sw + half)
@@ -385,6 +390,18 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
             if ok and interior and r_lo <= n_sr <= r_hi and d_min < (wy - ry) * rny + (wz - rz) * rnz:
                 c_sw = n_sw
                 c_sr = n_sr
+                moved = True
+        if not moved:
+            # the penetration still rises at the window's edge: on a steep flank the vertical overlap (about the
+            # normal penetration over cos(contact angle)) can peak where the normal penetration does not.  Follow
+            # the normal penetration uphill to the local maximum of the zone, or to the region's end where it is
+            # still rising (the zone's deepest point then lies beyond: at the split evaluate_wheels merges it)
+            h_w = (s_hi - s_lo) / (int(params[P_N_CONCAVE_WHEEL]) - 1)
+            ok, a_sw, a_sr, _, _ = normal_penetration_ascent(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, c_sw,
+                                                             c_sr, s_lo, s_hi, h_w)
+            if ok and r_lo <= a_sr <= r_hi:
+                c_sw = a_sw
+                c_sr = a_sr
         warm[w, reg, W_S_RAIL] = c_sr
         warm[w, reg, W_S_WHEEL] = c_sw
         _fill(out, w, reg, STATUS_CONCAVE, c_sw, c_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
@@ -449,8 +466,9 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
         t = out[w, 0]
         f = out[w, 1]
         if t[F_STATUS] > 0 and f[F_STATUS] > 0:
-            # one overlap zone across the split: the region whose maximum sits at its split end is the tail of the
-            # neighbour's zone; otherwise two points closer than P_DEDUP_DISTANCE are one contact
+            # one overlap zone across the split: the region whose point sits at its split end (its penetration
+            # rises into the neighbour) is the tail of the neighbour's zone; otherwise two points closer than
+            # P_DEDUP_DISTANCE are one contact
             t_first = int(meta[curve_ids[w, 1], 0])
             f_first = int(meta[curve_ids[w, 2], 0])
             t_at_split = t[F_S_WHEEL] <= nodes[t_first, 0] + 1e-9

@@ -322,6 +322,86 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
     return True, all_ok, best_sw, best_sr, best
 
 
+@njit(cache=True, inline="always")
+def _normal_distance_slope(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r):
+    """Signed normal distance of the wheel point at ``s_w`` to the rail and its derivative along the wheel.
+
+    The derivative is ``n_r · t_w`` at the normal foot (the foot's own motion drops out: ``t_r`` is orthogonal to
+    ``p_w - r`` there).  Returns ``(ok, s_foot, distance, slope)``; ``ok`` is False when the foot is not found.
+    """
+    wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    ok, s_f = normal_foot(nodes, meta, rail, wy, wz, s_r)
+    ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_f)
+    return ok, s_f, (wy - ry) * rny + (wz - rz) * rnz, wty * rny + wtz * rnz
+
+
+@njit(cache=True)
+def normal_penetration_ascent(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w, s_r, s_w_lo, s_w_hi, step):
+    """Follow the normal penetration uphill along the wheel region [s_w_lo, s_w_hi] from the point ``s_w``.
+
+    The signed normal distance is walked in steps of ``step`` in the direction in which it falls until its slope
+    changes sign (a local maximum of the penetration, then located as the root of the slope by the Illinois method
+    to 1e-11 m), or until the region's end, where the penetration is then still rising: the zone's deepest point
+    lies beyond that end.  ``s_r`` is the start of the normal-foot Newton.  Returns
+    ``(ok, s_w, s_r, distance, at_end)``; ``ok`` is False when a normal foot is not found.
+    """
+    ok, s_r, d, g = _normal_distance_slope(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r)
+    if not ok or g == 0.0:
+        return ok, s_w, s_r, d, False
+    direction = 1.0 if g < 0.0 else -1.0      # the distance falls along -g
+    a, sr_a, d_a, g_a = s_w, s_r, d, g
+    b, sr_b, d_b, g_b = s_w, s_r, d, g
+    n_steps = int((s_w_hi - s_w_lo) / step) + 2
+    bracketed = False
+    for _ in range(n_steps):
+        b = a + direction * step
+        at_end = False
+        if b >= s_w_hi:
+            b = s_w_hi
+            at_end = True
+        elif b <= s_w_lo:
+            b = s_w_lo
+            at_end = True
+        ok, sr_b, d_b, g_b = _normal_distance_slope(nodes, meta, rail, wheel, b, sr_a, c_y, c_z, cos_r, sin_r)
+        if not ok:
+            return False, a, sr_a, d_a, False
+        if g_b * g_a <= 0.0:
+            bracketed = True
+            break
+        if at_end:
+            return True, b, sr_b, d_b, True
+        a, sr_a, d_a, g_a = b, sr_b, d_b, g_b
+    if not bracketed:
+        return False, a, sr_a, d_a, False
+    # root of the slope in [a, b] (Illinois); keep the smallest distance met
+    best_sw, best_sr, best = a, sr_a, d_a
+    if d_b < best:
+        best_sw, best_sr, best = b, sr_b, d_b
+    side = 0
+    for _ in range(60):
+        if abs(b - a) < 1e-11 or g_b == g_a:
+            break
+        c = (a * g_b - b * g_a) / (g_b - g_a)
+        ok, sr_c, d_c, g_c = _normal_distance_slope(nodes, meta, rail, wheel, c, best_sr, c_y, c_z, cos_r, sin_r)
+        if not ok:
+            break
+        if d_c < best:
+            best_sw, best_sr, best = c, sr_c, d_c
+        if g_c == 0.0:
+            break
+        if g_c * g_b > 0.0:
+            b, g_b = c, g_c
+            if side == -1:
+                g_a *= 0.5
+            side = -1
+        else:
+            a, g_a = c, g_c
+            if side == 1:
+                g_b *= 0.5
+            side = 1
+    return True, best_sw, best_sr, best, False
+
+
 @njit(cache=True)
 def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, k_max, out_sw,
                   out_sr):
