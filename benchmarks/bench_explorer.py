@@ -5,7 +5,7 @@ Run:  python benchmarks/bench_explorer.py [--updates 7] [--out benchmarks/result
 * update time on the RTRI case (20 m, 250 km/h; deviation alternating 10 / 10.5 mm so every update is a new run):
   the run alone (:meth:`RtriExplorer.update`: build, warm-up, solve, outputs) and run + redraw of the matplotlib
   window (Agg backend, :class:`ExplorerFigure`); min and median over ``--updates`` updates;
-* explorer (RK44 1 ms, passage window) vs the full run (Newmark 1 ms, ``steps="auto"``) for the RTRI case and
+* explorer (RK44 1 ms, passage window) vs the full run (Newmark 1 ms, ``duration_s="auto"``) for the RTRI case and
   four more speed/span corners and a flange impact (δ = 12 mm): relative differences of the passage peaks.
 
 The load average of the machine is recorded with the numbers (the machine is shared; timings scale with it).

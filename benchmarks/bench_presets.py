@@ -1,4 +1,4 @@
-"""Presets (scenarios.presets): real-time factor of each preset on the RTRI 20 m case at 250 km/h, 2.5 s simulated.
+"""Presets (simulation.presets): real-time factor of each preset on the RTRI 20 m case at 250 km/h, 2.5 s simulated.
 
 solve_seconds = wall time inside ``mbs.SolveDynamic`` (model building, table loading, numba warm-up outside);
 minimum of ``--repeats`` fresh runs, interleaved (the machine may be shared); ``record=False`` (the pure simulation)
@@ -17,8 +17,8 @@ import os
 import time
 from pathlib import Path
 
-from exudyn_wheelrail.scenarios.presets import PRESETS, TARGETS, resolve
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
+from exudyn_wheelrail.simulation.presets import PRESETS, TARGETS, apply_preset
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -28,8 +28,9 @@ def _wp_error(p):
     if not path.exists():
         return None
     for row in csv.DictReader(open(path)):
-        if (row["integrator"] == p.solver and row["creep_law"] == p.creep_law and row["geometry"] == p.geometry
-                and abs(float(row["dt_ms"]) - p.dt_s * 1e3) < 1e-9 and row["status"] == "ok"):
+        if (row["integrator"] == p.run["solver"] and row["creep_law"] == p.contact["creep_law"]
+                and row["geometry"] == p.contact["geometry"] and abs(float(row["dt_ms"]) - p.run["dt_s"] * 1e3) < 1e-9
+                and row["status"] == "ok"):
             return float(row["peak_Y_rel_err"])
     return None
 
@@ -39,12 +40,12 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
     cases = {}
+    base = RtriCase()                                   # the paper's 2.5 s
     for name in PRESETS:
-        st, _ = resolve(name)
+        run, contact, _ = apply_preset(name, base.run, base.contact)
         for record in (False, True):
-            cases[(name, record)] = RtriCase(solver=st["solver"], dt_s=st["dt_s"], steps=st["steps"],
-                                             geometry=st["geometry"], creep_law=st["creep_law"], record=record)
-        run_rtri(RtriCase(solver=st["solver"], dt_s=st["dt_s"], steps=5, geometry=st["geometry"]))   # warm-up
+            cases[(name, record)] = RtriCase(run=run, contact=contact, record=record)
+        run_rtri(RtriCase(run=run, contact=contact, duration_s=5 * run.dt_s))   # warm-up
     times = {k: [] for k in cases}
     for rep in range(args.repeats):
         for k, case in cases.items():
@@ -54,13 +55,12 @@ def main(argv=None):
             print(f"repeat {rep + 1}: {k[0]:8s} record={k[1]!s:5s} {times[k][-1]:.3f} s", flush=True)
     rows = []
     for name, p in PRESETS.items():
-        st, _ = resolve(name)
-        sim = st["steps"] * st["dt_s"]
+        sim = cases[(name, False)].run.end_time_s
         t0 = min(times[(name, False)])
         t1 = min(times[(name, True)])
         err = _wp_error(p)
         tgt = TARGETS.get(name)
-        rows.append(dict(preset=name, **p.settings(), simulated_s=sim, solve_s=t0, solve_s_recording=t1,
+        rows.append(dict(preset=name, **p.run, **p.contact, simulated_s=sim, solve_s=t0, solve_s_recording=t1,
                          real_time_factor=sim / t0, real_time_factor_recording=sim / t1,
                          peak_lateral_force_error=err,
                          target_real_time_factor=tgt[0] if tgt else None, target_error=tgt[1] if tgt else None,

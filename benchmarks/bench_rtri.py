@@ -4,8 +4,8 @@ Measures, for the RTRI 20 m case at the representative speed (250 km/h), 2500 st
 with RK44 and with Newmark (trapezoidal rule, modified Newton):
 
 * ``contact``: the vehicle with the project's wheel–rail connector (FASTSIM 24 x 8), without output recording
-  (``record=False``: the pure simulation) and with it (the CLI's configuration: a pre-step user function
-  evaluating the contact once more per step and reading the outputs);
+  (``record=False``: the simulation watched by the run monitor, which evaluates the contact once more per step)
+  and with it (the CLI's configuration: the recorder reads the monitor's evaluation and the body outputs);
 * ``springs``: the same vehicle with each wheel–rail contact replaced by linear springs
   (``build_vehicle(..., wheel_rail="springs")``; the deviation does not act on them — a cost baseline);
 
@@ -18,7 +18,7 @@ ratio <= 1.5 and real-time factor >= 6 on one core.
 Also: the Python-level cost of one contact evaluation (``WheelRailContact.forces`` for 4 wheelsets, at the initial
 state, mean of 2000 calls) to relate the solve time to the number of contact calls.
 
-Run:  python benchmarks/bench_rtri.py [--repeats 3] [--steps 2500] [--speed-kmh 250] [--span 20]
+Run:  python benchmarks/bench_rtri.py [--repeats 3] [--duration 2.5] [--speed-kmh 250] [--span 20]
 Writes benchmarks/results/rtri.json.
 """
 from __future__ import annotations
@@ -31,13 +31,14 @@ import sys
 import time
 from pathlib import Path
 
-from exudyn_wheelrail.scenarios.rtri import RTRI_CASE, RtriCase, build_rtri, run_rtri
+from exudyn_wheelrail.scenarios.rtri import RTRI_CASE, RtriCase, run_rtri
+from exudyn_wheelrail.scenarios.scenario import build_scenario
 
 RESULTS = Path(__file__).resolve().parent / "results" / "rtri.json"
 
 
 def contact_call_us(span_m: float, speed_km_h: float, n: int = 2000) -> float:
-    h = build_rtri(RtriCase(span_m=span_m, speed_km_h=speed_km_h, steps=1, record=False))
+    h = build_scenario(RtriCase(span_m=span_m, speed_km_h=speed_km_h, duration_s=1e-3, record=False).scenario())
     c = h.contact
     q, v = c.coordinates(h.mbs)
     warm = c.save_warm_start()
@@ -53,24 +54,25 @@ def contact_call_us(span_m: float, speed_km_h: float, n: int = 2000) -> float:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--steps", type=int, default=2500)
+    ap.add_argument("--duration", type=float, default=2.5, help="simulated time [s] (steps of 1 ms)")
     ap.add_argument("--speed-kmh", type=float, default=RTRI_CASE.representative_speed_km_h)
     ap.add_argument("--span", type=float, default=20.0)
     ap.add_argument("--out", default=str(RESULTS))
     args = ap.parse_args(argv)
+    args.steps = RtriCase(duration_s=args.duration).run.steps
 
     configs = []
     for solver in ("rk44", "newmark"):
         configs += [(solver, "contact", False), (solver, "contact", True), (solver, "springs", False)]
     # warm-up (numba caches, Exudyn) outside all measurements
-    run_rtri(RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver="newmark", steps=5))
-    run_rtri(RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver="rk44", steps=5))
+    run_rtri(RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver="newmark", duration_s=0.005))
+    run_rtri(RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver="rk44", duration_s=0.005))
     times = {c: [] for c in configs}
     info = {}
     for rep in range(args.repeats):
         for cfg in configs:                       # interleaved, so a load change on the machine hits all alike
             solver, wr, record = cfg
-            case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver=solver, steps=args.steps,
+            case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver=solver, duration_s=args.duration,
                             wheel_rail=wr, record=record)
             r = run_rtri(case)
             if r.summary["status"] != "ok":
@@ -79,7 +81,7 @@ def main(argv=None):
             info[cfg] = dict(status=r.summary["status"], contact_calls=r.summary["contact_calls"])
             print(f"repeat {rep + 1}: {solver:7s} {wr:7s} record={record!s:5s} {r.summary['solve_seconds']:.3f} s "
                   f"({r.summary['status']})", flush=True)
-    sim_time = args.steps * RtriCase().dt_s
+    sim_time = args.steps * RtriCase().run.dt_s
     rows = []
     for cfg in configs:
         solver, wr, record = cfg

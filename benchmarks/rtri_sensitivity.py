@@ -91,9 +91,9 @@ CSV_COLUMNS = ("scheme", "solver", "dt_ms", "span_m", "delta_mm", "lt_m", "end_r
 # ------------------------------------------------------------------------------------------------ schemes
 def schemes():
     """name -> (solver, dt_s, geometry, creep_law)."""
-    from exudyn_wheelrail.scenarios.presets import PRESETS
     from exudyn_wheelrail.scenarios.rtri import RTRI, RTRI_CASE
-    d = PRESETS["default"].settings()
+    from exudyn_wheelrail.simulation.presets import PRESETS
+    d = {**PRESETS["default"].run, **PRESETS["default"].contact}
     return {
         "newmark_1ms": ("newmark", RTRI.time_step_s, "online", RTRI_CASE.creep_law),
         "rk44_1ms": (d["solver"], d["dt_s"], d["geometry"], d["creep_law"]),
@@ -113,7 +113,7 @@ def make_case(span_m, delta_mm, lt_m, scheme):
     from exudyn_wheelrail.scenarios.rtri import RtriCase
     solver, dt, geometry, creep_law = schemes()[scheme]
     return RtriCase(span_m=span_m, speed_km_h=SPEED_KM_H, solver=solver, dt_s=dt, geometry=geometry,
-                    creep_law=creep_law, steps=short_steps(span_m, lt_m, dt),
+                    creep_law=creep_law, duration_s=short_steps(span_m, lt_m, dt) * dt,
                     deviation_amplitude_m=delta_mm * 1e-3, transition_length_m=lt_m)
 
 
@@ -178,9 +178,9 @@ def run_one(span_m, delta_mm, lt_m, scheme, y_jump_m):
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
     case = make_case(span_m, delta_mm, lt_m, scheme)
-    row = {"scheme": scheme, "solver": case.solver, "dt_ms": case.dt_s * 1e3, "span_m": span_m,
+    row = {"scheme": scheme, "solver": case.run.solver, "dt_ms": case.run.dt_s * 1e3, "span_m": span_m,
            "delta_mm": delta_mm, "lt_m": lt_m, "end_rotation_mrad": math.pi * delta_mm / span_m,
-           "steps": case.steps, "y_jump_mm": y_jump_m * 1e3}
+           "steps": case.run.steps, "y_jump_mm": y_jump_m * 1e3}
     try:
         r = run_rtri(case)
     except Exception as exc:                 # one failing case must not stop the sweep
@@ -231,7 +231,8 @@ def time_pair() -> dict:
         for L in SPANS_M:
             t0 = time.perf_counter()
             r = run_rtri(RtriCase(span_m=L, speed_km_h=SPEED_KM_H, solver="newmark",
-                                  steps=short_steps(L, RTRI.transition_length_m, RTRI.time_step_s)))
+                                  duration_s=short_steps(L, RTRI.transition_length_m, RTRI.time_step_s)
+                                  * RTRI.time_step_s))
             one[f"{L:g}m"] = {"wall_s": time.perf_counter() - t0, "solve_s": r.summary["solve_seconds"],
                               "steps": r.summary["steps"], "status": r.summary["status"]}
         one["pair_wall_s"] = sum(v["wall_s"] for v in one.values())

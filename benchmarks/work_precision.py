@@ -8,7 +8,7 @@ paper's 2500 steps at 1 ms), outputs recorded (``record=True``: the errors need 
 Configurations (one axis varied at a time around the main line, each part selectable):
 
 * ``main``: every time step (``--dt-ms``, default 2, 1, 0.5, 0.25 ms) x every integrator (``--integrators``,
-  default all of ``rtri.SOLVERS``: newmark, generalized_alpha (ρ∞ 0.8), explicit_midpoint, rk33, rk44, rk67), with
+  default all of ``SOLVERS``: newmark, generalized_alpha (ρ∞ 0.8), explicit_midpoint, rk33, rk44, rk67), with
   the creep table of Kalker's exact theory (``creep_law="table"``) and the online contact search
   (``geometry="online"``);
 * ``creep``: the other creep laws (``--creep-laws``: ``fastsim`` (24 x 8), ``shen_hedrick_elkins`` — the cheap law)
@@ -77,7 +77,8 @@ from pathlib import Path
 import numpy as np
 
 from exudyn_wheelrail.scenarios import rtri
-from exudyn_wheelrail.scenarios.rtri import SOLVERS, RtriCase, run_rtri
+from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
+from exudyn_wheelrail.simulation.settings import SOLVERS
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -97,7 +98,7 @@ REFERENCE = dict(solver="rk44", dt_ms=0.05, check_dt_ms=0.1, creep_law="table", 
                  n_concave=400)
 Y_COL = "lateral_contact_force_w1_right_N"
 A_COL = "carbody_lateral_acceleration_rear_m_s2"
-HAS_GEOMETRY = "geometry" in {f.name for f in dataclasses.fields(RtriCase)}
+HAS_GEOMETRY = "geometry" in {f.name for f in dataclasses.fields(RtriCase().contact)}
 
 CSV_COLUMNS = ("integrator", "creep_law", "geometry", "dt_ms", "steps", "status", "wall_s", "wall_s_all",
                "us_per_step", "real_time_factor", "contact_calls_per_step",
@@ -138,7 +139,7 @@ def make_case(solver: str, dt_s: float, creep_law: str, geometry: str, steps: in
     """The RTRI 20 m case at 250 km/h over ``T_END_S`` with the given options (``geometry`` only passed when
     ``RtriCase`` has the field)."""
     kw = dict(span_m=SPAN_M, solver=solver, dt_s=dt_s, creep_law=creep_law, record=True,
-              steps=int(steps if steps is not None else round(T_END_S / dt_s)))
+              duration_s=(steps if steps is not None else round(T_END_S / dt_s)) * dt_s)
     if HAS_GEOMETRY:
         kw["geometry"] = geometry
     elif geometry != "online":
@@ -149,29 +150,29 @@ def make_case(solver: str, dt_s: float, creep_law: str, geometry: str, steps: in
 @contextlib.contextmanager
 def concave_discretisation(n: int | None):
     """Run the RTRI case with ``n`` points per wheel region and rail in the contact kernel's concave search
-    (``None``: the kernel default).  ``run_rtri`` builds its model through ``rtri.build_rtri``; this wraps it for
+    (``None``: the kernel default).  ``run_rtri`` builds its model through ``rtri.build_scenario``; this wraps it for
     the duration and sets the kernel parameters of the built contact (read at every evaluation)."""
     if n is None:
         yield
         return
-    from exudyn_wheelrail.contact import kernel as K
-    original = rtri.build_rtri
+    from exudyn_wheelrail.contact import layout as L
+    original = rtri.build_scenario
 
-    def build(case):
-        h = original(case)
-        kc = getattr(h.contact, "_kc", None) if h.contact is not None else None
-        if kc is None or not hasattr(kc, "params"):
-            raise RuntimeError("the contact handle exposes no kernel parameters (_kc.params): cannot set the "
-                               "concave discretisation of the reference")
-        kc.params[K.P_N_CONCAVE_WHEEL] = n
-        kc.params[K.P_N_CONCAVE_RAIL] = n
+    def build(spec):
+        h = original(spec)
+        if h.contact is None:
+            raise RuntimeError("the RTRI model has no wheel-rail contact: cannot set the concave discretisation of "
+                               "the reference")
+        params = h.contact.kernel_parameters()
+        params[L.P_N_CONCAVE_WHEEL] = n
+        params[L.P_N_CONCAVE_RAIL] = n
         return h
 
-    rtri.build_rtri = build
+    rtri.build_scenario = build
     try:
         yield
     finally:
-        rtri.build_rtri = original
+        rtri.build_scenario = original
 
 
 def solve(case: RtriCase, n_concave: int | None = None):
@@ -188,7 +189,7 @@ def reference_settings(args) -> dict:
                 check_dt_s=args.check_dt_ms * 1e-3, creep_law=REFERENCE["creep_law"],
                 geometry=REFERENCE["geometry"], n_concave_wheel=REFERENCE["n_concave"],
                 n_concave_rail=REFERENCE["n_concave"], refine=True,
-                newton_tolerance=RtriCase().newton_tolerance,
+                newton_tolerance=RtriCase().run.newton_tolerance,
                 cross_check_solver="newmark" if args.reference_solver == "rk44" else "rk44")
 
 
@@ -199,15 +200,15 @@ def _series(result) -> dict:
 
 def _ref_run(settings: dict, solver: str, dt_s: float, label: str) -> tuple[dict, dict]:
     case = make_case(solver, dt_s, settings["creep_law"], settings["geometry"])
-    print(f"reference: {label}: {solver}, dt {dt_s * 1e3:g} ms, {case.steps} steps ...", flush=True)
+    print(f"reference: {label}: {solver}, dt {dt_s * 1e3:g} ms, {case.run.steps} steps ...", flush=True)
     t0 = time.perf_counter()
     r = solve(case, settings["n_concave_wheel"])
     s = r.summary
     print(f"  {s['status']}, solve {s['solve_seconds']:.1f} s (total {time.perf_counter() - t0:.1f} s)", flush=True)
     if s["status"] != "ok":
         raise RuntimeError(f"reference run {label} failed: {s['status']}")
-    info = dict(label=label, solver=solver, dt_s=dt_s, steps=case.steps, solve_seconds=s["solve_seconds"],
-                contact_calls_per_step=s["contact_calls"] / case.steps,
+    info = dict(label=label, solver=solver, dt_s=dt_s, steps=case.run.steps, solve_seconds=s["solve_seconds"],
+                contact_calls_per_step=s["contact_calls"] / case.run.steps,
                 t_passage_end_s=s["coverage"]["t_needed_with_run_out_s"],
                 peak_Y_N=s["peaks"]["max_abs_lateral_contact_force_w1_right_N"],
                 peak_Y_10ms_N=s["peaks"].get("max_abs_lateral_contact_force_w1_right_10ms_avg_N"),

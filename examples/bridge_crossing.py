@@ -137,7 +137,6 @@ import csv
 import json
 import math
 import sys
-import time
 from pathlib import Path
 
 import exudyn as exu
@@ -146,6 +145,9 @@ import numpy as np
 from exudyn_wheelrail.contact import WheelRailPair
 from exudyn_wheelrail.multibody import build_vehicle, simulation_settings
 from exudyn_wheelrail.multibody import connector as C
+from exudyn_wheelrail.simulation.recorder import Recorder
+from exudyn_wheelrail.simulation.runner import run as run_watched
+from exudyn_wheelrail.simulation.settings import RunSettings
 from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge
 from exudyn_wheelrail.structures.support_motion import SmoothHarmonicSupportMotion
 
@@ -226,41 +228,30 @@ def build(span_m: float, speed_m_s: float, creep_law: str = "fastsim", fastsim_g
                 x_ws=np.array(x_ws), section=sec, motion=motion, lead_in_m=lead_in)
 
 
-class Recorder:
-    """Pre-step user function: evaluates the contact at the state's time (Exudyn passes the end time of the coming
-    step while the state is still at its start) and stores Q, Y, the deck deflection under every wheelset, the
-    lateral wheelset–rail displacement of every wheelset and whether any flange is in contact."""
+class WheelsAndDeck:
+    """Recorder probe (:mod:`exudyn_wheelrail.simulation.recorder`): per wheel Q and Y (towards the field side),
+    the deck deflection under every wheelset, the lateral wheelset–rail displacement of every wheelset and the
+    largest flange-region normal force — from the contact as the run monitor evaluated it at the state."""
 
     def __init__(self, h: dict):
-        self.h = h
-        self.rows = []
-        self.t_state = 0.0
-        self.error = None
+        self.c = h["contact"]
+        self.n_ws = len(h["model"].wheelsets)
+        wheels = [f"w{j + 1}_{side}" for j in range(self.n_ws) for side in SIDES_OUT]
+        self.columns = ([("wheels", f"{q}_{w}") for w in wheels for q in ("Q", "Y")]
+                        + [("deck", f"deck_z_w{j + 1}") for j in range(self.n_ws)]
+                        + [("lateral", f"y_rel_w{j + 1}") for j in range(self.n_ws)] + [("flange", "flange_N")])
 
-    def pre_step(self, mbs, t):
-        t_state, self.t_state = self.t_state, float(t)
-        try:
-            self.record(mbs, t_state)
-        except Exception as exc:                   # do not let Exudyn swallow the cause
-            self.error = exc
-            return False
-        return True
-
-    def record(self, mbs, t):
-        c = self.h["contact"]
-        c.evaluate(mbs, t)
-        n_ws = len(self.h["model"].wheelsets)
-        row = [t]
-        for j in range(n_ws):
+    def fill(self, mbs, t, out):
+        c, k = self.c, 0
+        for j in range(self.n_ws):
             for side in SIDES_OUT:
                 F = c.wheel_force_N(j, side)
-                Q = -float(F[2]) + 0.0
-                Y = (-float(F[1]) if side == "right" else float(F[1])) + 0.0
-                row += [Q, Y]
-        row += list(c.deck_state()[:, 1])
-        row += list(c.wheelset_rail_pose()[:, 0])
-        row.append(float(np.max(c.results[:, 1, C.RES_N])))
-        self.rows.append(row)
+                out[k] = -float(F[2]) + 0.0
+                out[k + 1] = (-float(F[1]) if side == "right" else float(F[1])) + 0.0
+                k += 2
+        out[k:k + self.n_ws] = c.deck_state()[:, 1]
+        out[k + self.n_ws:k + 2 * self.n_ws] = c.wheelset_rail_pose()[:, 0]
+        out[k + 2 * self.n_ws] = float(np.max(c.results[:, 1, C.RES_N]))
 
 
 def run(span_m: float, speed_km_h: float, dt_s: float = 1e-3, creep_law: str = "fastsim", progress=print,
@@ -268,8 +259,7 @@ def run(span_m: float, speed_km_h: float, dt_s: float = 1e-3, creep_law: str = "
     V = speed_km_h / 3.6
     h = build(span_m, V, creep_law, support_motion=support_motion)
     mbs, contact, modes = h["mbs"], h["contact"], h["modes"]
-    rec = Recorder(h)
-    mbs.SetPreStepUserFunction(rec.pre_step)
+    rec = Recorder([WheelsAndDeck(h)])
     view3d = None
     if view:                      # Exudyn's renderer: wheels, rails, deck, contact points and forces
         from exudyn_wheelrail.interactive.view3d import WheelRailView
@@ -286,17 +276,19 @@ def run(span_m: float, speed_km_h: float, dt_s: float = 1e-3, creep_law: str = "
                  f"Hz (f1 = {h['f1_Hz']:.2f} Hz, f_cut = {h['f_cut_Hz']:.1f} Hz), {steps} steps of {dt_s:g} s")
         if h["motion"] is not None:
             progress(f"support motion: {h['motion']}")
-    t0 = time.perf_counter()
-    ok = mbs.SolveDynamic(ss)
-    solve_s = time.perf_counter() - t0
-    if view3d is not None:
-        view3d.close_window()
-    if rec.error is not None:
-        raise RuntimeError(f"recorder failed: {rec.error}") from rec.error
-    if not ok:
-        raise RuntimeError("mbs.SolveDynamic reported failure")
-    rec.record(mbs, float(mbs.systemData.GetTime()))         # the final state
-    wheels = np.array(rec.rows)
+    # the one solve wrapper, watched by the run monitor; these Exudyn settings (trapezoidal rule as generalized-α
+    # with ρ∞ = 1, modified Newton, Newton tolerance 1e-6) are the ones solved with
+    settings = RunSettings(solver="generalized_alpha", dt_s=dt_s, duration_s=steps * dt_s, newton_tolerance=1e-6)
+    try:
+        outcome = run_watched(mbs, settings, contact, speed_m_s=V, recorder=rec,
+                              exu_settings=(ss, exu.DynamicSolverType.GeneralizedAlpha))
+    finally:
+        if view3d is not None:
+            view3d.close_window()
+    if not outcome.status.ok:
+        raise RuntimeError(f"the run ended {outcome.status}")
+    solve_s = outcome.solve_seconds
+    wheels = rec.data[:rec.n]
     dq = mbs.GetSensorStoredData(h["sensors"]["q"])
     da = mbs.GetSensorStoredData(h["sensors"]["q_tt"])
     n = min(len(wheels), len(dq), len(da))

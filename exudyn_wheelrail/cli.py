@@ -16,7 +16,9 @@ Lateral shifts are positive towards the **right** rail; all values in SI units.
 
 Bad input (a malformed or implausible option, a profile that is not what it is given as, an output location that
 cannot be written) is reported before any work as one line ``error: <option or file>: <problem>`` with exit code 2;
-an unusual but plausible value as one line ``warning: ...``, and the run goes on.
+an unusual but plausible value as one line ``warning: ...``, and the run goes on.  A simulation (``rtri``,
+``rtri-sweep``, ``run``, ``sweep``) exits with the code of its status (:mod:`exudyn_wheelrail.simulation.status`):
+0 ok, 3 derailed, 4 diverged, 5 step_rejected; 1 any other error.
 """
 from __future__ import annotations
 
@@ -76,19 +78,16 @@ def _show_warning(message, category, filename, lineno, file=None, line=None, _de
         _default(message, category, filename, lineno, file, line)
 
 
-def _positive_int(option: str, keyword: str | None = None):
-    """argparse type: a positive integer (or the word ``keyword``, returned as it is)."""
-    expected = "a positive integer" + (f" or {keyword!r}" if keyword else "")
+def _positive_int(option: str):
+    """argparse type: a positive integer."""
 
     def parse(text):
-        if keyword is not None and text == keyword:
-            return text
         try:
             n = int(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
         if n < 1:
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}")
+            raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
         return n
     parse.__name__ = option
     return parse
@@ -159,18 +158,13 @@ def _check_creep_table(args) -> None:
 
 
 def _check_rtri_common(args) -> None:
-    from .scenarios.scenario import QUANTITIES
     output_dir("--out", args.out)
-    if args.dt is not None:
-        QUANTITIES["run.dt_s"].check("--dt", args.dt)
     if args.delta_mm is not None:
         DEVIATION_MM.check("--delta-mm", args.delta_mm)
     if args.transition_m is not None:
+        from .scenarios.scenario import QUANTITIES
         QUANTITIES["track.*.transition_length_m"].check("--transition-m", args.transition_m)
-    if args.creep_law is not None:
-        from .multibody.connector import CREEP_LAWS
-        if args.creep_law not in CREEP_LAWS:
-            raise ValueError(f"--creep-law: {args.creep_law!r} is not one of {', '.join(sorted(CREEP_LAWS))}")
+    args.settings = _rtri_settings(args)
 
 
 def _check_rtri(args) -> None:
@@ -201,9 +195,15 @@ def _check_sweep(args) -> None:
 
 
 def _check_explore(args) -> None:
-    from .scenarios.scenario import QUANTITIES
-    QUANTITIES["run.dt_s"].check("--dt", args.dt)
+    from .interactive.explorer import ExplorerSettings
+    from .simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError
     _check_figure("--out", args.out)
+    try:
+        args.explorer_settings = ExplorerSettings(
+            run=RunSettings(solver=args.solver, dt_s=args.dt, duration_s=DURATION_AUTO),
+            contact=ContactSettings(geometry=args.geometry), window=args.window)
+    except SettingsError as exc:
+        raise _settings_error(exc) from None
 
 
 def _add_pair_arguments(p: argparse.ArgumentParser):
@@ -323,7 +323,25 @@ def cmd_creep_table(args):
     return 0
 
 
-_steps_arg = _positive_int("--steps", keyword="auto")
+def _duration(text):
+    """argparse type of ``--duration``: a time in s or ``auto``."""
+    from .simulation.settings import DURATION_AUTO
+    if text == DURATION_AUTO:
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a time in s or {DURATION_AUTO!r}, got {text!r}") from None
+
+
+#: the command line's option of each run/contact setting (errors name the option)
+SETTING_OPTIONS = {"solver": "--solver", "dt_s": "--dt", "duration_s": "--duration", "creep_law": "--creep-law",
+                   "geometry": "--geometry"}
+
+
+def _settings_error(exc):
+    """A :class:`~.simulation.settings.SettingsError` as a ValueError naming the option."""
+    return ValueError(f"{SETTING_OPTIONS.get(exc.field, exc.field)}: {exc.problem}")
 
 
 def _rtri_deviation(args):
@@ -331,12 +349,27 @@ def _rtri_deviation(args):
     return delta, args.transition_m
 
 
+def _print_status(summary):
+    st = summary["status_detail"]
+    rtf = summary["real_time_factor"] or 0.0
+    line = f"status: {summary['status']}"
+    if st["kind"] != "ok":
+        where = "" if st["wheelset"] is None else f" wheelset {st['wheelset']}" + (
+            f" {st['side']}" if st["side"] else "")
+        when = "" if st["time_s"] is None else f" at t = {st['time_s']:.6g} s"
+        line += f"{where}{when}: {st['detail']}"
+    print(line)
+    if st["hint"]:
+        print(f"hint: {st['hint']}")
+    print(f"{summary['steps']} steps of {summary['dt_s']:g} s planned ({summary['duration_s']:.4g} s); solve "
+          f"{summary['solve_seconds']:.2f} s for {summary['simulated_time_s']:.4g} s simulated (real-time factor "
+          f"{rtf:.2f}), exit code {st['exit_code']}")
+
+
 def _print_rtri_summary(summary):
     import json
     p = summary.get("peaks_passage", {})
-    rtf = summary["real_time_factor"] or 0.0
-    print(f"status: {summary['status']}; solve {summary['solve_seconds']:.2f} s for "
-          f"{summary['simulated_time_s']:.3f} s simulated (real-time factor {rtf:.2f})")
+    _print_status(summary)
     if p:
         print(f"passage peaks: max |Y| w1 right {p['max_abs_lateral_contact_force_w1_right_N'] / 1e3:.2f} kN, max "
               f"|a| car body rear {p['max_abs_carbody_lateral_acceleration_rear_m_s2']:.3f} m/s^2, flange contact "
@@ -353,24 +386,29 @@ def _print_rtri_summary(summary):
                 print(f"  {group}.{name}: {item}")
 
 
-def _rtri_settings(args, steps_default):
-    """Solver, dt, geometry, creep law and steps from ``--preset`` and the explicit options (which override it)."""
-    from .scenarios.presets import resolve
-    from .scenarios.rtri import RTRI, RTRI_CASE
-    paper = dict(solver="newmark", dt_s=RTRI.time_step_s, geometry="online", creep_law=RTRI_CASE.creep_law)
-    settings, record = resolve(args.preset, solver=args.solver, dt_s=args.dt, geometry=args.geometry,
-                               creep_law=args.creep_law, steps=args.steps, paper_defaults=paper)
-    if settings["steps"] is None:
-        settings["steps"] = steps_default
-    return settings, record
+def _rtri_settings(args):
+    """``(RunSettings, ContactSettings, preset record)`` from the case's settings, ``--preset`` and the explicit
+    options (which override it); the sweep's duration defaults to ``auto``."""
+    import dataclasses
+
+    from .scenarios.rtri import RtriCase
+    from .simulation.presets import apply_preset
+    from .simulation.settings import DURATION_AUTO, SettingsError
+    case = RtriCase()
+    run = case.run if args.command == "rtri" else dataclasses.replace(case.run, duration_s=DURATION_AUTO)
+    try:
+        return apply_preset(args.preset, run, case.contact,
+                            run_options=dict(solver=args.solver, dt_s=args.dt, duration_s=args.duration),
+                            contact_options=dict(creep_law=args.creep_law, geometry=args.geometry))
+    except SettingsError as exc:
+        raise _settings_error(exc) from None
 
 
 def cmd_rtri(args):
     from .scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
     delta, lt = _rtri_deviation(args)
-    st, preset = _rtri_settings(args, 2500)
-    case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, solver=st["solver"], dt_s=st["dt_s"],
-                    steps=st["steps"], creep_law=st["creep_law"], geometry=st["geometry"],
+    run, contact, preset = args.settings
+    case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, run=run, contact=contact,
                     deviation_amplitude_m=delta, transition_length_m=lt)
     if preset:
         print(f"preset {preset['name']}: {preset['purpose']}; set {preset['set']}"
@@ -384,29 +422,27 @@ def cmd_rtri(args):
     paths = write_rtri_outputs(result, args.out, plots=not args.no_plots)
     _print_rtri_summary(result.summary)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
-    return 0 if result.summary["status"] == "ok" else 1
+    return result.summary["status_detail"]["exit_code"]
 
 
 def cmd_rtri_sweep(args):
     from .scenarios.rtri import RTRI, run_sweep
+    from .simulation.status import exit_code
     delta, lt = _rtri_deviation(args)
     speeds = args.speeds_kmh if args.speeds_kmh else list(RTRI.speeds_km_h)
     spans = args.spans if args.spans else list(RTRI.span_lengths_m)
-    st, preset = _rtri_settings(args, "auto")
-    if preset and args.steps is None:
-        st["steps"] = "auto"               # the sweep covers each case's whole passage
-    print(f"RTRI sweep: spans {spans} m, speeds {speeds} km/h, {st['solver']}, dt {st['dt_s']} s, steps "
-          f"{st['steps']}, geometry {st['geometry']}" + (f" (preset {preset['name']})" if preset else ""))
-    summaries = run_sweep(spans, speeds, args.out, workers=args.workers, solver=st["solver"], dt_s=st["dt_s"],
-                          steps=st["steps"], creep_law=st["creep_law"], deviation_amplitude_m=delta,
-                          transition_length_m=lt, write_cases=not args.no_case_outputs, geometry=st["geometry"])
+    run, contact, preset = args.settings
+    print(f"RTRI sweep: spans {spans} m, speeds {speeds} km/h, {run.solver}, dt {run.dt_s} s, duration "
+          f"{run.duration_s}, geometry {contact.geometry}" + (f" (preset {preset['name']})" if preset else ""))
+    summaries = run_sweep(spans, speeds, args.out, workers=args.workers, run=run, contact=contact,
+                          deviation_amplitude_m=delta, transition_length_m=lt, write_cases=not args.no_case_outputs)
     print(f"wrote {args.out}/sweep.csv, sweep.json, fig7_max_carbody_acceleration.png")
-    return 0 if all(s["status"] == "ok" for s in summaries) else 1
+    return exit_code(s["status"] for s in summaries)
 
 
-def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
-    from .scenarios.presets import PRESETS
-    from .scenarios.rtri import SOLVERS
+def _add_rtri_common(p: argparse.ArgumentParser, duration_default: str):
+    from .simulation.presets import PRESETS
+    from .simulation.settings import SOLVERS
     p.add_argument("--preset", default=None, choices=tuple(PRESETS),
                    help="accuracy/speed preset (integrator, dt, contact geometry, creep law; explicit options "
                         "override it; the summary states what it set): "
@@ -414,12 +450,14 @@ def _add_rtri_common(p: argparse.ArgumentParser, steps_default):
                         + ".  Without a preset: the paper's settings (newmark, 1 ms, online geometry)")
     p.add_argument("--solver", default=None, choices=SOLVERS,
                    help="newmark: trapezoidal rule (beta 1/4, gamma 1/2, the paper's; default without a preset); "
-                        "rk44: explicit; others: see vehicle_builder.solver_settings")
-    p.add_argument("--dt", type=float, default=None, help="time step [s] (default 0.001, the paper's, or the preset's)")
-    p.add_argument("--steps", type=_steps_arg, default=None,
-                   help=f"number of steps or 'auto' (enough for the whole car to pass the span; default "
-                        f"{steps_default}, with a preset 2.5 s / dt)")
-    p.add_argument("--creep-law", default=None, help="creep law of the connector: table (default: Kalker's exact theory, tabulated), fastsim, shen_hedrick_elkins, polach")
+                        "rk44: explicit; others: see exudyn_wheelrail.simulation.settings")
+    p.add_argument("--dt", type=float, default=None,
+                   help="time step [s] (default 0.001, the paper's, or the preset's); never changes the duration")
+    p.add_argument("--duration", type=_duration, default=None,
+                   help=f"simulated time [s] or 'auto' (at least the paper's 2.5 s and until the whole car is 10 m "
+                        f"past the span); steps = ceil(duration / dt); default {duration_default}")
+    p.add_argument("--creep-law", default=None, help="creep law of the connector: table (default: Kalker's exact "
+                                                     "theory, tabulated), fastsim, shen_hedrick_elkins, polach")
     p.add_argument("--geometry", default=None, choices=("online", "table"),
                    help="contact geometry: online search (default) or the precomputed table for the rigid rail "
                         "profile (built once, ~1 min, cached)")
@@ -478,19 +516,14 @@ def _overrides(pairs, option: str) -> dict:
 
 
 def cmd_run_scenario(args):
-    from .scenarios.scenario import apply_overrides, load_scenario, run_scenario
-    scn = load_scenario(args.scenario)
-    overrides = _overrides(args.set, "--set")
-    if overrides:
-        scn = apply_overrides(scn, overrides, source=f"{args.scenario} with --set")
+    from .scenarios.scenario import run_scenario
+    scn = args.scenario_spec
     print(f"scenario {scn['scenario']['name']}: {scn['vehicle'].get('name') or scn['vehicle']['file']}, "
-          f"{scn['run']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
+          f"{scn['vehicle']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
           f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")
     result = run_scenario(scn, args.out, progress=not args.no_progress)
     s = result.summary
-    rtf = s["real_time_factor"] or 0.0
-    print(f"status: {s['status']}; {s['steps']} steps, solve {s['solve_seconds']:.2f} s for "
-          f"{s['simulated_time_s']:.3f} s simulated (real-time factor {rtf:.2f})")
+    _print_status(s)
     sc = s["scalars"]
     if sc.get("max_abs_Y_any_wheel_N") is not None:
         print(f"max |Y| any wheel {sc['max_abs_Y_any_wheel_N'] / 1e3:.2f} kN, max Y/Q {sc['max_YQ_any_wheel']:.3f}, "
@@ -505,11 +538,22 @@ def cmd_run_scenario(args):
     for note in s["notes"]:
         print("note:", note)
     print("wrote " + ", ".join(result.paths.values()))
-    return 0 if s["status"] == "ok" else 1
+    return s["status_detail"]["exit_code"]
+
+
+def _check_run(args) -> None:
+    from .scenarios.scenario import apply_overrides, load_scenario
+    output_dir("--out", args.out)
+    scn = load_scenario(args.scenario)
+    overrides = _overrides(args.set, "--set")
+    if overrides:
+        scn = apply_overrides(scn, overrides, source=f"{args.scenario} with --set")
+    args.scenario_spec = scn
 
 
 def cmd_sweep_scenario(args):
     from .scenarios.sweep import DEFAULT_PLOT_RESULT, sweep
+    from .simulation.status import exit_code
     params = _overrides(args.param, "--param")
     base = args.scenario
     overrides = _overrides(args.set, "--set")
@@ -527,7 +571,7 @@ def cmd_sweep_scenario(args):
     for note in result.notes:
         print("note:", note)
     print("wrote " + ", ".join(result.paths.values()))
-    return 0 if all(s == "ok" for s in result.table["status"]) else 1
+    return exit_code(result.table["status"])
 
 
 def cmd_validation_report(args):
@@ -542,9 +586,8 @@ def cmd_explore(args):
     values = _overrides(args.set, "--set")
     if args.out:
         matplotlib.use("Agg")
-    from .interactive.explorer import ExplorerSettings
     from .interactive.explorer_figure import ExplorerFigure
-    settings = ExplorerSettings(solver=args.solver, dt_s=args.dt, window=args.window, geometry=args.geometry)
+    settings = args.explorer_settings
     if not args.out and matplotlib.get_backend().lower() in ("agg", "pdf", "ps", "svg", "cairo", "template"):
         raise RuntimeError(f"no interactive matplotlib backend ({matplotlib.get_backend()}; no display?): use "
                            "--out FILE.png for a headless run")
@@ -598,7 +641,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "summary.json, fig5_carbody_acceleration.png, fig6_lateral_force.png")
     r.add_argument("--span", type=float, default=20.0, help="span length L [m] (default 20)")
     r.add_argument("--speed-kmh", type=float, default=250.0, help="running speed [km/h] (default 250)")
-    _add_rtri_common(r, 2500)
+    _add_rtri_common(r, "2.5 s (the paper's 2500 steps of 1 ms)")
     r.add_argument("--no-plots", action="store_true", help="do not write the PNG figures")
     r.add_argument("--view", action="store_true",
                    help="show the run in Exudyn's 3-D renderer (wheels, rails, contact points, force arrows); the "
@@ -627,7 +670,7 @@ def build_parser() -> argparse.ArgumentParser:
                     type=lambda t: _key_values(t, "--set", many=False),
                     help="override a value by its dotted key, repeatable (run.duration_s=0.5, "
                          "track.0.amplitude_m=0.005)")
-    sr.set_defaults(func=cmd_run_scenario, check=_check_out_dir)
+    sr.set_defaults(func=cmd_run_scenario, check=_check_run)
     ss = sub.add_parser("sweep", help="a scenario over a parameter grid in parallel: one table and one plot",
                         description="Runs the cartesian product of the --param values over a scenario in parallel "
                                     "processes; writes sweep.csv (one row per case), sweep.json, sweep_plot.png and "
@@ -636,7 +679,7 @@ def build_parser() -> argparse.ArgumentParser:
     ss.add_argument("--param", action="append", metavar="KEY=V1,V2,...",
                     type=lambda t: _key_values(t, "--param", many=True),
                     help="a swept parameter by its dotted key and its values, repeatable "
-                         "(run.speed_km_h=100,150,200 --param track.0.span_length_m=20,40)")
+                         "(vehicle.speed_km_h=100,150,200 --param track.0.span_length_m=20,40)")
     ss.add_argument("--set", action="append", metavar="KEY=VALUE",
                     type=lambda t: _key_values(t, "--set", many=False),
                     help="a fixed override of the base scenario, repeatable")
@@ -665,13 +708,14 @@ def build_parser() -> argparse.ArgumentParser:
                     type=lambda t: _key_values(t, "--set", many=False),
                     help="initial slider value, repeatable: speed_km_h, span_m, deviation_mm, friction, "
                          "primary_kx_factor, primary_ky_factor, secondary_ky_factor, secondary_cy_factor")
-    ex.add_argument("--solver", default="rk44", help="integrator of the explorer's runs (default rk44)")
+    ex.add_argument("--solver", default="rk44", help="integrator of the explorer's runs (default rk44; "
+                                                     "newmark, generalized_alpha, rk33, rk67, explicit_midpoint)")
     ex.add_argument("--dt", type=float, default=1e-3, help="time step [s] (default 0.001)")
     ex.add_argument("--geometry", default="online", choices=("online", "table"),
                     help="contact geometry: online search (default, as the full run) or the precomputed table "
                          "(about 2x faster updates, larger differences in raw force peaks)")
     ex.add_argument("--window", default="passage", choices=("passage", "published"),
-                    help="passage: until the whole car has left the span + run-out (default); published: 2500 steps")
+                    help="passage: until the whole car has left the span + run-out (default); published: 2.5 s")
     ex.add_argument("--out", default=None, help="headless: run once with the --set values and save the window here")
     ex.set_defaults(func=cmd_explore, check=_check_explore)
     return parser

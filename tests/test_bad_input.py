@@ -34,15 +34,15 @@ from exudyn_wheelrail.validation import InputWarning
 WHEEL_FILE = PROFILES_DIR / "MBench_S1002_v3.prw"
 RAIL_FILE = PROFILES_DIR / "MBench_UIC60_v3.prr"
 SCENARIO = """\
-schema_version = 1
+schema_version = 2
 [vehicle]
 name = "manchester_vehicle1"
+speed_km_h = 100.0
 [[track]]
 type = "harmonic"
 amplitude_m = {amplitude}
 wavelength_m = {wavelength}
 [run]
-speed_km_h = 100.0
 duration_s = 0.01
 """
 
@@ -305,7 +305,7 @@ def test_unknown_profile_name(tmp_path, option, name, names):
     (["rtri", "--out", "{file}"], "--out", "file"),
     (["rtri-sweep", "--out", "{below}/sweep"], "--out", "below"),
     (["run", "{scenario}", "--out", "{file}"], "--out", "file"),
-    (["sweep", "{scenario}", "--param", "run.speed_km_h=100,150", "--out", "{below}/sweep"], "--out", "below"),
+    (["sweep", "{scenario}", "--param", "vehicle.speed_km_h=100,150", "--out", "{below}/sweep"], "--out", "below"),
     (["validation-report", "--quick", "--out", "{file}"], "--out", "file"),
     (["explore", "--out", "{below}/x.png"], "--out", "below"),
 ])

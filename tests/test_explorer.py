@@ -1,5 +1,5 @@
 """The RTRI explorer (exudyn_wheelrail.interactive.explorer, explorer_figure; CLI ``explore``) and the RtriCase
-overrides it needs (``friction_coefficient``, ``vehicle_overrides``).
+overrides it needs (the contact settings' ``friction``, ``vehicle_overrides``).
 
 References, independent of the code under test:
 
@@ -20,7 +20,8 @@ from exudyn_wheelrail.cli import main as cli_main  # noqa: E402
 from exudyn_wheelrail.interactive.explorer import PARAMETERS, RtriExplorer, compare_with_full_run  # noqa: E402
 from exudyn_wheelrail.multibody import connector as C  # noqa: E402
 from exudyn_wheelrail.multibody.vehicle_data import load_vehicle  # noqa: E402
-from exudyn_wheelrail.scenarios.rtri import RtriCase, build_rtri, run_rtri  # noqa: E402
+from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri  # noqa: E402
+from exudyn_wheelrail.scenarios.scenario import build_scenario  # noqa: E402
 
 #: explorer vs full run on the RTRI case (explorer.py docstring: measured +0.3 %, +0.4 %, -3.8 %)
 TOL_ACCELERATION = 0.02
@@ -33,9 +34,9 @@ TOL_FORCE_RAW = 0.15
 # -------------------------------------------------------------------------------------------- RtriCase overrides
 def test_vehicle_overrides_reach_the_model_and_unknown_keys_are_refused():
     file_ky = load_vehicle("manchester_vehicle1").primary.stiffness_N_per_m[1]
-    case = RtriCase(steps=5, vehicle_overrides={"primary.ky_N_per_m": 2.0 * file_ky}, friction_coefficient=0.2)
+    case = RtriCase(duration_s=0.005, vehicle_overrides={"primary.ky_N_per_m": 2.0 * file_ky}, friction=0.2)
     assert case.vehicle().primary.stiffness_N_per_m[1] == 2.0 * file_ky
-    h = build_rtri(case)
+    h = build_scenario(case.scenario())
     k = h.mbs.GetObjectParameter(h.model.connectors["primary"][0], "stiffness")
     assert k[1] == pytest.approx(2.0 * file_ky)
     assert h.contact.cp[C.CP_MU] == 0.2
@@ -45,20 +46,20 @@ def test_vehicle_overrides_reach_the_model_and_unknown_keys_are_refused():
         RtriCase(vehicle_overrides={"primery.ky_N_per_m": 1.0})
     with pytest.raises(ValueError, match="must not be negative"):
         RtriCase(vehicle_overrides={"secondary.cy_N_s_per_m": -1.0})
-    with pytest.raises(ValueError, match="friction_coefficient"):
-        RtriCase(friction_coefficient=-0.1)
+    with pytest.raises(ValueError, match="friction"):
+        RtriCase(friction=-0.1)
     with pytest.raises(ValueError, match="expected a dict"):
         RtriCase(vehicle_overrides=[("primary.ky_N_per_m", 1.0)])
 
 
 def test_overrides_are_recorded_in_the_summary():
-    s = run_rtri(RtriCase(steps=5, friction_coefficient=0.25,
+    s = run_rtri(RtriCase(duration_s=0.005, friction=0.25,
                           vehicle_overrides={"secondary.cy_N_s_per_m": 16e3})).summary
     mu = s["assumptions"]["RtriCaseAssumptions"]["friction_coefficient"]
     assert mu["used_in_this_run"] == 0.25 and "OVERRIDDEN" in mu["origin"]
     veh = s["assumptions"]["RtriAssumptions"]["vehicle"]
     assert veh["overrides_in_this_run"] == {"secondary.cy_N_s_per_m": 16e3} and "OVERRIDDEN" in veh["origin"]
-    plain = run_rtri(RtriCase(steps=5)).summary["assumptions"]
+    plain = run_rtri(RtriCase(duration_s=0.005)).summary["assumptions"]
     assert "used_in_this_run" not in plain["RtriCaseAssumptions"]["friction_coefficient"]
     assert "overrides_in_this_run" not in plain["RtriAssumptions"]["vehicle"]
 
@@ -79,10 +80,10 @@ def test_explorer_parameters_are_checked(explorer):
     v = load_vehicle("manchester_vehicle1")
     assert case.vehicle_overrides == {"primary.kx_N_per_m": 2.0 * v.primary.stiffness_N_per_m[0],
                                       "secondary.cy_N_s_per_m": 0.5 * v.secondary.damping_N_s_per_m[1]}
-    assert case.solver == "rk44" and case.dt_s == 1e-3
+    assert case.run.solver == "rk44" and case.run.dt_s == 1e-3
     # passage window: until the whole car (21.56 m) has left the span plus lead-in, transition and run-out
     V = case.speed_m_s
-    assert case.steps == int(np.ceil((10.0 + 20.0 + 3.0 + 21.56 + 10.0) / V / 1e-3 - 1e-9))
+    assert case.run.steps == int(np.ceil((10.0 + 20.0 + 3.0 + 21.56 + 10.0) / V / 1e-3 - 1e-9))
 
 
 def test_larger_deviation_gives_larger_force_and_car_body_acceleration(explorer):

@@ -183,7 +183,7 @@ def test_carbody_plot_states_the_comfort_results(figures, rtri_scenario):
 @pytest.fixture(scope="module")
 def rtri_run():
     """Newmark 1 ms over 0.75 s: the car-body acceleration peak of the 20 m case (~0.70 s) is inside."""
-    return run_rtri(RtriCase(span_m=20.0, steps=750))
+    return run_rtri(RtriCase(span_m=20.0, duration_s=0.75))
 
 
 def test_rtri_figures_circle_the_passage_peaks(rtri_run, monkeypatch, tmp_path):

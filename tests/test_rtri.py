@@ -49,8 +49,8 @@ def short_steps(span_m, speed_km_h=V_REP, dt=RTRI.time_step_s):
 @pytest.fixture(scope="module")
 def short_runs():
     """Newmark (the paper's scheme), dt 1 ms, the stated assumptions, 20 m and 40 m at the representative speed."""
-    return {L: run_rtri(RtriCase(span_m=L, speed_km_h=V_REP, solver="newmark", steps=short_steps(L)))
-            for L in (20.0, 40.0)}
+    return {L: run_rtri(RtriCase(span_m=L, speed_km_h=V_REP, solver="newmark",
+                                 duration_s=short_steps(L) * RTRI.time_step_s)) for L in (20.0, 40.0)}
 
 
 # --------------------------------------------------------------------------------------- paper's findings
@@ -88,7 +88,8 @@ FLANGE_FINDING_DELTA_M = 0.014
 @pytest.fixture(scope="module")
 def larger_deviation_runs():
     """As ``short_runs`` with δ = FLANGE_FINDING_DELTA_M."""
-    return {L: run_rtri(RtriCase(span_m=L, speed_km_h=V_REP, solver="newmark", steps=short_steps(L),
+    return {L: run_rtri(RtriCase(span_m=L, speed_km_h=V_REP, solver="newmark",
+                                 duration_s=short_steps(L) * RTRI.time_step_s,
                                  deviation_amplitude_m=FLANGE_FINDING_DELTA_M)) for L in (20.0, 40.0)}
 
 
@@ -195,7 +196,8 @@ def test_lateral_force_sign_convention(short_runs):
 @pytest.fixture(scope="module")
 def fine_run():
     """The 20 m short run at dt = 0.5 ms."""
-    return run_rtri(RtriCase(span_m=20.0, speed_km_h=V_REP, solver="newmark", dt_s=5e-4, steps=2 * short_steps(20.0)))
+    return run_rtri(RtriCase(span_m=20.0, speed_km_h=V_REP, solver="newmark", dt_s=5e-4,
+                             duration_s=short_steps(20.0) * RTRI.time_step_s))
 
 
 def test_peaks_converge_when_dt_halves(short_runs, fine_run):
@@ -235,8 +237,8 @@ def test_summary_lists_every_assumption_with_origin(short_runs):
 
 
 def test_overridden_assumptions_are_marked():
-    r = run_rtri(RtriCase(span_m=20.0, speed_km_h=100.0, solver="rk44", steps=3, deviation_amplitude_m=0.005,
-                          transition_length_m=2.0))
+    r = run_rtri(RtriCase(span_m=20.0, speed_km_h=100.0, solver="rk44", duration_s=0.003,
+                          deviation_amplitude_m=0.005, transition_length_m=2.0))
     a = r.summary["assumptions"]["RtriAssumptions"]
     assert a["deviation_amplitude_m"]["used_in_this_run"] == 0.005
     assert "OVERRIDDEN" in a["deviation_amplitude_m"]["origin"]
@@ -244,15 +246,16 @@ def test_overridden_assumptions_are_marked():
     assert r.summary["deviation_amplitude_m"] == 0.005
 
 
-def test_steps_auto_covers_the_whole_car_and_short_runs_say_what_they_miss():
-    r = run_rtri(RtriCase(span_m=40.0, speed_km_h=100.0, solver="rk44", steps=2, record=True))
+def test_duration_auto_covers_the_whole_car_and_short_runs_say_what_they_miss():
+    r = run_rtri(RtriCase(span_m=40.0, speed_km_h=100.0, solver="rk44", duration_s=0.002, record=True))
     assert any("before the leading wheelset has left the span" in n for n in r.summary["notes"])
-    c = RtriCase(span_m=40.0, speed_km_h=100.0, steps="auto")
+    c = RtriCase(span_m=40.0, speed_km_h=100.0, duration_s="auto")
     from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
-    from exudyn_wheelrail.scenarios.rtri import _steps
     x = load_vehicle("manchester_vehicle1").wheelset_x_m()
     distance = RTRI.lead_in_m + 40.0 + RTRI.transition_length_m + (max(x) - min(x)) + RTRI.run_out_m
-    assert _steps(c, load_vehicle("manchester_vehicle1")) == math.ceil(distance / (100 / 3.6) / 1e-3)
+    assert c.run_settings().steps == math.ceil(distance / (100 / 3.6) / 1e-3)
+    # at 250 km/h the passage is shorter than the published 2.5 s, which "auto" keeps
+    assert RtriCase(span_m=20.0, duration_s="auto").run_settings().steps == RTRI.n_steps_published
 
 
 # ------------------------------------------------------------------------------------------ bad input
@@ -260,10 +263,11 @@ def test_steps_auto_covers_the_whole_car_and_short_runs_say_what_they_miss():
     (dict(span_m=-20.0), "span_m"),
     (dict(speed_km_h=0.0), "speed_km_h"),
     (dict(speed_km_h=float("nan")), "speed_km_h"),
-    (dict(solver="euler"), "newmark, rk44"),
+    (dict(solver="euler"), "solver: 'euler': expected one of newmark"),
     (dict(dt_s=0.0), "dt_s"),
-    (dict(steps=0), "steps"),
-    (dict(steps="many"), "steps"),
+    (dict(dt_s=0.01, duration_s=0.0), "duration_s"),
+    (dict(duration_s="many"), "duration_s"),
+    (dict(creep_law="bogus"), "creep_law"),
     (dict(transition_length_m=25.0), "shorter than the span"),
     (dict(deviation_amplitude_m=-0.01), "deviation_amplitude_m"),
     (dict(wheel_rail="springs"), "record=False"),
@@ -276,11 +280,15 @@ def test_bad_case_input_gives_clear_errors(kwargs, match):
 def test_cli_reports_bad_input(capsys, tmp_path):
     assert cli_main(["rtri", "--span", "-5", "--out", str(tmp_path)]) == 2
     assert "--span" in capsys.readouterr().err          # the option is named (the error comes before the case)
-    assert cli_main(["rtri", "--creep-law", "bogus", "--steps", "2", "--out", str(tmp_path)]) == 2
+    assert cli_main(["rtri", "--creep-law", "bogus", "--duration", "0.002", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
-    assert "bogus" in err and "fastsim" in err          # the connector's valid names are listed
+    assert "--creep-law" in err and "bogus" in err and "fastsim" in err    # the connector's valid names are listed
+    assert cli_main(["rtri", "--duration", "0", "--out", str(tmp_path)]) == 2
+    assert "--duration" in capsys.readouterr().err
     with pytest.raises(SystemExit):
-        cli_main(["rtri", "--steps", "0", "--out", str(tmp_path)])
+        cli_main(["rtri", "--duration", "long", "--out", str(tmp_path)])
+    with pytest.raises(SystemExit):
+        cli_main(["rtri", "--steps", "30", "--out", str(tmp_path)])     # the duration is the option
     with pytest.raises(SystemExit):
         cli_main(["rtri", "--solver", "euler", "--out", str(tmp_path)])
 
@@ -293,8 +301,8 @@ def run_cli(*args):
 
 def test_cli_rtri_writes_files_and_columns(tmp_path):
     out = tmp_path / "rtri"
-    r = run_cli("rtri", "--span", "20", "--speed-kmh", "250", "--solver", "rk44", "--dt", "0.001", "--steps", "30",
-                "--creep-law", "fastsim", "--out", str(out))
+    r = run_cli("rtri", "--span", "20", "--speed-kmh", "250", "--solver", "rk44", "--dt", "0.001", "--duration",
+                "0.03", "--creep-law", "fastsim", "--out", str(out))
     assert r.returncode == 0, r.stderr
     assert "assumptions" in r.stdout and "deviation_amplitude_m" in r.stdout
     for name in ("timeseries.csv", "summary.json", "fig5_carbody_acceleration.png", "fig6_lateral_force.png"):
@@ -317,7 +325,7 @@ def test_cli_rtri_writes_files_and_columns(tmp_path):
 
 def test_cli_rtri_sweep_writes_table_and_fig7(tmp_path):
     out = tmp_path / "sweep"
-    r = run_cli("rtri-sweep", "--spans", "20", "40", "--speeds-kmh", "250", "--solver", "rk44", "--steps", "10",
+    r = run_cli("rtri-sweep", "--spans", "20", "40", "--speeds-kmh", "250", "--solver", "rk44", "--duration", "0.01",
                 "--workers", "2", "--no-case-outputs", "--out", str(out))
     assert r.returncode == 0, r.stderr
     with open(out / "sweep.csv") as fh:
@@ -338,7 +346,7 @@ def test_paper_findings_full_runs(solver, tmp_path):
     peaks = {}
     for L in (20, 40):
         out = tmp_path / f"L{L}"
-        r = run_cli("rtri", "--span", str(L), "--speed-kmh", f"{V_REP:g}", "--solver", solver, "--steps", "2500",
+        r = run_cli("rtri", "--span", str(L), "--speed-kmh", f"{V_REP:g}", "--solver", solver, "--duration", "2.5",
                     "--no-plots", "--out", str(out))
         assert r.returncode == 0, r.stderr
         s = json.loads((out / "summary.json").read_text())

@@ -38,7 +38,7 @@ def fresh_and_reference():
     ref_ts, ref = read_reference()
     assert ref["status"] == "ok"
     case = RtriCase(span_m=ref["span_m"], speed_km_h=ref["speed_km_h"], solver=ref["solver"]["name"],
-                    dt_s=ref["dt_s"], steps=ref["steps"], creep_law=ref["creep_law"],
+                    dt_s=ref["dt_s"], duration_s=ref["steps"] * ref["dt_s"], creep_law=ref["creep_law"],
                     fastsim_grid=tuple(ref["fastsim_grid"]), deviation_amplitude_m=ref["deviation_amplitude_m"],
                     transition_length_m=ref["transition_length_m"])
     return run_rtri(case), ref_ts, ref

@@ -2,18 +2,16 @@
 
 References, independent of the code under test:
 
-* the ``rtri`` CLI (exudyn_wheelrail.scenarios.rtri: its own builder, recorder and outputs) for the RTRI case written
-  as a scenario file — the same settings must give the same numbers;
 * the bridge deck alone under the static axle loads moving at V (structures.simulate_moving_forces, a separate
   Exudyn model without vehicle) for the deck deflection of the bridge scenario; the EN 1990 cut-off computed by
   hand from the stated section; the trapezoidal rule's identity (w₊ − 2w + w₋)/h² = (a₊ + 2a + a₋)/4 between
   the recorded deck deflection and acceleration; the total static wheel load = vehicle weight;
 * invariance: a rigid lateral/vertical translation of the whole track does not change the contact forces;
-* the serial run (in process) for the sweep through a thread pool, a process pool and a Dask cluster.
+* the serial run (in process) for the sweep through a thread pool, a process pool and a Dask cluster;
+* a ``schema_version = 1`` file is the same scenario as its version-2 form (the keys moved, nothing else).
 
 All runs are short (tens to a few hundred steps; the bridge crossing ~1400 steps, < 1 s of solving).
 """
-import contextlib
 import csv
 import io
 import json
@@ -30,26 +28,26 @@ import pytest
 
 from exudyn_wheelrail.cli import main as cli_main
 from exudyn_wheelrail.scenarios.scenario import (
-    PROGRESS_MIN_STEPS,
     ScenarioError,
-    _Recorder,
     apply_overrides,
     build_bridge_modes,
-    build_scenario,
     load_scenario,
     run_scenario,
     set_dotted,
     validate_scenario,
 )
 from exudyn_wheelrail.scenarios.sweep import TIMING_COLUMNS, SerialExecutor, sweep
+from exudyn_wheelrail.simulation.recorder import PROGRESS_MIN_STEPS
+from exudyn_wheelrail.simulation.runner import _Hook
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "scenarios"
 SHIPPED = ("rtri_20m", "bridge_40m", "harmonic_track")
 
 BASE_TOML = """\
-schema_version = 1
+schema_version = 2
 [vehicle]
 name = "manchester_vehicle1"
+speed_km_h = 250.0
 [[track]]
 type = "span_deflection"
 span_length_m = 20.0
@@ -57,7 +55,6 @@ amplitude_m = 0.01
 start_m = 11.5
 transition_length_m = 3.0
 [run]
-speed_km_h = 250.0
 duration_s = 0.02
 """
 
@@ -74,17 +71,20 @@ def _edit(old, new):
 
 
 LOADER_ERRORS = [
-    (_edit("schema_version = 1\n", ""), "schema_version", "missing"),
-    (_edit("schema_version = 1", "schema_version = 2"), "schema_version", "2"),
-    (_edit("speed_km_h = 250.0", "speedd_km_h = 250.0"), "run.speedd_km_h", "unknown key"),
-    (_edit("speed_km_h = 250.0\n", ""), "run.speed_km_h", "missing"),
-    (_edit("speed_km_h = 250.0", "speed_km_h = true"), "run.speed_km_h", "number"),
-    (_edit("speed_km_h = 250.0", "speed_km_h = -5.0"), "run.speed_km_h", "> 0"),
+    (_edit("schema_version = 2\n", ""), "schema_version", "missing"),
+    (_edit("schema_version = 2", "schema_version = 3"), "schema_version", "3"),
+    (_edit("duration_s = 0.02", "durationn_s = 0.02"), "run.durationn_s", "unknown key"),
+    (_edit("speed_km_h = 250.0\n", ""), "vehicle.speed_km_h", "missing"),
+    (_edit("speed_km_h = 250.0", "speed_km_h = true"), "vehicle.speed_km_h", "number"),
+    (_edit("speed_km_h = 250.0", "speed_km_h = -5.0"), "vehicle.speed_km_h", "> 0"),
     (_edit("duration_s = 0.02", "duration_s = \"forever\""), "run.duration_s", "auto"),
     (_edit("duration_s = 0.02", "duration_s = 0.02\nsolver = \"euler\""), "run.solver", "newmark"),
     (_edit("duration_s = 0.02", "duration_s = 0.02\ndt_s = \"0.001\""), "run.dt_s", "number"),
-    (_edit("duration_s = 0.02", "duration_s = 0.02\ncreep_law = \"bogus\""), "run.creep_law", "fastsim"),
-    (_edit("duration_s = 0.02", "duration_s = 0.02\nfastsim_grid = [24]"), "run.fastsim_grid", "two"),
+    (_edit("duration_s = 0.02", "duration_s = 0.02\ndt_s = 1.0"), "run.dt_s", "milliseconds"),
+    (_edit("duration_s = 0.02", "duration_s = 0.02\nrecord_every = 0"), "run.record_every", ">= 1"),
+    (_edit("[run]", "[contact]\ncreep_law = \"bogus\"\n[run]"), "contact.creep_law", "fastsim"),
+    (_edit("[run]", "[contact]\nfastsim_grid = [24]\n[run]"), "contact.fastsim_grid", "two"),
+    (_edit("[run]", "[contact]\nwheel_rail = \"springs\"\n[run]"), "contact.wheel_rail", "run.record = false"),
     (_edit("amplitude_m = 0.01\n", ""), "track.0.amplitude_m", "missing"),
     (_edit("type = \"span_deflection\"", "type = \"spline\""), "track.0.type", "harmonic"),
     (_edit("transition_length_m = 3.0", "transition_length_m = 30.0"), "track.0.transition_length_m", "shorter"),
@@ -93,6 +93,8 @@ LOADER_ERRORS = [
     (_edit("name = \"manchester_vehicle1\"", "name = \"no_such_vehicle\""), "vehicle.name", "not found"),
     (_edit("name = \"manchester_vehicle1\"", "name = \"manchester_vehicle1\"\nfile = \"v.toml\""), "vehicle",
      "exactly one"),
+    (_edit("speed_km_h = 250.0", "speed_km_h = 250.0\n[vehicle.overrides]\nprimary.kyy = 1.0"), "vehicle.overrides",
+     "kyy"),
     (lambda t: t + "[foo]\nbar = 1\n", "foo", "unknown key"),
     (lambda t: t + "[outputs]\ntimeseries = [\"Y\", \"deck\"]\n", "outputs.timeseries.1", "structure"),
     (lambda t: t + "[outputs]\nformats = [\"hdf5\"]\n", "outputs.formats.0", "csv"),
@@ -157,93 +159,67 @@ def test_shipped_scenarios_normal_form(name):
 
 def test_dotted_overrides():
     scn = load_scenario(EXAMPLES / "rtri_20m.toml")
-    new = apply_overrides(scn, {"run.speed_km_h": 100, "track.0.amplitude_m": 0.005})
-    assert new["run"]["speed_km_h"] == 100.0 and new["track"][0]["amplitude_m"] == 0.005
-    assert scn["run"]["speed_km_h"] == 250.0                     # the base is not changed
+    new = apply_overrides(scn, {"vehicle.speed_km_h": 100, "track.0.amplitude_m": 0.005})
+    assert new["vehicle"]["speed_km_h"] == 100.0 and new["track"][0]["amplitude_m"] == 0.005
+    assert scn["vehicle"]["speed_km_h"] == 250.0                 # the base is not changed
+    old_keys = apply_overrides(scn, {"run.speed_km_h": 100, "run.creep_law": "fastsim"})    # version-1 keys
+    assert old_keys["vehicle"]["speed_km_h"] == 100.0 and old_keys["contact"]["creep_law"] == "fastsim"
     with pytest.raises(ScenarioError, match=r"'track\.3\.amplitude_m': track has 1 entry"):
         set_dotted(dict(scn), "track.3.amplitude_m", 1.0)
-    with pytest.raises(ScenarioError, match=r"'run\.speed_km_h\.x'.*is a value"):
-        set_dotted(dict(scn), "run.speed_km_h.x", 1.0)
+    with pytest.raises(ScenarioError, match=r"'vehicle\.speed_km_h\.x'.*is a value"):
+        set_dotted(dict(scn), "vehicle.speed_km_h.x", 1.0)
     with pytest.raises(ScenarioError, match=r"no 'nosuch'"):
         set_dotted(dict(scn), "nosuch.key", 1.0)
     with pytest.raises(ScenarioError, match=r"<overrides>: run\.speedd: unknown key"):
         apply_overrides(scn, {"run.speedd": 1.0})
-    with pytest.raises(ScenarioError, match=r"run\.dt_s: .*must be > 0"):
+    with pytest.raises(ScenarioError, match=r"<overrides>: run\.dt_s: -1 is not a plausible time step"):
         apply_overrides(scn, {"run.dt_s": -1.0})
 
 
-# ------------------------------------------------------------------------------------------ scenario vs rtri CLI
-RTRI_SAME = [("carbody_lateral_acceleration_rear_m_s2", "carbody_lateral_acceleration_rear_m_s2"),
-             ("carbody_lateral_accelerometer_rear_m_s2", "carbody_lateral_accelerometer_rear_m_s2"),
-             ("lateral_contact_force_w1_right_N", "Y_w1_right_N"),
-             ("vertical_contact_force_w1_right_N", "Q_w1_right_N"),
-             ("derailment_quotient_w1_right", "YQ_w1_right"),
-             ("flange_contact_w1_right", "flange_w1_right"), ("flange_contact_w1_left", "flange_w1_left")]
-RTRI_SAME += [(f"{k}_w{j}_{s}_N", f"{k}_w{j}_{s}_N") for k in "YQ" for j in range(1, 5) for s in ("right", "left")]
+def test_version_1_files_are_read_with_the_keys_moved(tmp_path):
+    """A version-1 file (speed, start, creep law, friction and FASTSIM grid in [run]) gives the same normal form as
+    the version-2 file with those keys in [vehicle] and [contact]."""
+    v1 = BASE_TOML.replace("schema_version = 2", "schema_version = 1").replace("speed_km_h = 250.0\n", "") \
+        .replace("duration_s = 0.02", "duration_s = 0.02\nspeed_km_h = 250.0\nstart_s_m = 1.0\ncreep_law = "
+                                      "\"fastsim\"\nfriction = 0.25\nfastsim_grid = [12, 4]")
+    v2 = BASE_TOML.replace("speed_km_h = 250.0", "speed_km_h = 250.0\nstart_s_m = 1.0").replace(
+        "[run]", "[contact]\ncreep_law = \"fastsim\"\nfriction = 0.25\nfastsim_grid = [12, 4]\n[run]")
+    (tmp_path / "v1.toml").write_text(v1)
+    (tmp_path / "v2.toml").write_text(v2)
+    a, b = load_scenario(tmp_path / "v1.toml"), load_scenario(tmp_path / "v2.toml")
+    a["scenario"]["name"] = b["scenario"]["name"]
+    assert a == b and a["schema_version"] == 2 and a["contact"]["fastsim_grid"] == [12, 4]
 
 
-def _rtri_pair(tmp, solver, creep_law, steps, progress):
-    with contextlib.redirect_stdout(io.StringIO()):
-        assert cli_main(["rtri", "--span", "20", "--speed-kmh", "250", "--solver", solver, "--dt", "0.001",
-                         "--steps", str(steps), "--creep-law", creep_law, "--no-plots",
-                         "--out", str(tmp / "rtri")]) == 0
-    scn = apply_overrides(load_scenario(EXAMPLES / "rtri_20m.toml"),
-                          {"run.solver": solver, "run.creep_law": creep_law, "run.duration_s": steps * 1e-3})
-    result = run_scenario(scn, tmp / "scenario", progress=progress)
-    return read_csv(tmp / "rtri" / "timeseries.csv")[1], json.loads((tmp / "rtri" / "summary.json").read_text()), \
-        result
-
-
+# ------------------------------------------------------------------------------------------- run and outputs
 @pytest.fixture(scope="module")
-def rtri_newmark(tmp_path_factory):
-    """The paper's settings (Newmark, 1 ms, creep table), 400 steps: the leading wheelset runs onto the deviation."""
+def rtri_run(tmp_path_factory):
+    """rtri_20m.toml over 0.4 s (the leading wheelset runs onto the deviation) with the progress bar on a stream."""
     bar = io.StringIO()
-    tmp = tmp_path_factory.mktemp("rtri_newmark")
-    ts, summary, result = _rtri_pair(tmp, "newmark", "table", 400, bar)
-    return ts, summary, result, bar.getvalue(), tmp
+    tmp = tmp_path_factory.mktemp("rtri_scenario")
+    scn = apply_overrides(load_scenario(EXAMPLES / "rtri_20m.toml"), {"run.duration_s": 0.4})
+    result = run_scenario(scn, tmp / "scenario", progress=bar)
+    return result, bar.getvalue(), tmp
 
 
-def _assert_same_as_rtri(ts, rtri_summary, result):
-    s = result.summary
-    assert s["status"] == "ok" and rtri_summary["status"] == "ok"
-    mine = result.timeseries
-    assert len(mine["time_s"]) == len(ts["time_s"]) == rtri_summary["steps"] + 1
-    np.testing.assert_allclose(mine["time_s"], ts["time_s"], rtol=0, atol=1e-12)
-    # the same system, built in the same order and solved with the same settings: the runs are bit-identical (on
-    # any CPU, both run on the same one); rtri's numbers come from its CSV, written with 10 significant digits, so
-    # they differ by its rounding, at most 5e-10 of the value (rtol twice that)
-    for a, b in RTRI_SAME:
-        np.testing.assert_allclose(mine[b], ts[a], rtol=1e-9, atol=0.0, equal_nan=True, err_msg=b)
-    # the connector evaluates the track at the wheelset's actual x, rtri.py at its nominal x: the lateral
-    # wheelset-track displacement differs by (longitudinal wheelset motion, mm) x (track slope, < 2 mrad)
-    np.testing.assert_allclose(mine["y_rel_w1_m"], ts["wheelset1_lateral_rel_track_m"], rtol=0, atol=1e-5)
-    assert s["peaks"]["Y_w1_right_N"]["max_abs"] == pytest.approx(
-        rtri_summary["peaks"]["max_abs_lateral_contact_force_w1_right_N"], rel=1e-12)
-    assert s["peaks"]["carbody_lateral_acceleration_rear_m_s2"]["max_abs"] == pytest.approx(
-        rtri_summary["peaks"]["max_abs_carbody_lateral_acceleration_rear_m_s2"], rel=1e-12)
+def test_run_is_ok_and_watched(rtri_run):
+    s = rtri_run[0].summary
+    assert s["status"] == "ok" and s["status_detail"]["exit_code"] == 0
+    assert s["rows_recorded"] == s["steps"] + 1 == 401
+    assert s["contact_calls"] > s["steps"]                  # the monitor evaluated every state
+    assert s["scalars"]["max_abs_Y_any_wheel_N"] > 5e3       # the deviation acts in the run
 
 
-def test_rtri_scenario_agrees_with_rtri_cli_newmark(rtri_newmark):
-    ts, summary, result, _, _ = rtri_newmark
-    assert np.nanmax(np.abs(ts["lateral_contact_force_w1_right_N"])) > 5e3      # the deviation acts in the run
-    _assert_same_as_rtri(ts, summary, result)
-
-
-def test_rtri_scenario_agrees_with_rtri_cli_rk44(tmp_path):
-    ts, summary, result = _rtri_pair(tmp_path, "rk44", "fastsim", 150, False)
-    _assert_same_as_rtri(ts, summary, result)
-
-
-def test_progress_bar_every_percent(rtri_newmark):
-    bar = rtri_newmark[3]
-    assert rtri_newmark[2].summary["steps"] >= PROGRESS_MIN_STEPS
+def test_progress_bar_every_percent(rtri_run):
+    bar = rtri_run[1]
+    assert rtri_run[0].summary["steps"] >= PROGRESS_MIN_STEPS
     pct = [int(x) for x in __import__("re").findall(r"\] +(\d+) %", bar)]
     assert pct == list(range(0, 101))                                    # every whole percent once, in order
     assert bar.endswith("ok\n")
 
 
-def test_outputs_files_columns_and_criteria(rtri_newmark):
-    _, _, result, _, tmp = rtri_newmark
+def test_outputs_files_columns_and_criteria(rtri_run):
+    result, _, tmp = rtri_run
     out = tmp / "scenario"
     s = json.loads((out / "summary.json").read_text())
     header, ts = read_csv(out / "timeseries.csv")
@@ -291,10 +267,10 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
     vehicle = load_vehicle("manchester_vehicle1")
     P = static_load_path(vehicle).wheel.sum(axis=1)
     x = np.array(vehicle.wheelset_x_m())
-    V, dt = scn["run"]["speed_km_h"] / 3.6, scn["run"]["dt_s"]
+    V, dt = scn["vehicle"]["speed_km_h"] / 3.6, scn["run"]["dt_s"]
     _, modes, _ = build_bridge_modes(scn["structure"])
     _, q, _ = simulate_moving_forces(modes, x_m=x, forces_N=[[0.0, p, 0.0] for p in P], speed_m_s=V,
-                                     s_start_m=scn["run"]["start_s_m"] - x.max(), end_time_s=s["steps"] * dt,
+                                     s_start_m=scn["vehicle"]["start_s_m"] - x.max(), end_time_s=s["steps"] * dt,
                                      step_s=dt)
     w_ref = q @ modes.shape_at(scn["structure"]["start_m"] + 20.0)[1]
     assert np.max(w) == pytest.approx(np.max(w_ref), rel=0.01)
@@ -320,11 +296,12 @@ def test_rigid_motion_of_the_track_changes_no_force(tmp_path, slope):
     (tmp_path / "offset.csv").write_text("s_m,y_m,z_m\n" + rows + "\n")
     text = BASE_TOML.replace("[[track]]\ntype = \"span_deflection\"\nspan_length_m = 20.0\namplitude_m = 0.01\n"
                              "start_m = 11.5\ntransition_length_m = 3.0\n", "")
-    text = text.replace("duration_s = 0.02", "duration_s = 0.1\ncreep_law = \"fastsim\"") + \
+    text = text.replace("duration_s = 0.02", "duration_s = 0.1").replace("[run]", "[contact]\ncreep_law = "
+                                                                                   "\"fastsim\"\n[run]") + \
         "[outputs]\ncriteria = false\nplots = false\n"
     (tmp_path / "flat.toml").write_text(text)
-    (tmp_path / "moved.toml").write_text(text.replace("[run]", "[[track]]\ntype = \"sampled\"\n"
-                                                               "file = \"offset.csv\"\n[run]"))
+    (tmp_path / "moved.toml").write_text(text.replace("[contact]", "[[track]]\ntype = \"sampled\"\n"
+                                                                   "file = \"offset.csv\"\n[contact]"))
     flat = run_scenario(tmp_path / "flat.toml", None, progress=False)
     moved = run_scenario(tmp_path / "moved.toml", None, progress=False)
     assert any("displaced by up to" in n for n in moved.summary["notes"])
@@ -337,25 +314,44 @@ def test_rigid_motion_of_the_track_changes_no_force(tmp_path, slope):
         np.testing.assert_allclose(moved.timeseries[c], flat.timeseries[c], rtol=0, atol=atol_m, err_msg=c)
 
 
+class _Rows:
+    def __init__(self):
+        self.t = []
+
+    def record(self, mbs, t):
+        self.t.append(t)
+
+
 def test_recorder_keeps_accepted_states_on_the_grid():
     """Exudyn calls the pre-step function with the end time of the step it attempts; after a rejected attempt it
-    calls again with a smaller end time (the state rolled back).  Rows: one per accepted state on the dt grid."""
-    h = build_scenario(apply_overrides(load_scenario(EXAMPLES / "rtri_20m.toml"), {"run.duration_s": 0.01}))
-    rec = _Recorder(h)
-    got = []
-    rec.record = lambda mbs, t: got.append(t)
+    calls again with a smaller end time (the state rolled back).  Rows: one per accepted state on the dt grid; a
+    reduced step that lands on the grid again loses no row."""
+    rows = _Rows()
     dt = 1e-3
+    hook = _Hook(None, None, rows, 1, None, dt, 0.0, True, None)
     for k in (1, 2, 3, 2.5, 2.25, 2.5, 3, 4, 5):      # 2->3 and 2->2.5 rejected, then quarter and half steps
-        assert rec.pre_step(None, k * dt) is True
-    assert got == pytest.approx([0.0, dt, 2 * dt, 3 * dt, 4 * dt], abs=1e-15)
-    assert rec.rejected_steps == 2
+        assert hook(None, k * dt) is True
+    assert rows.t == pytest.approx([0.0, dt, 2 * dt, 3 * dt, 4 * dt], abs=1e-15)
+    assert hook.rejected == 2 and hook.stop is None
+
+
+def test_a_state_past_a_missing_grid_row_stops_the_run_as_step_rejected():
+    """Reduced steps that pass a point of the dt grid without a state on it: the run stops there (the rows would
+    have a gap), with the time of the missing row."""
+    rows = _Rows()
+    dt = 1e-3
+    hook = _Hook(None, None, rows, 1, None, dt, 0.0, True, None)
+    results = [hook(None, k * dt) for k in (1, 2, 3, 2.5, 3.5, 4.5)]   # states 0, 1, 2, 2.5, then 3.5 (no 3)
+    assert results[:5] == [True] * 5 and results[5] is False
+    assert rows.t == pytest.approx([0.0, dt, 2 * dt], abs=1e-15)
+    assert hook.stop.kind == "step_rejected" and hook.stop.time_s == pytest.approx(3 * dt)
 
 
 # --------------------------------------------------------------------------------------------------------- sweep
 def _tiny_base():
     """harmonic_track.toml, 30 steps: the vehicle starts on the irregularities, so the cases differ at once."""
     return apply_overrides(load_scenario(EXAMPLES / "harmonic_track.toml"),
-                           {"run.duration_s": 0.03, "run.creep_law": "fastsim", "outputs.criteria": False,
+                           {"run.duration_s": 0.03, "contact.creep_law": "fastsim", "outputs.criteria": False,
                             "outputs.plots": False})
 
 
@@ -422,14 +418,14 @@ def test_sweep_validates_every_case_before_running():
             ran.append(args)
             return super().submit(fn, *args, **kwargs)
 
-    with pytest.raises(ScenarioError, match=r"sweep case 1 \(run\.speed_km_h=-5\): run\.speed_km_h"):
-        sweep(_tiny_base(), {"run.speed_km_h": [100, -5]}, Recording())
+    with pytest.raises(ScenarioError, match=r"sweep case 1 \(vehicle\.speed_km_h=-5\): vehicle\.speed_km_h"):
+        sweep(_tiny_base(), {"vehicle.speed_km_h": [100, -5]}, Recording())
     with pytest.raises(ScenarioError, match=r"'track\.2\.amplitude_m'"):
         sweep(_tiny_base(), {"track.2.amplitude_m": [0.001]}, Recording())
     with pytest.raises(ScenarioError, match="plot_parameter"):
-        sweep(_tiny_base(), {"run.speed_km_h": [100]}, Recording(), plot_parameter="run.dt_s")
+        sweep(_tiny_base(), {"vehicle.speed_km_h": [100]}, Recording(), plot_parameter="run.dt_s")
     with pytest.raises(ScenarioError, match="no values"):
-        sweep(_tiny_base(), {"run.speed_km_h": []}, Recording())
+        sweep(_tiny_base(), {"vehicle.speed_km_h": []}, Recording())
     assert ran == []
 
 
@@ -446,29 +442,31 @@ def test_cli_run_with_overrides_and_progress(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "100 %" in r.stderr and "status: ok" in r.stdout
     s = json.loads((out / "summary.json").read_text())
-    assert s["steps"] == 200 and s["scenario"]["run"]["creep_law"] == "fastsim"
+    assert s["steps"] == 200 and s["scenario"]["contact"]["creep_law"] == "fastsim"
     assert (out / "timeseries.npz").is_file() and not (out / "timeseries.csv").exists()
     r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--no-progress",
                 "--set", "run.duration_s=0.01")
     assert r.returncode == 0 and "%" not in r.stderr
     r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.speedd_km_h=1")
     assert r.returncode == 2 and "run.speedd_km_h" in r.stderr and "harmonic_track.toml" in r.stderr
+    r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.dt_s=1")
+    assert r.returncode == 2 and "run.dt_s" in r.stderr and "milliseconds" in r.stderr
     r = run_cli("run", str(tmp_path / "missing.toml"), "--out", str(out))
     assert r.returncode == 2 and "missing.toml" in r.stderr
 
 
 def test_cli_sweep(tmp_path):
     out = tmp_path / "sweep"
-    r = run_cli("sweep", str(EXAMPLES / "rtri_20m.toml"), "--param", "run.speed_km_h=200,250",
+    r = run_cli("sweep", str(EXAMPLES / "rtri_20m.toml"), "--param", "vehicle.speed_km_h=200,250",
                 "--param", "track.0.span_length_m=20,40", "--set", "run.duration_s=0.02",
-                "--set", "run.creep_law=fastsim", "--out", str(out), "--workers", "2", "--no-case-outputs",
+                "--set", "contact.creep_law=fastsim", "--out", str(out), "--workers", "2", "--no-case-outputs",
                 "--plot-result", "max_abs_Q_w1_right_N")
     assert r.returncode == 0, r.stderr
     header, rows = read_csv_text(out / "sweep.csv")
     assert len(rows) == 4
-    i, j = header.index("run.speed_km_h"), header.index("track.0.span_length_m")
+    i, j = header.index("vehicle.speed_km_h"), header.index("track.0.span_length_m")
     assert [(float(x[i]), float(x[j])) for x in rows] == [(200, 20), (200, 40), (250, 20), (250, 40)]
     assert all(x[header.index("status")] == "ok" for x in rows)
     assert (out / "sweep_plot.png").stat().st_size > 0 and not (out / "cases").exists()
     with pytest.raises(SystemExit):
-        cli_main(["sweep", str(EXAMPLES / "rtri_20m.toml"), "--param", "run.speed_km_h", "--out", str(out)])
+        cli_main(["sweep", str(EXAMPLES / "rtri_20m.toml"), "--param", "vehicle.speed_km_h", "--out", str(out)])

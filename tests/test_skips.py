@@ -24,7 +24,7 @@ STEPS = 450
 
 
 def _run(monkeypatch=None, **kw):
-    r = run_rtri(RtriCase(solver="rk44", steps=STEPS, **kw))
+    r = run_rtri(RtriCase(solver="rk44", duration_s=STEPS * 1e-3, **kw))
     assert r.summary["status"] == "ok"
     return r
 

@@ -1,7 +1,7 @@
-"""The integrators offered by ``vehicle_builder.solver_settings`` (and accepted by ``RtriCase.solver``).
+"""The integrators offered by ``vehicle_builder.solver_settings`` (the one list: ``simulation.settings.SOLVERS``).
 
 Checked: every name gives Exudyn settings of the stated integrator with a fixed step (step size, number of steps,
-the scheme's parameters); unknown names and a spectral radius outside [0, 1] are clear errors; the RTRI case's
+the scheme's parameters); unknown names and a spectral radius outside [0, 1] are clear errors; the run settings'
 ``SOLVERS`` list agrees with the helper.  One short RTRI run (300 steps of 1 ms, 250 km/h, the leading wheelset
 before the deviation) with the new implicit (generalized-α) and a new explicit integrator (RK33) completes, and
 its car-body acceleration peak and mean wheel load agree with the Newmark run of the same case — independent
@@ -18,8 +18,8 @@ from exudyn_wheelrail.multibody.vehicle_builder import (
     solver_description,
     solver_settings,
 )
-from exudyn_wheelrail.scenarios import rtri
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
+from exudyn_wheelrail.simulation import settings as run_settings
 
 DT = 1e-3
 STEPS = 300
@@ -62,23 +62,23 @@ def test_unknown_solver_and_bad_spectral_radius_are_clear_errors():
         solver_description("nope")
     with pytest.raises(ValueError, match="spectral_radius"):
         solver_settings("generalized_alpha", DT, 10, spectral_radius=1.5)
-    with pytest.raises(ValueError, match="solver = 'dopri5': expected one of newmark, rk44"):
+    with pytest.raises(ValueError, match="solver: 'dopri5': expected one of newmark, generalized_alpha"):
         RtriCase(solver="dopri5")
 
 
-def test_rtri_solver_list_agrees_with_the_helper():
-    assert set(rtri.SOLVERS) == set(SOLVER_TYPES)
-    assert set(rtri.IMPLICIT_SOLVERS) == set(IMPLICIT_SOLVERS)
+def test_the_run_settings_offer_the_helpers_solvers():
+    assert set(run_settings.SOLVERS) == set(SOLVER_TYPES)
+    assert set(run_settings.IMPLICIT_SOLVERS) == set(IMPLICIT_SOLVERS) <= set(SOLVER_TYPES)
 
 
 @pytest.fixture(scope="module")
 def newmark_run():
-    return run_rtri(RtriCase(solver="newmark", dt_s=DT, steps=STEPS))
+    return run_rtri(RtriCase(solver="newmark", dt_s=DT, duration_s=STEPS * DT))
 
 
 @pytest.mark.parametrize("solver", ["generalized_alpha", "rk33"])
 def test_short_rtri_run_with_a_new_integrator(solver, newmark_run):
-    r = run_rtri(RtriCase(solver=solver, dt_s=DT, steps=STEPS))
+    r = run_rtri(RtriCase(solver=solver, dt_s=DT, duration_s=STEPS * DT))
     s = r.summary
     assert s["status"] == "ok", s["status"]
     assert s["solver"]["name"] == solver and SOLVER_TYPES[solver] in s["solver"]["exudyn"]

@@ -126,7 +126,7 @@ def test_section_e_states_the_window_of_the_runs_it_made(report_e):
         r = runs[span]
         t = r.timeseries["time_s"]
         solver, dt_ms, steps = (c.strip() for c in _row(text, "solver, Δt [ms], steps")[col].split(","))
-        assert solver == r.case.solver == r.summary["solver"]["name"]
+        assert solver == r.case.run.solver == r.summary["solver"]["name"]
         assert float(dt_ms) * 1e-3 == pytest.approx(float(np.mean(np.diff(t))), rel=1e-9)
         assert int(steps) == len(t) - 1                                 # n steps: the states at 0 … n dt
         t0, t1 = (float(x) for x in _row(text, "simulated window [s]")[col].split("…"))

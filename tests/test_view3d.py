@@ -24,7 +24,8 @@ from exudyn_wheelrail.interactive import shapes
 from exudyn_wheelrail.interactive.headless import VirtualDisplay, xvfb_available
 from exudyn_wheelrail.interactive.view3d import CONTACT_RGBA, WheelRailView, view_rotation
 from exudyn_wheelrail.multibody import connector as C
-from exudyn_wheelrail.scenarios.rtri import RtriCase, build_rtri
+from exudyn_wheelrail.scenarios.rtri import RtriCase
+from exudyn_wheelrail.scenarios.scenario import build_scenario, run_model
 
 REPO = Path(__file__).resolve().parents[1]
 PAIR = WheelRailPair("S1002", "UIC60", inclination="1/40")
@@ -82,10 +83,11 @@ def test_view_rotation_is_proper_and_puts_up_on_top():
 # ----------------------------------------------------------------------------------- scene without a window
 @pytest.fixture(scope="module")
 def rtri_view():
-    h = build_rtri(RtriCase(steps=300))        # 0.3 s: the leading wheelset is on the deviation (250 km/h)
+    case = RtriCase(duration_s=0.3)             # 0.3 s: the leading wheelset is on the deviation (250 km/h)
+    h = build_scenario(case.scenario())
     view = WheelRailView.for_rtri(h)
-    h.contact.warm_up(h.mbs)
-    assert h.mbs.SolveDynamic(h.settings, solverType=h.solver_type)
+    assert run_model(h, progress=False).status.ok
+    h.case = case
     return h, view
 
 

@@ -10,7 +10,7 @@ inputs and assumptions of :mod:`exudyn_wheelrail.scenarios.rtri`, recorded in th
 
 * speed [km/h], span [m], deviation amplitude δ [mm] — the case's ``speed_km_h``, ``span_m``,
   ``deviation_amplitude_m``;
-* friction coefficient μ — ``RtriCase.friction_coefficient``;
+* friction coefficient μ — the case's ``ContactSettings.friction``;
 * four suspension factors on the values of ``vehicles/manchester_vehicle1.toml`` (``RtriCase.vehicle_overrides``):
   primary longitudinal stiffness ``primary.kx_N_per_m`` (per axlebox; it sets the wheelsets' yaw stiffness in the
   bogie, hence their hunting stability), primary lateral stiffness ``primary.ky_N_per_m``, secondary lateral
@@ -19,7 +19,7 @@ inputs and assumptions of :mod:`exudyn_wheelrail.scenarios.rtri`, recorded in th
 
 Explorer settings versus the full run (why, and what it changes)
 ----------------------------------------------------------------
-The full RTRI run (``python -m exudyn_wheelrail rtri``) is Newmark (trapezoidal) at 1 ms for the paper's 2500 steps:
+The full RTRI run (``python -m exudyn_wheelrail rtri``) is Newmark (trapezoidal) at 1 ms for the paper's 2.5 s:
 1.3–1.6 s of solve on this project's machine (one core, shared) — more than the 1 s an update may take.  The
 explorer (:class:`ExplorerSettings`) therefore runs
 
@@ -41,19 +41,20 @@ shared 2-CPU machine (other runs of the benchmark: median 0.36–0.52 s, with th
 0.2–0.25 s for the window's redraw; it grows with the simulated time L/V: 0.7–1.0 s at 100 km/h on 20 m, 0.9–1.3 s
 on 40 m (3.0 s simulated), where the explorer is hardly faster than the full run.
 
-``ExplorerSettings(geometry="table")`` (``explore --geometry table``; the contact geometry precomputed for the
+``ExplorerSettings(contact=ContactSettings(geometry="table"))`` (``explore --geometry table``; the contact geometry
+precomputed for the
 rigid rail, as the project's ``fast`` preset) halves the update on the RTRI case (0.25 s; +0.2 %, +0.9 %, -2.7 %
 against the full run) but moves some raw peaks more (175 km/h on 30 m: -23 %; the flange impact: 10 ms average
 -9 %, raw -41 %); it is not the default.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
 
 from ..scenarios.rtri import RTRI, RTRI_CASE, RtriCase, RtriResult, run_rtri
+from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings
 
 __all__ = ["Parameter", "PARAMETERS", "SUSPENSION_KEYS", "ExplorerSettings", "ExplorerUpdate", "RtriExplorer",
            "PEAK_KEYS", "compare_with_full_run"]
@@ -98,14 +99,13 @@ PEAK_KEYS = ("max_abs_lateral_contact_force_w1_right_N", "max_abs_lateral_contac
 
 @dataclass(frozen=True)
 class ExplorerSettings:
-    """How an update runs (module docstring): solver, time step, creep law, contact geometry (``"online"`` search,
-    as the full run, or the precomputed ``"table"`` of the ``fast`` preset: about 2x faster), run window
-    ``"passage"`` (until the whole car has left the span plus the run-out) or ``"published"`` (2500 steps)."""
+    """How an update runs (module docstring): the run settings (solver and time step; the duration follows from
+    ``window``), the contact settings (``geometry="table"``, the ``fast`` preset's precomputed geometry, is about 2x
+    faster), and the run window ``"passage"`` (until the whole car has left the span plus the run-out) or
+    ``"published"`` (the paper's 2.5 s)."""
 
-    solver: str = "rk44"
-    dt_s: float = 1e-3
-    creep_law: str = RTRI_CASE.creep_law
-    geometry: str = "online"
+    run: RunSettings = field(default_factory=lambda: RunSettings(solver="rk44", dt_s=1e-3, duration_s=DURATION_AUTO))
+    contact: ContactSettings = field(default_factory=ContactSettings)
     window: str = "passage"
 
     def __post_init__(self):
@@ -114,9 +114,9 @@ class ExplorerSettings:
 
     def describe(self) -> str:
         w = ("run until the whole car has left the span + run-out" if self.window == "passage"
-             else f"{RTRI.n_steps_published} steps")
-        return (f"explorer: {self.solver.upper()} {self.dt_s * 1e3:g} ms, {w}, {self.geometry} contact geometry, "
-                f"creep law {self.creep_law}")
+             else f"{RTRI.n_steps_published * RTRI.time_step_s:g} s")
+        return (f"explorer: {self.run.solver.upper()} {self.run.dt_s * 1e3:g} ms, {w}, {self.contact.geometry} "
+                f"contact geometry, creep law {self.contact.creep_law}")
 
 
 @dataclass
@@ -141,7 +141,8 @@ class RtriExplorer:
         self.values.update(self._checked(values))
         self.history: list[ExplorerUpdate] = []
         if warm_up:
-            run_rtri(self.case(**{**self.values}, _steps=5))
+            case = self.case(**self.values)
+            run_rtri(case.replace(duration_s=5 * case.run.dt_s))
 
     @staticmethod
     def _checked(values: dict) -> dict:
@@ -159,7 +160,7 @@ class RtriExplorer:
             out[k] = v
         return out
 
-    def case(self, _steps: int | None = None, **values) -> RtriCase:
+    def case(self, **values) -> RtriCase:
         """The :class:`RtriCase` of the given slider values (missing ones: the current values)."""
         v = {**self.values, **self._checked(values)}
         from ..multibody.vehicle_data import load_vehicle
@@ -174,21 +175,12 @@ class RtriExplorer:
                 values_file = data.stiffness_N_per_m if k.startswith("k") else data.damping_N_s_per_m
                 overrides[key] = float(values_file[axis[k[:2]]] * v[name])
         s = self.settings
-        case = RtriCase(span_m=v["span_m"], speed_km_h=v["speed_km_h"], solver=s.solver, dt_s=s.dt_s, steps=1,
-                        creep_law=s.creep_law, geometry=s.geometry, deviation_amplitude_m=v["deviation_mm"] * 1e-3,
-                        friction_coefficient=v["friction"], vehicle_overrides=overrides or None)
-        steps = _steps if _steps is not None else (self.passage_steps(case) if s.window == "passage"
-                                                     else RTRI.n_steps_published)
-        return dataclasses.replace(case, steps=int(steps))
-
-    @staticmethod
-    def passage_steps(case: RtriCase) -> int:
-        """Steps until the whole car has left the span plus the run-out: ``(lead_in + L + l_t + e + run_out)/V``
-        with e the distance from the leading to the trailing wheelset."""
-        a = case.assumptions
-        x = case.vehicle().wheelset_x_m()
-        t = (a.lead_in_m + float(case.span_m) + case.transition_m + (max(x) - min(x)) + a.run_out_m) / case.speed_m_s
-        return int(math.ceil(t / case.dt_s - 1e-9))
+        case = RtriCase(span_m=v["span_m"], speed_km_h=v["speed_km_h"], run=s.run, contact=s.contact,
+                        deviation_amplitude_m=v["deviation_mm"] * 1e-3, friction=v["friction"],
+                        vehicle_overrides=overrides or None)
+        duration = (case.passage_time_s() if s.window == "passage"
+                    else RTRI.n_steps_published * RTRI.time_step_s)
+        return case.replace(duration_s=duration)
 
     def update(self, **changes) -> ExplorerUpdate:
         """Apply ``changes`` (parameter name -> value), re-run the case and return the update (also appended to
@@ -209,13 +201,13 @@ class RtriExplorer:
 
 
 def compare_with_full_run(explorer: RtriExplorer | None = None, **values) -> dict:
-    """Run the explorer's case and the full run (Newmark 1 ms, ``steps="auto"``: at least the published 2500,
+    """Run the explorer's case and the full run (Newmark 1 ms, ``duration_s="auto"``: at least the published 2.5 s,
     enough for the passage) for the same values; returns ``{"explorer": peaks, "full": peaks, "relative": (explorer
     - full)/full, "explorer_seconds", "full_seconds"}`` over the passage window (:data:`PEAK_KEYS`, numeric ones in
     ``relative``)."""
     ex = explorer or RtriExplorer()
     u = ex.update(**values)
-    full_case = dataclasses.replace(u.case, solver="newmark", dt_s=RTRI.time_step_s, steps="auto", geometry="online")
+    full_case = u.case.replace(solver="newmark", dt_s=RTRI.time_step_s, duration_s=DURATION_AUTO, geometry="online")
     t0 = time.perf_counter()
     full = run_rtri(full_case)
     full_seconds = time.perf_counter() - t0

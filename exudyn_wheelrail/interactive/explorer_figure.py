@@ -64,7 +64,7 @@ class ExplorerFigure:
             self.sliders[p.name] = s
         self.status = self.fig.text(0.655, 0.47, "", fontsize=8, va="top", family="monospace")
         note = self.explorer.settings.describe().replace(", run until", ",\nrun until")
-        self.fig.text(0.655, 0.05, note + "\n(full run: Newmark 1 ms, 2500 steps, online geometry; differences in\n"
+        self.fig.text(0.655, 0.05, note + "\n(full run: Newmark 1 ms, 2.5 s, online geometry; differences in\n"
                       "exudyn_wheelrail/interactive/explorer.py)\nSUBSTITUTE inputs: Manchester vehicle 1, S1002/UIC60 "
                       "1:40, assumed δ, l_t\n(see the run summary's assumptions)", fontsize=7, va="bottom",
                       color="0.3")
@@ -151,7 +151,7 @@ class ExplorerFigure:
 
     def _status_text(self, u: ExplorerUpdate) -> str:
         p = u.peaks
-        return (f"run {u.seconds:.2f} s ({u.case.steps} steps) + redraw {self.last_redraw_s:.2f} s (previous"
+        return (f"run {u.seconds:.2f} s ({u.case.run.steps} steps) + redraw {self.last_redraw_s:.2f} s (previous"
                 f" update)\n"
                 f"passage peaks:\n"
                 f"  |Y| w1 right     {p['max_abs_lateral_contact_force_w1_right_N'] / 1e3:7.2f} kN\n"

@@ -2,9 +2,10 @@
 
     python -m exudyn_wheelrail.interactive.screenshot --out DIR [--steps 20] [--size 800x600] [--focus vehicle]
 
-Builds the RTRI case (:func:`~exudyn_wheelrail.scenarios.rtri.build_rtri`, defaults: 20 m span, 250 km/h; Newmark
-1 ms) with the 3-D view (:class:`~.view3d.WheelRailView`), solves ``steps`` steps, draws the final state and
-saves two PNG frames with ``SC.renderer.RedrawAndSaveImage()`` (``visualizationSettings.exportImages``):
+Builds the RTRI case (its spec, :func:`~exudyn_wheelrail.scenarios.scenario.build_scenario`; defaults: 20 m span,
+250 km/h; Newmark 1 ms) with the 3-D view (:class:`~.view3d.WheelRailView`), runs ``steps`` steps (the one solve
+wrapper), draws the final state and saves two PNG frames with ``SC.renderer.RedrawAndSaveImage()``
+(``visualizationSettings.exportImages``):
 ``with_contacts.png`` (contact points and force arrows in :data:`~.view3d.CONTACT_RGBA`) and
 ``without_contacts.png`` (the same frame with ``show_contact_forces = False``).  Prints one JSON line with the
 paths, the image size, the number of contacts drawn and the time of the frame.
@@ -23,18 +24,19 @@ def rtri_screenshots(out_dir, steps: int = 20, size=(800, 600), focus: str = "le
     """Render the two frames (module docstring) into ``out_dir``; returns ``{"with_contacts": path,
     "without_contacts": path, "size": [w, h], "contacts_drawn": n, "time_s": t}``."""
     from ..multibody import connector as C
-    from ..scenarios.rtri import RtriCase, build_rtri
+    from ..scenarios.rtri import RtriCase
+    from ..scenarios.scenario import build_scenario, run_model
     from .view3d import WheelRailView, check_display
 
     check_display()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    case = case or RtriCase(steps=int(steps))
-    h = build_rtri(case)
+    case = case or RtriCase(duration_s=int(steps) * RtriCase().run.dt_s)
+    h = build_scenario(case.scenario())
     view = WheelRailView.for_rtri(h)
-    h.contact.warm_up(h.mbs, jacobian=case.solver == "newmark")
-    if not h.mbs.SolveDynamic(h.settings, solverType=h.solver_type):
-        raise RuntimeError("the RTRI solve failed")
+    outcome = run_model(h, progress=False)
+    if not outcome.status.ok:
+        raise RuntimeError(f"the RTRI run ended {outcome.status}")
     res = view.show_current_state()
     n_contacts = int(((res[:, :, C.RES_STATUS] > 0) & (res[:, :, C.RES_N] > 0.0)).sum())
     SC = h.system_container

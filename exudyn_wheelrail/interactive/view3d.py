@@ -1,6 +1,6 @@
 r"""Exudyn 3-D view of a wheel–rail model: wheels, rails, bridge deck, contact points and contact-force arrows.
 
->>> h = build_rtri(RtriCase(steps=200))                                    # doctest: +SKIP
+>>> h = build_scenario(RtriCase(duration_s=0.2).scenario())                  # doctest: +SKIP
 >>> view = WheelRailView.for_rtri(h)          # graphics added; re-assembles the system          # doctest: +SKIP
 >>> view.configure(h.system_container)        # camera on the leading bogie                       # doctest: +SKIP
 >>> h.system_container.renderer.Start(); h.mbs.SolveDynamic(h.settings, solverType=h.solver_type) # doctest: +SKIP
@@ -162,9 +162,10 @@ class WheelRailView:
     # ------------------------------------------------------------------------------------------ construction
     @classmethod
     def for_rtri(cls, h, options: ViewOptions | None = None) -> "WheelRailView":
-        """The view of a built RTRI model (:func:`~exudyn_wheelrail.scenarios.rtri.build_rtri`); re-assembles."""
+        """The view of a built vehicle model (:func:`~exudyn_wheelrail.scenarios.scenario.build_scenario`, e.g. of
+        an :class:`~exudyn_wheelrail.scenarios.rtri.RtriCase`'s spec); re-assembles."""
         if h.contact is None:
-            raise ValueError("the RTRI model has no contact (wheel_rail='springs'): nothing to view")
+            raise ValueError("the model has no contact (wheel_rail='springs'): nothing to view")
         view = cls(h.mbs, h.model, h.pair, h.contact, track=h.track, options=options)
         h.mbs.Assemble()
         return view

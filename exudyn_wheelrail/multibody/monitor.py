@@ -108,7 +108,9 @@ import numpy as np
 
 from ..analysis.safety import nadal_limit, prudhomme_limit_N
 from ..contact import kernel as K
+from ..contact import layout as L
 from . import connector as C
+from .rotations import rotation_from_vector
 
 __all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "run_monitored", "STATUS_KINDS", "STOP_KINDS"]
 
@@ -248,10 +250,7 @@ class _Hunting:
 def _wheel_rail_poses(contact) -> np.ndarray:
     """Per wheel (2k right, 2k+1 left) its pose relative to its rail in the side frame, ``(c_y, c_z, roll)``, from
     the contact's last evaluation (what the kernel solved for)."""
-    get = getattr(contact, "wheelset_rail_pose", None)
-    if get is None:                                  # a connector without the accessor: its kernel input
-        return np.asarray(contact._side_poses, dtype=float)
-    ws = np.asarray(get(), dtype=float).reshape(-1, 3)
+    ws = np.asarray(contact.wheelset_rail_pose(), dtype=float).reshape(-1, 3)
     poses = np.empty((2 * len(ws), 3))
     poses[0::2] = ws
     poses[1::2, 0] = -ws[:, 0]
@@ -317,7 +316,7 @@ class RunMonitor:
             raise ValueError(f"time_limit_s = {time_limit_s!r}: expected > 0 or None")
         if not (isinstance(hunting_cycles, int) and hunting_cycles >= 1):
             raise ValueError(f"hunting_cycles = {hunting_cycles!r}: expected an integer >= 1")
-        if not hasattr(contact, "_kc") or not hasattr(contact, "evaluate"):
+        if not all(hasattr(contact, a) for a in ("evaluate", "kernel_output", "wheelset_rail_pose")):
             raise TypeError("RunMonitor needs a WheelRailContact (multibody.connector)")
         self.contact = contact
         self.stop_on = tuple(stop_on)
@@ -354,7 +353,7 @@ class RunMonitor:
         #: the first ``step_size`` event (the RK44 stability limit exceeded), or None
         self.stability_exceeded: Status | None = None
         #: Nadal's limit Y/Q at the flank (the contact's friction coefficient), for reference
-        self.nadal_limit = (nadal_limit(self.flank_angle_rad, float(contact.cp[C.CP_MU]))
+        self.nadal_limit = (nadal_limit(self.flank_angle_rad, float(contact.cp[L.CP_MU]))
                             if math.isfinite(self.flank_angle_rad) else float("nan"))
 
     # -- geometry of the pair (side frame, wheelset frame for the wheel) -------------------------------------------
@@ -479,26 +478,26 @@ class RunMonitor:
                     f"roll/yaw rate ({wx:.3g}, {wz:.3g} rad/s) beyond the plausible {self.max_speed_m_s:g} m/s / "
                     f"{self.max_rate_rad_s:g} rad/s — the integration diverged (time step beyond the stability "
                     "limit?)"))
+        out = c.kernel_output()        # kernel output of the same evaluation (wheel parameter of the contacts)
         if self._inertia is not None:
-            self._stability(t, q, c._kc.out, res)
+            self._stability(t, q, out, res)
         poses = _wheel_rail_poses(c)   # (2n, 3) wheel pose relative to its rail, side frame (of this evaluation)
-        out = c._kc.out                # kernel output of the same evaluation (wheel parameter of the contacts)
         n_w = 2 * self.n_wheelsets
-        loaded = (res[:, :, C.RES_STATUS] > 0) & (res[:, :, C.RES_N] > 0.0)           # (n_wheels, slots)
+        loaded = (res[:, :, L.RES_STATUS] > 0) & (res[:, :, L.RES_N] > 0.0)           # (n_wheels, slots)
         any_loaded = loaded.any(axis=1)
-        N = np.where(loaded, res[:, :, C.RES_N], 0.0).sum(axis=1)
-        Y = res[:, :, C.RES_F_TRACK_Y].sum(axis=1)
-        Q = -res[:, :, C.RES_F_TRACK_Z].sum(axis=1)
-        Y_flange = np.where(loaded[:, K.SLOT_FLANGE], res[:, K.SLOT_FLANGE, C.RES_F_TRACK_Y], 0.0)
-        depth = np.where(loaded, res[:, :, C.RES_DELTA], 0.0).max(axis=1)
-        gamma = np.where(any_loaded, np.where(loaded, res[:, :, C.RES_GAMMA], -np.inf).max(axis=1), np.nan)
-        deep = (loaded & ((res[:, :, C.RES_FLAGS].astype(np.int64) & K.FLAG_DEEP_PENETRATION) != 0)).any(axis=1)
-        prof_end = (res[:, K.SLOT_FLANGE, C.RES_FLAGS].astype(np.int64) & K.FLAG_PROFILE_END) != 0
-        pen = np.where(np.isfinite(out[:, :, K.F_PENETRATION]), out[:, :, K.F_PENETRATION], -np.inf)
+        N = np.where(loaded, res[:, :, L.RES_N], 0.0).sum(axis=1)
+        Y = res[:, :, L.RES_F_TRACK_Y].sum(axis=1)
+        Q = -res[:, :, L.RES_F_TRACK_Z].sum(axis=1)
+        Y_flange = np.where(loaded[:, L.SLOT_FLANGE], res[:, L.SLOT_FLANGE, L.RES_F_TRACK_Y], 0.0)
+        depth = np.where(loaded, res[:, :, L.RES_DELTA], 0.0).max(axis=1)
+        gamma = np.where(any_loaded, np.where(loaded, res[:, :, L.RES_GAMMA], -np.inf).max(axis=1), np.nan)
+        deep = (loaded & ((res[:, :, L.RES_FLAGS].astype(np.int64) & K.FLAG_DEEP_PENETRATION) != 0)).any(axis=1)
+        prof_end = (res[:, L.SLOT_FLANGE, L.RES_FLAGS].astype(np.int64) & K.FLAG_PROFILE_END) != 0
+        pen = np.where(np.isfinite(out[:, :, L.F_PENETRATION]), out[:, :, L.F_PENETRATION], -np.inf)
         gap = -pen.max(axis=1)                      # smallest wheel-rail distance of the separated regions
-        s_flange = out[:, K.SLOT_FLANGE, K.F_S_WHEEL]
-        cols = [C.RES_N, C.RES_F_TRACK_X, C.RES_F_TRACK_Y, C.RES_F_TRACK_Z, C.RES_GAMMA, C.RES_DELTA, C.RES_P_Y,
-                C.RES_P_Z]
+        s_flange = out[:, L.SLOT_FLANGE, L.F_S_WHEEL]
+        cols = [L.RES_N, L.RES_F_TRACK_X, L.RES_F_TRACK_Y, L.RES_F_TRACK_Z, L.RES_GAMMA, L.RES_DELTA, L.RES_P_Y,
+                L.RES_P_Z]
         finite = np.all(np.isfinite(np.where(loaded[:, :, None], res[:, :, cols], 0.0)), axis=(1, 2)) & \
             np.all(np.isfinite(poses), axis=1)
         N, Y, Q, Y_flange, depth, gamma, gap = (a.tolist() for a in (N, Y, Q, Y_flange, depth, gamma, gap))
@@ -545,7 +544,7 @@ class RunMonitor:
                     "off towards the track centre"))
             # ---- flange climb indications
             reasons = set()
-            if loaded[w, K.SLOT_FLANGE]:
+            if loaded[w, L.SLOT_FLANGE]:
                 if s_flange[w] < self.s_flank:
                     reasons.add("beyond_flank")
                 if prof_end[w]:
@@ -628,20 +627,20 @@ class RunMonitor:
                 w = 2 * k + side
                 mirror = 1.0 if side == 0 else -1.0
                 for j in range(out.shape[1]):
-                    if not (res[w, j, C.RES_STATUS] > 0 and res[w, j, C.RES_N] > 0.0):
+                    if not (res[w, j, L.RES_STATUS] > 0 and res[w, j, L.RES_N] > 0.0):
                         continue
-                    ny = mirror * out[w, j, K.F_NR_Y]
-                    nz = out[w, j, K.F_NR_Z]
-                    rx = res[w, j, C.RES_P_X] - cx
-                    ry = res[w, j, C.RES_P_Y] - cy
-                    rz = res[w, j, C.RES_P_Z] - cz
-                    sk = math.sqrt(max(out[w, j, K.F_DN_DDELTA], 0.0))
+                    ny = mirror * out[w, j, L.F_NR_Y]
+                    nz = out[w, j, L.F_NR_Z]
+                    rx = res[w, j, L.RES_P_X] - cx
+                    ry = res[w, j, L.RES_P_Y] - cy
+                    rz = res[w, j, L.RES_P_Z] - cz
+                    sk = math.sqrt(max(out[w, j, L.F_DN_DDELTA], 0.0))
                     # sqrt(k) (n, r x n), n = (0, ny, nz)
                     rows.append((0.0, sk * ny, sk * nz, sk * (ry * nz - rz * ny), -sk * rx * nz, sk * rx * ny))
             if not rows:
                 continue
             G = np.array(rows)
-            C.rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
+            rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
             Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
             Mh[3:, 3:] = R @ I_inv_sqrt @ R.T              # (R I R^T)^(-1/2)
             A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
@@ -703,67 +702,23 @@ def _solver_type(solver):
 
 
 def run_monitored(mbs, sim, solver=None, monitor: RunMonitor | None = None) -> tuple[Status, float]:
-    """``mbs.SolveDynamic(sim, solverType=solver)`` under ``monitor`` (attached here if it is not yet; ``mbs``
-    assembled).  Returns ``(status, t_end)``: the monitor's stopping status, an ``invalid_state`` from a
-    :class:`~.connector.ContactStateError` (its time and wheelset), a ``solver_failure``, or — after a check of the
-    final state — ``completed`` / ``hunting``; ``t_end`` is the time the solver reached."""
+    """``mbs.SolveDynamic(sim, solverType=solver)`` under ``monitor`` (attached here unless the caller attached it
+    to ``mbs``, whose chained function is then kept; ``mbs`` assembled) through
+    the one solve wrapper, :func:`exudyn_wheelrail.simulation.runner.solve`.  Returns ``(status, t_end)``: the
+    monitor's stopping status, an ``invalid_state`` from a :class:`~.connector.ContactStateError` (its time and
+    wheelset), a ``solver_failure``, or — after a check of the final state — ``completed`` / ``hunting``; ``t_end``
+    is the time the solver reached."""
     if monitor is None:
         raise ValueError("run_monitored needs a RunMonitor")
     import exudyn as exu
+
+    from ..simulation.runner import solve
+    from ..simulation.settings import SOLVER_TYPES
     solver = _solver_type(solver)
-    t_end_goal = float(sim.timeIntegration.endTime)
+    name = next((k for k, v in SOLVER_TYPES.items() if getattr(exu.DynamicSolverType, v) == solver), "newmark")
     n_steps = max(1, int(sim.timeIntegration.numberOfSteps))
-    dt = (t_end_goal - float(sim.timeIntegration.startTime)) / n_steps
-    if getattr(monitor, "_attached_to", None) is not mbs:
-        monitor.attach(mbs, t_start_s=float(sim.timeIntegration.startTime),
-                       rk44_step_s=dt if solver == exu.DynamicSolverType.RK44 else None)
-    status = None
-    try:
-        ok = mbs.SolveDynamic(sim, solverType=solver)
-    except Exception as exc:           # Exudyn re-raises user-function exceptions (the cause is kept)
-        t_fail = float(mbs.systemData.GetTime())
-        err = _contact_state_error(exc)
-        serious = [e for e in monitor.events if e.kind in ("invalid_state", "derailment")]
-        if monitor.status is not None:
-            status = monitor.status
-        elif serious:
-            e = monitor.annotate(serious[0])
-            status = Status(e.kind, e.time_s, e.wheelset, e.side, e.detail + " (not stopped; later: " +
-                            (f"ContactStateError: {str(err).splitlines()[0]}" if err is not None else
-                             f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}") + ")")
-        elif err is not None:
-            status = _status_from_state_error(err, t_fail)
-            monitor.events.append(status)
-        else:
-            status = Status("solver_failure", t_fail, None, None,
-                            f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}")
-            monitor.events.append(status)
-        return status, t_fail
-    t_end = float(mbs.systemData.GetTime())
-    if monitor.status is not None:
-        return monitor.status, t_end
-    if not ok:
-        status = Status("solver_failure", t_end, None, None, "mbs.SolveDynamic reported failure")
-        monitor.events.append(status)
-        return status, t_end
-    # the final state (after the last step) has not been checked yet
-    st = monitor.check(mbs, t_end)
-    if st is not None:
-        return st, t_end
-    if abs(t_end - t_end_goal) > 0.5 * dt:
-        status = Status("solver_failure", t_end, None, None, f"the solver stopped at t = {t_end:.6g} s of "
-                                                             f"{t_end_goal:.6g} s")
-        monitor.events.append(status)
-        return status, t_end
-    serious = [e for e in monitor.events if e.kind in ("invalid_state", "derailment")]
-    if serious:                      # not stopped for (stop_on), but never reported as a completed run
-        e = monitor.annotate(serious[0])
-        return Status(e.kind, e.time_s, e.wheelset, e.side,
-                      e.detail + f" (not stopped: run continued to t = {t_end:.6g} s)"), t_end
-    warn = "" if monitor.stability_exceeded is None else f" (warning: {monitor.stability_exceeded})"
-    hunt = [h for h in monitor.hunting if h is not None]
-    if hunt:
-        h = hunt[0]
-        return Status("hunting", h.time_s, h.wheelset, None,
-                      h.detail + f"; run completed at t = {t_end:.6g} s" + warn), t_end
-    return Status("completed", t_end, None, None, "end time reached" + warn), t_end
+    dt = (float(sim.timeIntegration.endTime) - float(sim.timeIntegration.startTime)) / n_steps
+    attached = getattr(monitor, "_attached_to", None) is mbs          # keep the caller's attachment and function
+    outcome = solve(mbs, sim, solver, monitor, dt_s=dt, solver=name, attach_monitor=not attached,
+                    user_function=monitor._user if attached else None)
+    return outcome.stop, outcome.t_end_s

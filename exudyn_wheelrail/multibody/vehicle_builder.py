@@ -90,6 +90,7 @@ from exudyn.itemInterface import (
 )
 from exudyn.rigidBodyUtilities import RigidBodyInertia
 
+from ..simulation.settings import IMPLICIT_SOLVERS, SOLVER_TYPES
 from .vehicle_data import BumpStopData, VehicleData, load_vehicle
 
 __all__ = [
@@ -390,11 +391,8 @@ def simulation_settings(end_time_s: float, step_s: float, newton_tolerance: floa
 
 
 # ----------------------------------------------------------------------------------------------------- build
-#: solver names of :func:`solver_settings` -> name of the ``exu.DynamicSolverType`` (all fixed step size)
-SOLVER_TYPES = {"newmark": "GeneralizedAlpha", "generalized_alpha": "GeneralizedAlpha",
-                "explicit_midpoint": "ExplicitMidpoint", "rk33": "RK33", "rk44": "RK44", "rk67": "RK67"}
-#: the implicit ones (Newton iterations: the contact's Jacobian user function is used)
-IMPLICIT_SOLVERS = ("newmark", "generalized_alpha")
+# the solver names of :func:`solver_settings` -> ``exu.DynamicSolverType`` names, and the implicit ones: declared
+# with the run settings (exudyn_wheelrail.simulation.settings)
 #: ρ∞ of ``"generalized_alpha"`` (numerical damping of the highest frequencies; 1 = none)
 GENERALIZED_ALPHA_SPECTRAL_RADIUS = 0.8
 

@@ -30,16 +30,23 @@ of 1 ms (2.5 s) cover at V:
 * the whole car leaving the span for V >= 78.6 km/h (20 m) and V >= 107.4 km/h (40 m);
 * the whole car plus the run-out for V >= 93.0 km/h (20 m) and V >= 121.8 km/h (40 m) —
   so the default speed set covers everything but the run-out (and, at 100 km/h, the trailing wheelset leaving
-  the 40 m span: it leaves at 2.68 s).  ``steps="auto"`` (the sweep's default) runs
-  ``max(2500, steps needed)``; every summary states what the run covers (``coverage`` and ``notes``).
+  the 40 m span: it leaves at 2.68 s).  ``duration_s="auto"`` (the sweep's default) runs
+  ``max(2.5 s, time needed)``; every summary states what the run covers (``coverage`` and ``notes``).
+
+How it runs
+-----------
+:class:`RtriCase` is a **spec**: :meth:`RtriCase.scenario` writes it as a normalised scenario (vehicle, one span
+deflection, contact and run settings, the recorded groups; :mod:`.scenario`), :func:`run_rtri` builds it with
+:func:`~.scenario.build_scenario` and runs it through the one solve wrapper (:func:`exudyn_wheelrail.simulation.
+runner.run`: watched by the run monitor; the summary's ``status`` is one of :mod:`exudyn_wheelrail.simulation.
+status`).  The time series below are the scenario recorder's columns (:mod:`exudyn_wheelrail.simulation.
+recorder`) under the case's names (:data:`RTRI_COLUMNS`).
 
 Outputs (one row per time step, the state at ``time_s``)
 ---------------------------------------------------------
-Recorded by a pre-step user function (``mbs.SetPreStepUserFunction``) that calls ``contact.evaluate(mbs, t)``.
-Exudyn calls it with the time at the **end** of the coming step while the coordinates are still those at its
-start, so the recorder evaluates the contact at the time of the state (the previous call's time; 0 at the first
-call) — evaluating at the passed time would shift the rails by V h (up to 69 mm at 250 km/h).  The final state is
-recorded after the solve, so a run of n steps has n + 1 rows.
+The recorder reads the contact as the run monitor evaluated it at the state's own time (Exudyn's pre-step function
+receives the end time of the coming step; the runner passes the state's time — evaluating at the passed time would
+shift the rails by V h, up to 69 mm at 250 km/h).  A run of n steps has n + 1 rows.
 
 * ``carbody_lateral_acceleration_rear_m_s2`` — track-frame (y right) acceleration of the car-body point above the
   rear bogie centre at floor level (``floor_height_m`` above the rail top, an assumption), from Exudyn's
@@ -61,9 +68,9 @@ recorded after the solve, so a run of n steps has n + 1 rows.
   the throat, :class:`~..profiles.profiles.WheelProfile`) carries a contact (``WheelRailContact.flange_contact``),
   else 0.  A contact high on the flange root can still belong to the tread region (contact angles up to ~0.55
   rad); ``contact_angle_w1_right_rad`` shows it (the angle of the most loaded region).
-* extras: the track deviation under the leading wheelset and the wheelset's lateral displacement relative to it,
-  ``Y_w<j>_<side>_N`` / ``Q_w<j>_<side>_N`` of every wheel (j = 1 leading … 4), the flange flags of both
-  leading wheels, the car body's lateral displacement above the rear bogie.
+* extras: the track deviation under the leading wheelset and the wheelset's lateral displacement relative to its
+  rails (the contact search's pose), ``Y_w<j>_<side>_N`` / ``Q_w<j>_<side>_N`` of every wheel (j = 1 leading … 4),
+  the flange flags of both leading wheels, the car body's lateral displacement above the rear bogie.
 
 Default speeds (justification of ``RtriAssumptions.speeds_km_h`` = 100, 150, 200, 250 km/h)
 -------------------------------------------------------------------------------------------
@@ -76,7 +83,8 @@ the whole car passes the 20 m span within the paper's 2500 steps.  The represent
 
 Peaks
 -----
-``summary["peaks"]`` covers the whole run, ``summary["peaks_passage"]`` the response to the deviation (until the
+``summary["peaks"]`` covers the whole run (not evaluated for a ``diverged`` run), ``summary["peaks_passage"]``
+the response to the deviation (until the
 whole car has left the span and run the run-out), ``summary["after_passage"]`` what is left afterwards (a lateral
 oscillation that does not decay is self-excited and is flagged in the notes).  Besides the raw peak of the lateral
 force, the peak of its 10 ms moving average (:data:`AVERAGE_WINDOW_S`) is given: the raw force carries spikes of
@@ -85,7 +93,7 @@ converged in dt; the averaged peak is (``tests/test_rtri.py``).
 
 What the model gives with the stated assumptions (Newmark, 1 ms, FASTSIM 24 x 8)
 --------------------------------------------------------------------------------
-Passage peaks, ``python -m exudyn_wheelrail rtri-sweep --spans 20 40 --out DIR`` (steps "auto"):
+Passage peaks, ``python -m exudyn_wheelrail rtri-sweep --spans 20 40 --out DIR`` (duration "auto"):
 
 =====  =======  ==============  ================  =================  =======================
 span   V km/h   max |a| m/s²    max |Y| kN (raw)  max |Y| kN (10ms)  flange region w1 right
@@ -118,29 +126,35 @@ span   V km/h   max |a| m/s²    max |Y| kN (raw)  max |Y| kN (10ms)  flange reg
 """
 from __future__ import annotations
 
-import csv
 import dataclasses
-import json
 import math
 import os
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ._recording import StepRecorder
+from ..simulation import status as S
+from ..simulation.settings import DURATION_AUTO, NEWMARK_BETA, NEWMARK_GAMMA, ContactSettings, RunSettings
 from .rtri_assumptions import RTRI, RtriAssumptions
+from .scenario import (
+    DEFAULT_FLOOR_HEIGHT_M,
+    build_scenario,
+    peaks,
+    run_model,
+    validate_scenario,
+    write_csv,
+    write_json,
+)
 
 __all__ = [
     "RtriCaseAssumptions",
     "RTRI_CASE",
     "RtriCase",
     "RtriResult",
-    "SOLVERS",
+    "RTRI_COLUMNS",
     "TIMESERIES_REQUIRED",
     "assumptions_table",
-    "build_rtri",
     "run_rtri",
     "write_rtri_outputs",
     "run_sweep",
@@ -149,36 +163,58 @@ __all__ = [
     "plot_fig7",
 ]
 
-#: integrators of :func:`~..multibody.vehicle_builder.solver_settings` (the keys of its ``SOLVER_TYPES`` and its
-#: ``IMPLICIT_SOLVERS``; ``tests/test_solver_settings.py`` checks that they agree)
-SOLVERS = ("newmark", "rk44", "generalized_alpha", "explicit_midpoint", "rk33", "rk67")
-IMPLICIT_SOLVERS = ("newmark", "generalized_alpha")
 #: moving-average window of the smoothed lateral-force peak: two periods of the wheelset's ~200 Hz vertical bounce
 #: on the Hertz spring (removes the bounce spikes, keeps the ~4 Hz lateral motion and the ~15 ms flange events)
 AVERAGE_WINDOW_S = 0.010
-WHEEL_RAIL_MODES = ("contact", "springs")
+#: the case's time-series columns and the scenario recorder's column each one is (:mod:`~exudyn_wheelrail.
+#: simulation.recorder`); then ``Y_w<j>_<side>_N``, ``Q_w<j>_<side>_N`` of every wheel (:func:`rtri_columns`)
+RTRI_COLUMNS = {
+    "time_s": "time_s",
+    "carbody_lateral_acceleration_rear_m_s2": "carbody_lateral_acceleration_rear_m_s2",
+    "lateral_contact_force_w1_right_N": "Y_w1_right_N",
+    "vertical_contact_force_w1_right_N": "Q_w1_right_N",
+    "flange_contact_w1_right": "flange_w1_right",
+    "track_deviation_w1_m": "track_lateral_w1_m",
+    "wheelset1_lateral_rel_track_m": "y_rel_w1_m",
+    "derailment_quotient_w1_right": "YQ_w1_right",
+    "contact_angle_w1_right_rad": "contact_angle_w1_right_rad",
+    "flange_contact_w1_left": "flange_w1_left",
+    "carbody_lateral_accelerometer_rear_m_s2": "carbody_lateral_accelerometer_rear_m_s2",
+    "carbody_lateral_displacement_rear_m": "carbody_lateral_displacement_rear_m",
+}
 #: the contract columns of ``timeseries.csv`` (further columns follow them)
-TIMESERIES_REQUIRED = ("time_s", "carbody_lateral_acceleration_rear_m_s2", "lateral_contact_force_w1_right_N",
-                       "vertical_contact_force_w1_right_N", "flange_contact_w1_right")
+TIMESERIES_REQUIRED = tuple(RTRI_COLUMNS)[:5]
+#: the scenario groups the case records
+RTRI_GROUPS = ("Y", "Q", "YQ", "flange", "contact_angle", "wheelset_lateral", "track", "carbody")
+
+
+def rtri_columns(n_wheelsets: int) -> dict:
+    """:data:`RTRI_COLUMNS` followed by every wheel's ``Y`` and ``Q`` (wheelset by wheelset, right then left)."""
+    cols = dict(RTRI_COLUMNS)
+    for j in range(1, n_wheelsets + 1):
+        for side in ("right", "left"):
+            cols[f"Y_w{j}_{side}_N"] = f"Y_w{j}_{side}_N"
+            cols[f"Q_w{j}_{side}_N"] = f"Q_w{j}_{side}_N"
+    return cols
 
 
 # ============================================================================================ ASSUMPTIONS block
-# Assumptions this case needs that RtriAssumptions (rtri_assumptions.py) does not hold.  They belong there; until
-# they are moved, they live here, and assumptions_table() / summary.json list them together with RtriAssumptions.
+# Assumptions this case needs that RtriAssumptions (rtri_assumptions.py) does not hold; assumptions_table() and
+# summary.json list them together with RtriAssumptions.
 @dataclass(frozen=True)
 class RtriCaseAssumptions:
     """Output-side and modelling assumptions of the RTRI case not in :class:`RtriAssumptions` (origin given per
     field in :data:`_CASE_ORIGINS`)."""
 
     #: ASSUMPTION: height of the car-body floor (where the accelerometer sits) above the rail top [m]
-    floor_height_m: float = 1.20
+    floor_height_m: float = DEFAULT_FLOOR_HEIGHT_M
     #: ASSUMPTION: the speed of Figs. 5/6 and of the 20 m vs 40 m check [km/h]
     representative_speed_km_h: float = 250.0
-    #: ASSUMPTION: wheel–rail friction coefficient (dry steel on steel)
-    friction_coefficient: float = 0.3
-    #: ASSUMPTION (project default for now): creep law and its grid
-    creep_law: str = "table"
-    fastsim_grid: tuple[int, int] = (24, 8)
+    #: ASSUMPTION: wheel–rail friction coefficient (dry steel on steel; the contact settings' default)
+    friction_coefficient: float = field(default_factory=lambda: ContactSettings().friction)
+    #: the creep law and FASTSIM's grid (the contact settings' defaults)
+    creep_law: str = field(default_factory=lambda: ContactSettings().creep_law)
+    fastsim_grid: tuple[int, int] = field(default_factory=lambda: ContactSettings().fastsim_grid)
 
     def __post_init__(self):
         if not (0.0 < self.floor_height_m < 5.0):
@@ -232,14 +268,6 @@ _OTHER_MODEL_CHOICES = {
 }
 
 
-def _jsonable(v):
-    if isinstance(v, tuple):
-        return [_jsonable(x) for x in v]
-    if isinstance(v, (np.floating, np.integer)):
-        return v.item()
-    return v
-
-
 def assumptions_table(assumptions: RtriAssumptions = RTRI,
                       case_assumptions: RtriCaseAssumptions = RTRI_CASE) -> dict:
     """Every input of the case that is not a property of the code, with its value and origin:
@@ -247,109 +275,105 @@ def assumptions_table(assumptions: RtriAssumptions = RTRI,
     table = {"RtriAssumptions": {}, "RtriCaseAssumptions": {}, "model_choices": dict(_OTHER_MODEL_CHOICES)}
     for f in dataclasses.fields(assumptions):
         table["RtriAssumptions"][f.name] = {
-            "value": _jsonable(getattr(assumptions, f.name)),
+            "value": getattr(assumptions, f.name),
             "origin": _RTRI_ORIGINS.get(f.name, "UNCLASSIFIED: see exudyn_wheelrail/scenarios/rtri_assumptions.py")}
     for f in dataclasses.fields(case_assumptions):
-        table["RtriCaseAssumptions"][f.name] = {"value": _jsonable(getattr(case_assumptions, f.name)),
+        table["RtriCaseAssumptions"][f.name] = {"value": getattr(case_assumptions, f.name),
                                                 "origin": _CASE_ORIGINS[f.name]}
     return table
 
 
 # ================================================================================================ the case
-@dataclass(frozen=True)
+_RUN_FIELDS = tuple(f.name for f in dataclasses.fields(RunSettings))
+_CONTACT_FIELDS = tuple(f.name for f in dataclasses.fields(ContactSettings))
+
+
+@dataclass(frozen=True, init=False)
 class RtriCase:
-    """One RTRI run.  ``None`` for ``deviation_amplitude_m`` / ``transition_length_m`` takes the assumption;
-    ``steps`` an int or ``"auto"`` (max of the published 2500 and the steps for the whole car to pass the span
-    with lead-in and run-out).
+    """One RTRI run: the span, the speed, the deviation (``None``: the assumptions' δ and l_t), the vehicle-file
+    overrides, and the :class:`~exudyn_wheelrail.simulation.settings.RunSettings` / :class:`~exudyn_wheelrail.
+    simulation.settings.ContactSettings` of the run.  Convenient construction: their fields may be given directly
+    and override ``run`` / ``contact``::
 
-    ``wheel_rail="springs"`` replaces each contact by linear springs (``build_vehicle(..., wheel_rail="springs")``)
-    — a cost baseline for benchmarks only: the springs hold the wheels at the nominal rail position, the deviation
-    does not act, and no outputs are recorded."""
+        RtriCase(span_m=40, speed_km_h=200, solver="rk44", duration_s=1.0, creep_law="fastsim")
 
-    span_m: float = 20.0
-    speed_km_h: float = RTRI_CASE.representative_speed_km_h
-    solver: str = "newmark"
-    dt_s: float = RTRI.time_step_s
-    steps: int | str = RTRI.n_steps_published
-    creep_law: str = RTRI_CASE.creep_law
-    fastsim_grid: tuple[int, int] = RTRI_CASE.fastsim_grid
-    deviation_amplitude_m: float | None = None
-    transition_length_m: float | None = None
-    wheel_rail: str = "contact"
-    record: bool = True
-    #: Newton tolerance of the implicit solver.  Measured on the 20 m / 250 km/h case (Newmark, 1 ms): 1e-4 gives the
-    #: peaks of 1e-6 to 1e-4 relative (peak Y 20411 vs 20409 N, car-body acceleration equal to 4 digits) in 25 %
-    #: less time; 1e-3 moves the peak Y by 0.2 %.
-    newton_tolerance: float = 1e-4
-    #: contact geometry: ``"online"`` (the search at every evaluation) or ``"table"`` (precomputed for the rigid
-    #: rail profile, :mod:`~exudyn_wheelrail.contact.geometry_table`)
-    geometry: str = "online"
-    #: wheel–rail friction coefficient; ``None`` takes ``case_assumptions.friction_coefficient`` (an override is
-    #: marked in the summary's assumptions)
-    friction_coefficient: float | None = None
-    #: numeric values of the vehicle file replaced for this run, e.g. ``{"primary.ky_N_per_m": 7.8e6}``
-    #: (:func:`~..multibody.vehicle_data.load_vehicle_with_overrides`: unknown keys and bad values are errors here;
-    #: recorded in the summary's assumptions)
-    vehicle_overrides: dict | None = None
-    assumptions: RtriAssumptions = RTRI
-    case_assumptions: RtriCaseAssumptions = RTRI_CASE
+    Defaults: the paper's run (Newmark, the published 1 ms for the published 2.5 s) and the case's contact
+    assumptions.  ``duration_s="auto"``: ``max(2.5 s, the time for the whole car to pass the span with lead-in and
+    run-out)``.  ``wheel_rail="springs"`` replaces each contact by linear springs — a cost baseline for
+    benchmarks only: the springs hold the wheels at the nominal rail position, the deviation does not act, and
+    nothing is recorded (``record=False``).  ``vehicle_overrides``: numeric values of the vehicle file replaced for
+    this run, e.g. ``{"primary.ky_N_per_m": 7.8e6}`` (recorded in the summary's assumptions)."""
 
-    def __post_init__(self):
-        def finite(name, value, lo=None, hi=None, lo_open=True):
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(f"{name} = {value!r}: expected a number") from None
-            if not math.isfinite(value):
-                raise ValueError(f"{name} = {value!r}: expected a finite number")
+    span_m: float
+    speed_km_h: float
+    run: RunSettings
+    contact: ContactSettings
+    deviation_amplitude_m: float | None
+    transition_length_m: float | None
+    vehicle_overrides: dict | None
+    assumptions: RtriAssumptions
+    case_assumptions: RtriCaseAssumptions
+
+    def __init__(self, span_m: float = 20.0, speed_km_h: float | None = None, *, run: RunSettings | None = None,
+                 contact: ContactSettings | None = None, deviation_amplitude_m: float | None = None,
+                 transition_length_m: float | None = None, vehicle_overrides: dict | None = None,
+                 assumptions: RtriAssumptions = RTRI, case_assumptions: RtriCaseAssumptions = RTRI_CASE,
+                 **settings):
+        unknown = set(settings) - set(_RUN_FIELDS) - set(_CONTACT_FIELDS)
+        if unknown:
+            raise TypeError(f"RtriCase: unknown argument(s) {', '.join(sorted(unknown))} (fields of RunSettings: "
+                            f"{', '.join(_RUN_FIELDS)}; of ContactSettings: {', '.join(_CONTACT_FIELDS)})")
+        if run is None:
+            run = RunSettings(solver="newmark", dt_s=assumptions.time_step_s,
+                              duration_s=assumptions.n_steps_published * assumptions.time_step_s)
+        if contact is None:
+            contact = ContactSettings(creep_law=case_assumptions.creep_law,
+                                      friction=case_assumptions.friction_coefficient,
+                                      fastsim_grid=case_assumptions.fastsim_grid)
+        run = dataclasses.replace(run, **{k: v for k, v in settings.items() if k in _RUN_FIELDS})
+        contact = dataclasses.replace(contact, **{k: v for k, v in settings.items() if k in _CONTACT_FIELDS})
+        values = dict(span_m=span_m, speed_km_h=case_assumptions.representative_speed_km_h if speed_km_h is None
+                      else speed_km_h, run=run, contact=contact, deviation_amplitude_m=deviation_amplitude_m,
+                      transition_length_m=transition_length_m, vehicle_overrides=vehicle_overrides,
+                      assumptions=assumptions, case_assumptions=case_assumptions)
+        for k, v in values.items():
+            object.__setattr__(self, k, v)
+        self._check()
+
+    def _check(self):
+        from ..validation import finite
+
+        def number(name, value, lo=None, hi=None, lo_open=True):
+            value = finite(name, value)
             if lo is not None and (value <= lo if lo_open else value < lo):
                 raise ValueError(f"{name} = {value!r}: must be {'>' if lo_open else '>='} {lo}")
             if hi is not None and value > hi:
                 raise ValueError(f"{name} = {value!r}: must be <= {hi}")
             return value
 
-        finite("span_m", self.span_m, 0.0, 1000.0)
-        finite("speed_km_h", self.speed_km_h, 0.0, 600.0)
-        finite("dt_s", self.dt_s, 0.0, 0.01)
-        if self.solver not in SOLVERS:
-            raise ValueError(f"solver = {self.solver!r}: expected one of {', '.join(SOLVERS)}")
-        if self.wheel_rail not in WHEEL_RAIL_MODES:
-            raise ValueError(f"wheel_rail = {self.wheel_rail!r}: expected one of {', '.join(WHEEL_RAIL_MODES)}")
-        if isinstance(self.steps, str):
-            if self.steps != "auto":
-                raise ValueError(f"steps = {self.steps!r}: expected a positive integer or 'auto'")
-        elif isinstance(self.steps, bool) or not isinstance(self.steps, (int, np.integer)) or self.steps < 1:
-            raise ValueError(f"steps = {self.steps!r}: expected a positive integer or 'auto'")
-        elif self.steps > 10_000_000:
-            raise ValueError(f"steps = {self.steps}: too many (> 1e7)")
+        number("span_m", self.span_m, 0.0, 1000.0)
+        number("speed_km_h", self.speed_km_h, 0.0, 600.0)
         if self.deviation_amplitude_m is not None:
-            finite("deviation_amplitude_m", self.deviation_amplitude_m, lo=0.0, hi=0.1)
+            number("deviation_amplitude_m", self.deviation_amplitude_m, lo=0.0, hi=0.1)
         if self.transition_length_m is not None:
-            lt = finite("transition_length_m", self.transition_length_m, lo=0.0, lo_open=False)
+            lt = number("transition_length_m", self.transition_length_m, lo=0.0, lo_open=False)
             if not lt < float(self.span_m):
                 raise ValueError(f"transition_length_m = {lt} must be shorter than the span ({self.span_m} m)")
         elif not self.assumptions.transition_length_m < float(self.span_m):
             raise ValueError(f"span_m = {self.span_m}: must be longer than the transition length "
                              f"({self.assumptions.transition_length_m} m)")
-        try:
-            grid = tuple(self.fastsim_grid)
-            bad_grid = len(grid) != 2 or any(int(g) != g or g < 1 for g in grid)
-        except (TypeError, ValueError):
-            bad_grid = True
-        if bad_grid:
-            raise ValueError(f"fastsim_grid = {self.fastsim_grid!r}: expected two positive integers (n_x, n_y)")
-        finite("newton_tolerance", self.newton_tolerance, 0.0, 1.0)
-        if self.geometry not in ("online", "table"):
-            raise ValueError(f"geometry = {self.geometry!r}: expected 'online' or 'table'")
-        if self.wheel_rail == "springs" and self.record:
+        if self.contact.wheel_rail == "springs" and self.run.record:
             raise ValueError("wheel_rail='springs' is a cost baseline without the deviation: use record=False")
-        if self.friction_coefficient is not None:
-            finite("friction_coefficient", self.friction_coefficient, lo=0.0, hi=2.0, lo_open=False)
         if self.vehicle_overrides is not None:
             if not isinstance(self.vehicle_overrides, dict):
                 raise ValueError(f"vehicle_overrides = {self.vehicle_overrides!r}: expected a dict "
                                  "{'table.key': value}")
             self.vehicle()                    # unknown keys and invalid values raise VehicleDataError here
+
+    def replace(self, **changes) -> "RtriCase":
+        """A copy with fields or run/contact settings changed (the constructor's keywords)."""
+        values = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return RtriCase(**{**values, **changes})
 
     # -- derived ---------------------------------------------------------------------------------------------------
     @property
@@ -362,21 +386,15 @@ class RtriCase:
                      else self.deviation_amplitude_m)
 
     @property
-    def mu(self) -> float:
-        """The friction coefficient of the run: ``friction_coefficient`` or the assumption."""
-        return float(self.case_assumptions.friction_coefficient if self.friction_coefficient is None
-                     else self.friction_coefficient)
+    def transition_m(self) -> float:
+        return float(self.assumptions.transition_length_m if self.transition_length_m is None
+                     else self.transition_length_m)
 
     def vehicle(self):
         """The run's :class:`~..multibody.vehicle_data.VehicleData`: the assumptions' vehicle with
         ``vehicle_overrides`` applied."""
         from ..multibody.vehicle_data import load_vehicle_with_overrides
         return load_vehicle_with_overrides(self.assumptions.vehicle, self.vehicle_overrides)
-
-    @property
-    def transition_m(self) -> float:
-        return float(self.assumptions.transition_length_m if self.transition_length_m is None
-                     else self.transition_length_m)
 
     def span_deflection(self):
         """The deviation: the assumptions' shape with this case's δ and l_t; the first transition begins
@@ -385,13 +403,47 @@ class RtriCase:
                                 transition_length_m=self.transition_m, span_lengths_m=(float(self.span_m),))
         return a.span_deflection(float(self.span_m))
 
+    def passage_time_s(self) -> float:
+        """Time for the whole car (leading to trailing wheelset) to pass the span with the lead-in and the run-out
+        [s]."""
+        a = self.assumptions
+        return (a.lead_in_m + float(self.span_m) + self.transition_m + _vehicle_extent_m(self.vehicle())
+                + a.run_out_m) / self.speed_m_s
+
+    def run_settings(self) -> RunSettings:
+        """The run settings with ``duration_s="auto"`` resolved (:class:`RtriCase`)."""
+        if self.run.duration_s != DURATION_AUTO:
+            return self.run
+        published = self.assumptions.n_steps_published * self.assumptions.time_step_s
+        return self.run.with_duration(max(published, self.passage_time_s()))
+
+    def scenario(self) -> dict:
+        """The case as a normalised scenario (:mod:`.scenario`): the spec :func:`run_rtri` builds."""
+        sd = self.span_deflection()
+        spec = {
+            "schema_version": 2,
+            "scenario": {"name": f"rtri_L{float(self.span_m):g}_V{float(self.speed_km_h):g}",
+                         "description": "RTRI rigid-rail validation case (substitute inputs)"},
+            "vehicle": {"name": self.assumptions.vehicle, "speed_km_h": float(self.speed_km_h), "start_s_m": 0.0,
+                        "overrides": dict(self.vehicle_overrides or {})},
+            "track": [{"type": "span_deflection", "span_length_m": sd.span_length_m, "amplitude_m": sd.amplitude_m,
+                       "start_m": sd.start_m, "transition_length_m": sd.transition_length_m,
+                       "direction": sd.direction}],
+            "contact": self.contact.as_dict(),
+            "run": self.run_settings().as_dict(),
+            "outputs": {"timeseries": list(RTRI_GROUPS), "formats": ["csv"], "plots": False, "criteria": False,
+                        "carbody_points": [{"name": "rear", "x_m": "rear_bogie", "y_m": 0.0,
+                                            "height_m": self.case_assumptions.floor_height_m}]},
+        }
+        return validate_scenario(spec, source="RTRI case")
+
 
 def _vehicle_extent_m(vehicle) -> float:
     x = vehicle.wheelset_x_m()
     return float(max(x) - min(x))
 
 
-def _coverage(case: RtriCase, vehicle, steps: int) -> tuple[dict, list[str]]:
+def _coverage(case: RtriCase, vehicle, run: RunSettings) -> tuple[dict, list[str]]:
     """What the run covers (track distances of the leading wheelset, times) and notes."""
     a = case.assumptions
     V = case.speed_m_s
@@ -403,7 +455,7 @@ def _coverage(case: RtriCase, vehicle, steps: int) -> tuple[dict, list[str]]:
     s_enter = sd.start_m - 0.5 * lt           # deviation begins
     s_leave = sd.end_m + 0.5 * lt             # deviation ends
     d_rear = max(x) - x_rear_bogie_lead
-    t_end = steps * case.dt_s
+    t_end = run.end_time_s
     cov = {
         "vehicle_extent_m": e,
         "deviation_begins_at_track_distance_m": s_enter,
@@ -415,7 +467,7 @@ def _coverage(case: RtriCase, vehicle, steps: int) -> tuple[dict, list[str]]:
         "t_needed_with_run_out_s": (a.lead_in_m + L + lt + e + a.run_out_m) / V,
         "t_end_s": t_end,
     }
-    cov["steps_needed"] = int(math.ceil(cov["t_needed_with_run_out_s"] / case.dt_s - 1e-9))
+    cov["steps_needed"] = int(math.ceil(cov["t_needed_with_run_out_s"] / run.dt_s - 1e-9))
     cov["leading_wheelset_crosses_span"] = t_end >= cov["t_leading_wheelset_leaves_span_s"]
     cov["whole_car_passes_span"] = t_end >= cov["t_whole_car_left_span_s"]
     notes = []
@@ -435,220 +487,60 @@ def _coverage(case: RtriCase, vehicle, steps: int) -> tuple[dict, list[str]]:
     return cov, notes
 
 
-# ============================================================================================== building
-@dataclass
-class RtriModel:
-    """What :func:`build_rtri` created (Exudyn objects and handles; assembled)."""
-
-    case: RtriCase
-    system_container: object
-    mbs: object
-    model: object
-    pair: object
-    track: object
-    contact: object | None
-    steps: int
-    recorder: "_Recorder | None" = None
-    settings: object = None
-    solver_type: object = None
-
-
-def _settings(case: RtriCase, steps: int):
-    from ..multibody.vehicle_builder import solver_settings
-    return solver_settings(case.solver, case.dt_s, steps, case.newton_tolerance, case.assumptions.newmark_beta,
-                           case.assumptions.newmark_gamma)
-
-
-def build_rtri(case: RtriCase) -> RtriModel:
-    """Build and assemble the RTRI model of ``case`` (vehicle, contact or springs, recorder); not solved."""
-    import exudyn as exu
-
-    from ..contact.pair import WheelRailPair
-    from ..multibody.connector import add_wheel_rail_contact, place_on_rails
-    from ..multibody.track import RigidStraightTrack
-    from ..multibody.vehicle_builder import build_vehicle
-
-    vehicle = case.vehicle()
-    if vehicle.layout != "car" or vehicle.car_body is None:
-        raise ValueError(f"vehicle {case.assumptions.vehicle!r}: the RTRI case needs a car (layout 'car')")
-    geo = vehicle.geometry
-    x_lead = max(vehicle.wheelset_x_m())
-    s_start = -x_lead                                   # leading wheelset at s = 0 at t = 0
-    steps = _steps(case, vehicle)
-    sc = exu.SystemContainer()
-    mbs = sc.AddSystem()
-    springs = case.wheel_rail == "springs"
-    model = build_vehicle(mbs, vehicle, speed_m_s=case.speed_m_s, s_start_m=s_start,
-                          wheel_rail="springs" if springs else "none")
-    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
-                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
-    track = RigidStraightTrack(case.span_deflection())
-    contact = None
-    if not springs:
-        try:
-            contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=case.speed_m_s, track=track,
-                                             s_start_m=s_start, creep_law=case.creep_law,
-                                             mu=case.mu, geometry=case.geometry,
-                                             fastsim_grid=tuple(int(g) for g in case.fastsim_grid))
-        except ValueError as exc:
-            raise ValueError(f"--creep-law {case.creep_law!r} not accepted by the connector: {exc}") from None
-        except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
-            raise RuntimeError(f"creep law {case.creep_law!r}: {exc}") from None
-        place_on_rails(mbs, model, pair)
-    handle = RtriModel(case=case, system_container=sc, mbs=mbs, model=model, pair=pair, track=track,
-                       contact=contact, steps=steps)
-    if case.record and contact is not None:
-        handle.recorder = _Recorder(handle, steps)
-        mbs.SetPreStepUserFunction(handle.recorder.pre_step)
-    mbs.Assemble()
-    handle.settings, handle.solver_type = _settings(case, steps)
-    return handle
-
-
-def _steps(case: RtriCase, vehicle) -> int:
-    if case.steps != "auto":
-        return int(case.steps)
-    e = _vehicle_extent_m(vehicle)
-    a = case.assumptions
-    t = (a.lead_in_m + float(case.span_m) + case.transition_m + e + a.run_out_m) / case.speed_m_s
-    return max(int(a.n_steps_published), int(math.ceil(t / case.dt_s - 1e-9)))
-
-
-# ============================================================================================== recording
-class _Recorder(StepRecorder):
-    """Pre-step user function: evaluates the contact at the current state and stores one row (see module doc)."""
-
-    def __init__(self, h: RtriModel, steps: int):
-        import exudyn as exu
-
-        from ..multibody import connector as C
-        self.exu = exu
-        self.C = C
-        self.h = h
-        m = h.model
-        self.n_ws = len(m.wheelsets)
-        cb = m.car_body
-        x_rear = min(m.vehicle.bogie_x_m())
-        p = np.array([x_rear, 0.0, -h.case.case_assumptions.floor_height_m])   # z down: above the rail top
-        self.local_rear = (p - cb.p_cg_in_frame).tolist()
-        self.cb_body = cb.body
-        self.ws_node = m.wheelsets[0].node
-        self.ws_x = float(m.wheelsets[0].p_cg_in_frame[0])
-        self.gravity = np.array([0.0, 0.0, m.gravity_m_s2])
-        from ..multibody.track import irregularity_at
-        p = h.track.packed()
-        self.irregularity_at = irregularity_at
-        self.packed = (p.rows, p.knots, p.coefs)
-        self.columns = list(TIMESERIES_REQUIRED) + [
-            "track_deviation_w1_m", "wheelset1_lateral_rel_track_m", "derailment_quotient_w1_right",
-            "contact_angle_w1_right_rad", "flange_contact_w1_left", "carbody_lateral_accelerometer_rear_m_s2",
-            "carbody_lateral_displacement_rear_m"]
-        for j in range(self.n_ws):
-            for side in ("right", "left"):
-                self.columns += [f"Y_w{j + 1}_{side}_N", f"Q_w{j + 1}_{side}_N"]
-        StepRecorder.__init__(self, h.case.dt_s, steps + 2, self.columns)
-
-    def record(self, mbs, t):
-        exu, C, h = self.exu, self.C, self.h
-        c = h.contact
-        res = c.evaluate(mbs, t)
-        row = self.next_row()
-        ovt = exu.OutputVariableType
-        a = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.Acceleration, localPosition=self.local_rear))
-        u = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.Displacement, localPosition=self.local_rear))
-        R = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.RotationMatrix)).reshape(3, 3)
-        y_ws = float(mbs.GetNodeOutput(self.ws_node, ovt.Displacement)[1])
-        s_ws = float(h.model.track_distance_m(self.ws_x, t))
-        y_irr = float(self.irregularity_at(*self.packed, s_ws)[0])
-        F = c.wheel_force_N(0, "right")
-        Q = -float(F[2]) + 0.0                                 # no -0.0
-        w = 0                                                 # results index of the leading right wheel
-        loads = res[w, :, C.RES_N]
-        reg = int(np.argmax(loads))
-        row[0] = t
-        row[1] = a[1]
-        row[2] = F[1]
-        row[3] = Q
-        row[4] = 1.0 if c.flange_contact(0, "right") else 0.0
-        row[5] = y_irr
-        row[6] = y_ws - y_irr
-        row[7] = -F[1] / Q if Q > 0.0 else np.nan
-        row[8] = res[w, reg, C.RES_GAMMA] if loads[reg] > 0.0 else np.nan
-        row[9] = 1.0 if c.flange_contact(0, "left") else 0.0
-        row[10] = (R.T @ (a - self.gravity))[1]
-        row[11] = u[1]
-        k = 12
-        for j in range(self.n_ws):
-            for side in ("right", "left"):
-                Fj = c.wheel_force_N(j, side)
-                row[k] = Fj[1]
-                row[k + 1] = -Fj[2] + 0.0
-                k += 2
-        self.n += 1
-
-
 # ================================================================================================ running
 @dataclass
 class RtriResult:
-    """Time series (column name -> array; empty without recording) and the summary dict."""
+    """Time series (column name -> array; empty without recording), the summary dict, the case and the run's
+    outcome (:class:`~exudyn_wheelrail.simulation.runner.RunOutcome`)."""
 
     timeseries: dict
     summary: dict
     case: RtriCase = None
+    outcome: object = None
 
 
-def _warm_up(h: RtriModel):
-    """Load/compile the numba code outside the timed solve (contact forces; the Jacobian for the implicit solver)."""
-    c = h.contact
-    if c is None:
-        return
-    c.warm_up(h.mbs, jacobian=h.case.solver in IMPLICIT_SOLVERS)
-
-
-def _peaks(ts: dict, dt: float, t_max: float | None = None) -> dict:
-    """Peak values of the recorded rows with ``time_s <= t_max`` (all rows for ``None``)."""
+def _case_peaks(ts: dict, dt: float, t_max: float | None = None) -> dict:
+    """The case's peak values of the recorded rows with ``time_s <= t_max`` (all rows for ``None``): the per-column
+    peaks of :func:`~.scenario.peaks` under the case's names, the flange-contact durations and the 10 ms
+    moving-average peak of the lateral force."""
     if t_max is not None:
         keep = ts["time_s"] <= t_max + 1e-9
         ts = {k: v[keep] for k, v in ts.items()}
     t = ts["time_s"]
     if len(t) == 0:
         return {}
-    Y = ts["lateral_contact_force_w1_right_N"]
-    acc = ts["carbody_lateral_acceleration_rear_m_s2"]
-    Q = ts["vertical_contact_force_w1_right_N"]
+    p = peaks(ts)
+    Y = p["lateral_contact_force_w1_right_N"]
+    acc = p["carbody_lateral_acceleration_rear_m_s2"]
+    Q = p["vertical_contact_force_w1_right_N"]
     fl = ts["flange_contact_w1_right"] > 0.5
-    iy = int(np.nanargmax(np.abs(Y)))
-    ia = int(np.nanargmax(np.abs(acc)))
-    yq = ts["derailment_quotient_w1_right"]
-    rel = ts["wheelset1_lateral_rel_track_m"]
     out = {
-        "max_abs_lateral_contact_force_w1_right_N": float(abs(Y[iy])),
-        "lateral_contact_force_w1_right_at_peak_N": float(Y[iy]),
-        "time_of_max_abs_lateral_force_s": float(t[iy]),
-        "max_abs_carbody_lateral_acceleration_rear_m_s2": float(abs(acc[ia])),
-        "time_of_max_carbody_acceleration_s": float(t[ia]),
-        "max_abs_carbody_lateral_accelerometer_rear_m_s2":
-            float(np.nanmax(np.abs(ts["carbody_lateral_accelerometer_rear_m_s2"]))),
+        "max_abs_lateral_contact_force_w1_right_N": Y["max_abs"],
+        "lateral_contact_force_w1_right_at_peak_N": Y["value_at_max_abs"],
+        "time_of_max_abs_lateral_force_s": Y["time_of_max_abs_s"],
+        "max_abs_carbody_lateral_acceleration_rear_m_s2": acc["max_abs"],
+        "time_of_max_carbody_acceleration_s": acc["time_of_max_abs_s"],
+        "max_abs_carbody_lateral_accelerometer_rear_m_s2": p["carbody_lateral_accelerometer_rear_m_s2"]["max_abs"],
         "flange_contact_w1_right": bool(fl.any()),
         "flange_contact_w1_right_duration_s": float(fl.sum() * dt),
         "flange_contact_w1_right_first_time_s": float(t[fl][0]) if fl.any() else None,
         "flange_contact_w1_left": bool((ts["flange_contact_w1_left"] > 0.5).any()),
-        "max_derailment_quotient_w1_right": float(np.nanmax(yq)) if np.isfinite(yq).any() else None,
-        "min_wheel_load_w1_right_N": float(np.nanmin(Q)),
-        "max_wheel_load_w1_right_N": float(np.nanmax(Q)),
-        "wheel_lift_w1_right_duration_s": float((Q <= 0.0).sum() * dt),
-        "max_abs_wheelset1_lateral_rel_track_m": float(np.nanmax(np.abs(rel))),
-        "max_contact_angle_w1_right_rad": float(np.nanmax(ts["contact_angle_w1_right_rad"])),
+        "max_derailment_quotient_w1_right": p["derailment_quotient_w1_right"]["max"],
+        "min_wheel_load_w1_right_N": Q["min"],
+        "max_wheel_load_w1_right_N": Q["max"],
+        "wheel_lift_w1_right_duration_s": float((ts["vertical_contact_force_w1_right_N"] <= 0.0).sum() * dt),
+        "max_abs_wheelset1_lateral_rel_track_m": p["wheelset1_lateral_rel_track_m"]["max_abs"],
+        "max_contact_angle_w1_right_rad": p["contact_angle_w1_right_rad"]["max"],
     }
     n = max(1, int(round(AVERAGE_WINDOW_S / dt)))
-    if len(Y) >= n:
-        y_avg = np.convolve(Y, np.ones(n) / n, mode="valid")
+    y_raw = ts["lateral_contact_force_w1_right_N"]
+    if len(y_raw) >= n:
+        y_avg = np.convolve(y_raw, np.ones(n) / n, mode="valid")
         i = int(np.nanargmax(np.abs(y_avg)))
         out["max_abs_lateral_contact_force_w1_right_10ms_avg_N"] = float(abs(y_avg[i]))
         out["time_of_max_abs_lateral_force_10ms_avg_s"] = float(0.5 * (t[i] + t[i + n - 1]))
-    ys = [k for k in ts if k.startswith("Y_w")]
-    out["max_abs_Y_any_wheel_N"] = float(max(np.nanmax(np.abs(ts[k])) for k in ys))
-    out["min_Q_any_wheel_N"] = float(min(np.nanmin(ts[k]) for k in ts if k.startswith("Q_w")))
+    out["max_abs_Y_any_wheel_N"] = max(v["max_abs"] for k, v in p.items() if k.startswith("Y_w"))
+    out["min_Q_any_wheel_N"] = min(v["min"] for k, v in p.items() if k.startswith("Q_w"))
     return out
 
 
@@ -670,94 +562,78 @@ def _after_passage(ts: dict, t_passage_end: float) -> dict:
 
 
 def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
-    """Build, warm up, solve (timed: ``mbs.SolveDynamic`` only) and collect the outputs of ``case``.  A failing
-    solve gives ``summary["status"] = "error: ..."`` and the rows recorded so far.  ``view``: an object with
-    ``attach(model)`` (called with the built :class:`RtriModel` before the solve) and ``close()`` (after it), e.g.
+    """Build the case's spec (:meth:`RtriCase.scenario`, :func:`~.scenario.build_scenario`), warm up, run it
+    through the one solve wrapper (timed: ``mbs.SolveDynamic`` only) and collect the outputs.  ``summary["status"]``
+    is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES` (``status_detail``: time, wheelset, side, the
+    monitor's detail, a hint); the time series keep the rows up to the last valid state.  ``progress``: a callable
+    for one line before the run (e.g. ``print``).  ``view``: an object with ``attach(model)`` (called with the built
+    :class:`~.scenario.ScenarioModel` before the solve) and ``close()`` (after it), e.g.
     :class:`~exudyn_wheelrail.interactive.view3d.RtriView` (Exudyn's renderer)."""
-    from ..multibody.vehicle_builder import solver_description
     vehicle = case.vehicle()
-    steps = _steps(case, vehicle)
-    h = build_rtri(case)
-    if view is not None:
-        view.attach(h)
-    _warm_up(h)
-    status = "ok"
+    if vehicle.layout != "car" or vehicle.car_body is None:
+        raise ValueError(f"vehicle {case.assumptions.vehicle!r}: the RTRI case needs a car (layout 'car')")
+    h = build_scenario(case.scenario())
+    run = h.run
     if progress:
-        progress(f"RTRI: span {case.span_m:g} m, {case.speed_km_h:g} km/h, {case.solver}, dt {case.dt_s:g} s, "
-                 f"{steps} steps, {case.wheel_rail}" + (f", creep law {case.creep_law}" if h.contact else ""))
-    t0 = time.perf_counter()
-    try:
-        ok = h.mbs.SolveDynamic(h.settings, solverType=h.solver_type)
-        if not ok:
-            status = "error: mbs.SolveDynamic reported failure (Newton not converged or solver aborted)"
-    except Exception as exc:   # Exudyn re-raises user-function exceptions as RuntimeError
-        status = f"error: {type(exc).__name__}: {exc}".splitlines()[0]
-    solve_seconds = time.perf_counter() - t0
-    rec = h.recorder
-    if rec is not None:
-        if rec.error is not None:
-            status = f"error: recorder: {type(rec.error).__name__}: {rec.error}"
-        elif status == "ok":
-            rec.record(h.mbs, float(h.mbs.systemData.GetTime()))   # the final state
-    if view is not None:
-        view.close()
-    ts = rec.table() if rec is not None else {}
-    t_end_reached = float(h.mbs.systemData.GetTime())
-    cov, notes = _coverage(case, vehicle, steps)
-    if status == "ok" and abs(t_end_reached - steps * case.dt_s) > 0.5 * case.dt_s:
-        status = f"error: the solver stopped at t = {t_end_reached:.6g} s of {steps * case.dt_s:.6g} s"
-    after = _after_passage(ts, cov["t_needed_with_run_out_s"]) if ts else {}
-    passage = _peaks(ts, case.dt_s, cov["t_needed_with_run_out_s"]) if ts else {}
+        progress(f"RTRI: span {case.span_m:g} m, {case.speed_km_h:g} km/h, {run.solver}, dt {run.dt_s:g} s, "
+                 f"{run.duration_s:g} s ({run.steps} steps), {case.contact.wheel_rail}"
+                 + (f", creep law {case.contact.creep_law}" if h.contact else ""))
+    outcome = run_model(h, progress=False, view=view)
+    status = outcome.status
+    rec = h.recorder.table() if h.recorder is not None else {}
+    ts = {name: rec[col] for name, col in rtri_columns(len(h.model.wheelsets)).items()} if rec else {}
+    cov, notes = _coverage(case, vehicle, run)
+    evaluate = bool(ts) and len(ts["time_s"]) > 0 and status.kind != S.DIVERGED
+    after = _after_passage(ts, cov["t_needed_with_run_out_s"]) if evaluate else {}
+    passage = _case_peaks(ts, run.dt_s, cov["t_needed_with_run_out_s"]) if evaluate else {}
     if after.get("recorded") and passage and (after["max_abs_wheelset1_lateral_rel_track_m"] >
                                               0.5 * passage["max_abs_wheelset1_lateral_rel_track_m"]):
         notes.append(f"after the passage (t > {after['from_s']:.3f} s) the leading wheelset still oscillates laterally "
                      f"by up to {after['max_abs_wheelset1_lateral_rel_track_m'] * 1e3:.2f} mm (passage peak "
                      f"{passage['max_abs_wheelset1_lateral_rel_track_m'] * 1e3:.2f} mm): a self-excited oscillation "
                      "(hunting / limit cycle), not the response to the deviation; whole-run peaks include it")
-    if case.wheel_rail == "springs":
+    if case.contact.wheel_rail == "springs":
         notes.append("wheel_rail = springs: cost baseline only (the deviation does not act on linear springs)")
-    a = case.assumptions
-    table = assumptions_table(a, case.case_assumptions)
-    if case.deviation_amplitude_m is not None and case.delta_m != a.deviation_amplitude_m:
-        table["RtriAssumptions"]["deviation_amplitude_m"]["used_in_this_run"] = case.delta_m
-        table["RtriAssumptions"]["deviation_amplitude_m"]["origin"] += "; OVERRIDDEN for this run"
-    if case.transition_length_m is not None and case.transition_m != a.transition_length_m:
-        table["RtriAssumptions"]["transition_length_m"]["used_in_this_run"] = case.transition_m
-        table["RtriAssumptions"]["transition_length_m"]["origin"] += "; OVERRIDDEN for this run"
-    if case.creep_law != case.case_assumptions.creep_law:
-        table["RtriCaseAssumptions"]["creep_law"]["used_in_this_run"] = case.creep_law
-    if case.friction_coefficient is not None and case.mu != case.case_assumptions.friction_coefficient:
-        table["RtriCaseAssumptions"]["friction_coefficient"]["used_in_this_run"] = case.mu
-        table["RtriCaseAssumptions"]["friction_coefficient"]["origin"] += "; OVERRIDDEN for this run"
-    if case.vehicle_overrides:
-        table["RtriAssumptions"]["vehicle"]["overrides_in_this_run"] = {
-            str(k): _jsonable(v) for k, v in case.vehicle_overrides.items()}
-        table["RtriAssumptions"]["vehicle"]["origin"] += "; values OVERRIDDEN for this run (overrides_in_this_run)"
-    sim_time = steps * case.dt_s
+    notes += outcome.warnings
+    if status.kind != S.OK:
+        notes.append(f"the run ended {status.kind} (status_detail): the time series hold the rows up to the last "
+                     "valid state"
+                     + ("; peaks not evaluated" if status.kind == S.DIVERGED else ""))
+    table = _case_assumptions_table(case)
+    solve_seconds = outcome.solve_seconds
+    sim_time = outcome.t_end_s
     summary = {
         "case": "RTRI rigid-rail validation case (Montenegro et al., Comput. Struct. 152 (2015) 200-214), "
                 "SUBSTITUTE INPUTS: see 'assumptions'",
-        "status": status,
+        "status": status.kind,
+        "status_detail": status.as_dict(),
+        "events": [{"kind": e.kind, "time_s": e.time_s, "wheelset": e.wheelset, "side": e.side, "detail": e.detail}
+                   for e in outcome.events[:200]],
+        "n_events": len(outcome.events),
         "solve_seconds": solve_seconds,
-        "steps": steps,
-        "dt_s": case.dt_s,
+        "steps": run.steps,
+        "dt_s": run.dt_s,
+        "duration_s": run.end_time_s,
         "simulated_time_s": sim_time,
         "real_time_factor": sim_time / solve_seconds if solve_seconds > 0 else None,
         "rows_recorded": int(len(ts.get("time_s", []))),
+        "rows_dropped_after_divergence": outcome.rows_dropped,
+        "rejected_steps": outcome.rejected_steps,
+        "contact_omega_rad_s": outcome.contact_omega_rad_s,
         "speed_km_h": float(case.speed_km_h),
         "speed_m_s": case.speed_m_s,
         "span_m": float(case.span_m),
         "deviation_amplitude_m": case.delta_m,
         "transition_length_m": case.transition_m,
         "deviation_start_m": case.span_deflection().start_m,
-        "solver": {"name": case.solver,
-                   "exudyn": solver_description(case.solver, case.newton_tolerance, a.newmark_beta,
-                                                a.newmark_gamma)},
-        "wheel_rail": case.wheel_rail,
-        "creep_law": case.creep_law if case.wheel_rail == "contact" else None,
+        "run_settings": run.as_dict(),
+        "contact_settings": case.contact.as_dict(),
+        "solver": {"name": run.solver, "exudyn": run.describe_solver()},
+        "wheel_rail": case.contact.wheel_rail,
+        "creep_law": case.contact.creep_law if case.contact.wheel_rail == "contact" else None,
         "geometry": h.contact.geometry_statistics() if h.contact is not None else None,
         "skipped": h.contact.skipped() if h.contact is not None else None,
-        "fastsim_grid": list(case.fastsim_grid),
+        "fastsim_grid": list(case.contact.fastsim_grid),
         "contact_calls": int(h.contact.n_calls) if h.contact is not None else 0,
         "vehicle": vehicle.name,
         "wheel_rail_pair": repr(h.pair),
@@ -768,7 +644,7 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
                                           "and run the run-out): the response to the deviation",
                          "after_passage": "t > coverage.t_needed_with_run_out_s (what is left: a self-excited "
                                           "oscillation if it does not decay)"},
-        "peaks": _peaks(ts, case.dt_s) if ts else {},
+        "peaks": _case_peaks(ts, run.dt_s) if evaluate else {},
         "peaks_passage": passage,
         "after_passage": after,
         "sign_conventions": {
@@ -783,7 +659,31 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
         },
         "assumptions": table,
     }
-    return RtriResult(timeseries=ts, summary=summary, case=case)
+    return RtriResult(timeseries=ts, summary=summary, case=case, outcome=outcome)
+
+
+def _case_assumptions_table(case: RtriCase) -> dict:
+    """:func:`assumptions_table` with what this run overrides marked."""
+    a = case.assumptions
+    table = assumptions_table(a, case.case_assumptions)
+    if (a.newmark_beta, a.newmark_gamma) != (NEWMARK_BETA, NEWMARK_GAMMA):
+        raise ValueError("RtriAssumptions: the published Newmark parameters differ from the 'newmark' solver's")
+    if case.deviation_amplitude_m is not None and case.delta_m != a.deviation_amplitude_m:
+        table["RtriAssumptions"]["deviation_amplitude_m"]["used_in_this_run"] = case.delta_m
+        table["RtriAssumptions"]["deviation_amplitude_m"]["origin"] += "; OVERRIDDEN for this run"
+    if case.transition_length_m is not None and case.transition_m != a.transition_length_m:
+        table["RtriAssumptions"]["transition_length_m"]["used_in_this_run"] = case.transition_m
+        table["RtriAssumptions"]["transition_length_m"]["origin"] += "; OVERRIDDEN for this run"
+    ca = case.case_assumptions
+    if case.contact.creep_law != ca.creep_law:
+        table["RtriCaseAssumptions"]["creep_law"]["used_in_this_run"] = case.contact.creep_law
+    if case.contact.friction != ca.friction_coefficient:
+        table["RtriCaseAssumptions"]["friction_coefficient"]["used_in_this_run"] = case.contact.friction
+        table["RtriCaseAssumptions"]["friction_coefficient"]["origin"] += "; OVERRIDDEN for this run"
+    if case.vehicle_overrides:
+        table["RtriAssumptions"]["vehicle"]["overrides_in_this_run"] = dict(case.vehicle_overrides)
+        table["RtriAssumptions"]["vehicle"]["origin"] += "; values OVERRIDDEN for this run (overrides_in_this_run)"
+    return table
 
 
 # ================================================================================================ outputs
@@ -793,18 +693,9 @@ def write_rtri_outputs(result: RtriResult, out_dir, plots: bool = True) -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = {"timeseries": out / "timeseries.csv", "summary": out / "summary.json"}
-    ts = result.timeseries
-    cols = list(ts.keys())
-    with open(paths["timeseries"], "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(cols)
-        if cols:
-            data = np.column_stack([ts[c] for c in cols])
-            for row in data:
-                w.writerow([f"{v:.10g}" for v in row])
-    with open(paths["summary"], "w") as fh:
-        json.dump(result.summary, fh, indent=2, allow_nan=True)
-    if plots and cols:
+    write_csv(paths["timeseries"], result.timeseries)
+    write_json(paths["summary"], result.summary)
+    if plots and result.timeseries and len(result.timeseries["time_s"]) > 1:
         paths["fig5"] = out / "fig5_carbody_acceleration.png"
         paths["fig6"] = out / "fig6_lateral_force.png"
         plot_fig5(result, paths["fig5"])
@@ -923,25 +814,27 @@ def _sweep_task(case: RtriCase, case_dir):
             write_rtri_outputs(r, case_dir)
         return r.summary
     except Exception as exc:   # one failing case must not stop the sweep
-        return {"status": f"error: {type(exc).__name__}: {exc}", "span_m": float(case.span_m),
+        return {"status": f"error: {type(exc).__name__}: {exc}".splitlines()[0], "span_m": float(case.span_m),
                 "speed_km_h": float(case.speed_km_h), "steps": None, "peaks": {}, "coverage": {}}
 
 
-def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, solver: str = "newmark",
-              dt_s: float = RTRI.time_step_s, steps: int | str = "auto", creep_law: str = RTRI_CASE.creep_law,
-              deviation_amplitude_m: float | None = None, transition_length_m: float | None = None,
-              write_cases: bool = True, progress=print, geometry: str = "online") -> list[dict]:
+def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, run: RunSettings | None = None,
+              contact: ContactSettings | None = None, deviation_amplitude_m: float | None = None,
+              transition_length_m: float | None = None, write_cases: bool = True, progress=print) -> list[dict]:
     """All (span, speed) cases in parallel processes; writes ``sweep.csv``, ``sweep.json``,
-    ``fig7_max_carbody_acceleration.png`` (and each case's outputs under ``cases/`` if ``write_cases``)."""
+    ``fig7_max_carbody_acceleration.png`` (and each case's outputs under ``cases/`` if ``write_cases``).  ``run``:
+    default the case's run with ``duration_s="auto"`` (each case covers its whole passage); ``contact``: the case's
+    default."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
     from multiprocessing import get_context
     spans_m = [float(s) for s in spans_m]
     speeds_km_h = [float(v) for v in speeds_km_h]
     if not spans_m or not speeds_km_h:
         raise ValueError("the sweep needs at least one span and one speed")
-    cases = [RtriCase(span_m=L, speed_km_h=V, solver=solver, dt_s=dt_s, steps=steps, creep_law=creep_law,
-                      deviation_amplitude_m=deviation_amplitude_m, transition_length_m=transition_length_m,
-                      geometry=geometry)
+    if run is None:
+        run = dataclasses.replace(RtriCase().run, duration_s=DURATION_AUTO)
+    cases = [RtriCase(span_m=L, speed_km_h=V, run=run, contact=contact,
+                      deviation_amplitude_m=deviation_amplitude_m, transition_length_m=transition_length_m)
              for L in spans_m for V in speeds_km_h]        # validates every case before starting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -972,14 +865,14 @@ def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, solv
         row["run_max_abs_carbody_lateral_acceleration_rear_m_s2"] = s.get("peaks", {}).get(
             "max_abs_carbody_lateral_acceleration_rear_m_s2")
         rows.append(row)
+    import csv
     with open(out / "sweep.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(SWEEP_COLUMNS))
         w.writeheader()
         w.writerows(rows)
-    meta = {"assumptions": assumptions_table(), "solver": solver, "dt_s": dt_s, "steps": steps,
-            "creep_law": creep_law, "rows": rows}
-    with open(out / "sweep.json", "w") as fh:
-        json.dump(meta, fh, indent=2)
+    meta = {"assumptions": assumptions_table(), "run_settings": run.as_dict(),
+            "contact_settings": (contact or RtriCase().contact).as_dict(), "rows": rows}
+    write_json(out / "sweep.json", meta)
     plot_fig7(rows, out / "fig7_max_carbody_acceleration.png")
     return summaries
 

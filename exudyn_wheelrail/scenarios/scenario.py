@@ -1,38 +1,44 @@
-r"""Scenario files: a whole simulation (vehicle, track, optional flexible bridge, run settings, outputs) in one TOML
-file, run by :func:`run_scenario` or ``python -m exudyn_wheelrail run SCENARIO.toml --out DIR``.
+r"""Scenario files: a whole simulation (vehicle, track, optional flexible bridge, contact and run settings, outputs)
+in one TOML file, run by :func:`run_scenario` or ``python -m exudyn_wheelrail run SCENARIO.toml --out DIR``.
 
 >>> scenario = load_scenario("examples/scenarios/rtri_20m.toml")        # doctest: +SKIP
 >>> result = run_scenario(scenario, "out/rtri_20m")                      # doctest: +SKIP
->>> result.summary["criteria"]["safety_passed"]                           # doctest: +SKIP
+>>> result.summary["status"], result.summary["criteria"]["safety_passed"]  # doctest: +SKIP
 
-The model is the project's usual one, put together from the builders: the vehicle of a data file
+The normalised scenario is the **spec** of the simulation pipeline (:mod:`exudyn_wheelrail.simulation`):
+:func:`build_scenario` turns it into the Exudyn model — the vehicle of a data file
 (:func:`~exudyn_wheelrail.multibody.build_vehicle`, frame moving with the running speed V), the wheel–rail
 connector (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact`) on a rigid straight track
 (:class:`~exudyn_wheelrail.multibody.RigidStraightTrack`) displaced by the listed irregularities, optionally a
 modally reduced bridge deck (:mod:`exudyn_wheelrail.structures.bridge`, coupled through the connector's
-``bridge=``), the vehicle in static equilibrium on the rails at t = 0
-(:func:`~exudyn_wheelrail.multibody.place_on_rails`).  Built in the same order and solved with the same settings
-as :mod:`.rtri`, the RTRI case written as a scenario (``examples/scenarios/rtri_20m.toml``) gives the same
-numbers as ``python -m exudyn_wheelrail rtri`` (``tests/test_scenarios.py``).
+``bridge=``), the vehicle in static equilibrium on the rails at t = 0 (:func:`~exudyn_wheelrail.multibody.
+place_on_rails`) — and the recorder; :func:`run_scenario` runs it through the one solve wrapper
+(:func:`exudyn_wheelrail.simulation.runner.run`: watched by the run monitor, a status of
+:mod:`exudyn_wheelrail.simulation.status`) and evaluates it.  The RTRI case (:mod:`.rtri`) is such a spec.
 
-Schema (``schema_version = 1``)
+Schema (``schema_version = 2``)
 ===============================
 SI units, the unit in every key name; track frame of :mod:`exudyn_wheelrail.conventions` (x forward, y right,
 z down); ``s`` is the track distance.  Tables and keys not listed are errors, as are missing required keys and
 values of the wrong type or range: :class:`ScenarioError` (a ``ValueError``) names the file and the key
 (``track.0.amplitude_m``, the dotted form the sweep overrides use); lengths and times outside their plausible
-range (:data:`QUANTITIES`; e.g. an amplitude in millimetres) are errors too.  File paths are relative to the
-scenario file.
+range (:data:`QUANTITIES`, :mod:`exudyn_wheelrail.simulation.settings`; e.g. an amplitude in millimetres) are
+errors too.  File paths are relative to the scenario file.  A file of ``schema_version = 1`` (speed, start, creep
+law, friction and FASTSIM grid in ``[run]``) is read with those keys moved to their tables (:data:`V1_MOVED`);
+dotted overrides with the old keys are moved the same way.
 
-``schema_version = 1``  (required)
+``schema_version = 2``  (required)
 
 ``[scenario]`` (optional)
     ``name`` (default: the file name without ``.toml``), ``description`` (default "").
 
-``[vehicle]`` (required) — exactly one of
-    ``name``  a shipped vehicle (``vehicles/<name>.toml``, e.g. ``"manchester_vehicle1"``);
-    ``file``  a vehicle data file (schema: ``vehicles/README.md``).
-    The wheel and rail profiles, gauge, inclination and back-to-back distance come from the vehicle file.
+``[vehicle]`` (required) — exactly one of ``name`` (a shipped vehicle, ``vehicles/<name>.toml``, e.g.
+    ``"manchester_vehicle1"``) or ``file`` (a vehicle data file, schema: ``vehicles/README.md``), and
+    ``speed_km_h`` (required, 0 < V ≤ 600), ``start_s_m`` (track distance of the **leading** wheelset at t = 0,
+    default 0), ``overrides`` (optional table: numeric values of the vehicle file replaced for this run, by
+    ``"table.key"``, e.g. ``"primary.ky_N_per_m" = 7.8e6``;
+    :func:`~..multibody.vehicle_data.load_vehicle_with_overrides`).  The wheel and rail profiles, gauge,
+    inclination and back-to-back distance come from the vehicle file.
 
 ``[[track]]`` (optional, any number; none = a perfect straight track) — irregularity components, summed:
     ``type = "span_deflection"``: ``span_length_m``, ``amplitude_m``, ``start_m`` (s of the span start),
@@ -58,43 +64,34 @@ entered with :func:`~..structures.bridge.add_bridge`):
     The deck carries the vehicle only: its dead load is not modelled (the record is relative to the loaded
     state).  Start the vehicle off the deck: it starts in equilibrium on the rigid track.
 
-``[run]`` (required)
-    ``speed_km_h`` (required, 0 < V ≤ 600), ``duration_s`` (required: a time > 0, or ``"auto"``: until the
-    trailing wheelset is ``run_out_m`` past the end of the last track feature — the end of the last span
-    deflection (with its transition), sampled table or deck; harmonic components have no end),
+``[contact]`` (optional) — the fields of :class:`~exudyn_wheelrail.simulation.settings.ContactSettings`, validated
+    by it: ``creep_law`` ("table" (default: Kalker's exact theory, tabulated), "fastsim", "shen_hedrick_elkins",
+    "polach", "linear", "none"), ``friction`` (μ, 0.3), ``fastsim_grid`` ([24, 8]), ``geometry`` ("online" search
+    (default) or "table": precomputed for the rigid rail profile), ``wheel_rail`` ("contact" (default) or
+    "springs": linear springs at the nominal rail position, a cost baseline without irregularities, contact and
+    recording — needs ``run.record = false``).
+
+``[run]`` (optional) — the fields of :class:`~exudyn_wheelrail.simulation.settings.RunSettings`, validated by it:
     ``solver`` ("newmark" (default): trapezoidal rule β = 1/4, γ = 1/2, index-2, modified Newton with the
-    connector's Jacobian — the RTRI paper's scheme; "rk44": explicit RK44 with Lie-group integration),
-    ``dt_s`` (1e-3), ``creep_law`` ("table" (default: Kalker's exact theory, tabulated), "fastsim",
-    "shen_hedrick_elkins", "polach", "linear", "none"), ``friction`` (μ, 0.3), ``fastsim_grid`` ([24, 8]),
-    ``start_s_m`` (track distance of the **leading** wheelset at t = 0, default 0), ``run_out_m`` (10, for
-    ``duration_s = "auto"``), ``newton_tolerance`` (1e-6, newmark only).  A run of n = ceil(duration/dt) steps
-    has n + 1 rows (the state at t = 0 … n dt).
+    connector's Jacobian — the RTRI paper's scheme; "rk44": explicit RK44 with Lie-group integration;
+    "generalized_alpha", "explicit_midpoint", "rk33", "rk67"), ``dt_s`` (1e-3), ``duration_s`` (a time > 0, or
+    ``"auto"`` (default): until the trailing wheelset is ``run_out_m`` past the end of the last track feature — the
+    end of the last span deflection (with its transition), sampled table or deck; harmonic components have no
+    end), ``run_out_m`` (10), ``newton_tolerance`` (1e-4, implicit solvers), ``record`` (true), ``record_every``
+    (1: every step), ``progress`` (false: the command line's ``--no-progress`` decides there).  A run of n =
+    ceil(duration/dt) steps has n/record_every + 1 rows (the states at t = 0, record_every dt, …).
 
 ``[outputs]`` (optional)
-    ``timeseries`` — the column groups written (default: every group the model has):
-        ``"Y"`` ``Y_w<j>_<side>_N``: y component (track frame, + right) of the total contact force of the rail
-        **on** wheel ``<side>`` (right | left) of wheelset j (1 = leading) — the sign of :mod:`.rtri` and
-        :func:`~..analysis.safety.running_criteria_summary`;
-        ``"Q"`` ``Q_w<j>_<side>_N``: wheel load −F_z (positive pressing);
-        ``"YQ"`` ``YQ_w<j>_<side>``: derailment quotient with Y positive towards the field side of that wheel
-        (the direction a flange pushes its rail: −F_y right, +F_y left), NaN when the wheel is lifted;
-        ``"flange"`` ``flange_w<j>_<side>``: 1 when the wheel's flange region carries a contact;
-        ``"wheelset_lateral"`` ``y_rel_w<j>_m``: lateral displacement of the axle centre relative to its rails'
-        centre line (irregularity and deck included);
-        ``"carbody"`` per car-body point p: ``carbody_lateral_acceleration_<p>_m_s2`` and
-        ``carbody_vertical_acceleration_<p>_m_s2`` (track frame, z down, kinematic: no gravity) and
-        ``carbody_lateral_accelerometer_<p>_m_s2`` / ``carbody_vertical_accelerometer_<p>_m_s2`` (specific force
-        a − g in the car body's own axes: what a floor accelerometer reads; the vertical one is ≈ −9.81 at rest);
-        ``"deck"`` (with a structure) per span i (1 = first): ``deck_mid_deflection_s<i>_m`` and
-        ``deck_mid_acceleration_s<i>_m_s2`` (vertical, + down, at mid-span on the track centre line; the
-        acceleration from the modal equations at the recorded state, q̈ = Q − diag(2ζω) q̇ − diag(ω²) q).
-        ``time_s`` and ``s_leading_m`` (track distance of the leading wheelset) are always written.
+    ``timeseries`` — the column groups written (default: every group the model has;
+    :mod:`exudyn_wheelrail.simulation.recorder` defines them): ``"Y"``, ``"Q"``, ``"YQ"``, ``"flange"``,
+    ``"contact_angle"``, ``"wheelset_lateral"``, ``"track"``, ``"carbody"`` (a vehicle with a car body),
+    ``"deck"`` (with a structure).  ``time_s`` and ``s_leading_m`` are always written.
     ``carbody_points`` — array of tables ``{name, x_m, y_m, height_m}``: ``x_m`` a number (vehicle frame: from the
         vehicle centre, + forward) or ``"front_bogie"`` | ``"rear_bogie"`` | ``"centre"``; ``y_m`` (+ right,
         default 0); ``height_m`` above the top of rail.  Default (a vehicle with a car body): ``rear`` and
-        ``front``, above the bogie centres at 1.2 m (ASSUMPTION: the floor height :mod:`.rtri` uses).
+        ``front``, above the bogie centres at :data:`DEFAULT_FLOOR_HEIGHT_M`.
     ``formats`` — ``["csv"]`` (default) and/or ``"npz"`` (``timeseries.csv`` / ``timeseries.npz``).
-    ``plots`` — true (default): one PNG per written group (``plot_<group>.png``).
+    ``plots`` — true (default): one PNG per written group that has a figure (``plot_<group>.png``).
     ``criteria`` — true (default) / false, or a table ``{enabled, vehicle ("passenger" | "locomotive" |
         "freight"), yq_limit (0.8), unloading_limit (0.6), carbody_point (default: the first point)}``:
         :func:`~..analysis.safety.running_criteria_summary` on the recorded run (per-wheel Y, Q — static wheel
@@ -102,8 +99,8 @@ entered with :func:`~..structures.bridge.add_bridge`):
         vertical acceleration), stored in ``summary.json``.  A record too short for its filters and windows gives
         ``criteria = {"error": ...}`` and a note, not a failure.
 
-Starting state and recording
-----------------------------
+Starting state
+--------------
 The vehicle starts in static equilibrium on the centred, undisplaced rails (:func:`~..multibody.place_on_rails`).
 Where the track is displaced under the wheelsets at t = 0 (a harmonic, a sampled table), the bodies start on it
 (:func:`_start_on_track`): each wheelset moved by the track under it and yawed along it, with the velocities and
@@ -112,27 +109,24 @@ straight line through their supports (displaced, yawed, pitched, with the rates)
 vertical irregularity is a millimetre of Hertz penetration (MN contact forces) and a slope dy/ds a lateral
 creepage dy/ds.  What the track's curvature leaves over loads the suspensions: the run may start with a small
 transient (the summary notes the start).  A rigid translation of the whole track, or a lateral inclination of it,
-leaves the contact forces unchanged (tested).  Rows are recorded by a pre-step user function at the state's time (Exudyn
-passes the end time of the step it attempts; the state is at the end of the last accepted step).  After a
-rejected step (Newton not converged: Exudyn rolls back and retries with a smaller step) the retry is recognised
-by its earlier end time and only accepted states on the ``dt_s`` grid are recorded, so the rows stay uniform
-(the summary counts the rejected attempts).
+leaves the contact forces unchanged (tested).
 
 What :func:`run_scenario` writes into ``out_dir``
 -------------------------------------------------
-``timeseries.csv`` and/or ``timeseries.npz`` (the written groups), ``summary.json`` (the normalised scenario,
-status, steps, timings, the model — vehicle, static wheel loads, bridge modes —, ``peaks`` of every recorded
-column, ``scalars`` — the flat dict of scalar results a sweep tabulates —, ``criteria``, ``notes``, sign
-conventions) and the plots.  With ``progress`` a text bar on stderr, updated from the pre-step function every 1 %
-(runs of at least :data:`PROGRESS_MIN_STEPS` steps).
+The folder is checked (writable, not a file) before the model is built.  ``timeseries.csv`` and/or
+``timeseries.npz`` (the written groups), ``summary.json`` (the normalised scenario, the ``status`` — one of
+:data:`~exudyn_wheelrail.simulation.status.STATUSES` — with its detail, hint and the monitor's events, steps,
+timings, the model — vehicle, static wheel loads, bridge modes —, ``peaks`` of every recorded column (not for a
+diverged run), ``scalars`` — the flat dict of scalar results a sweep tabulates —, ``criteria``, ``notes``, sign
+conventions) and the plots.
 
 Loader and normal form
 ----------------------
 :func:`load_scenario` reads and validates a file and returns the **normalised scenario**: a plain dict of plain
 values (picklable, JSON- and TOML-representable) with every default filled in and file paths absolute.
 :func:`validate_scenario` accepts its own output (idempotent), so overrides with dotted keys
-(:func:`apply_overrides`: ``run.speed_km_h``, ``track.0.amplitude_m``, ``structure.section.m_kg_m``) are applied to
-the normal form and validated again — what :mod:`.sweep` does.
+(:func:`apply_overrides`: ``vehicle.speed_km_h``, ``track.0.amplitude_m``, ``structure.section.m_kg_m``) are
+applied to the normal form and validated again — what :mod:`.sweep` does.
 """
 from __future__ import annotations
 
@@ -141,27 +135,34 @@ import csv
 import json
 import math
 import re
-import sys
-import time
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..validation import Quantity
-from ._recording import StepRecorder
+from ..simulation import status as S
+from ..simulation.recorder import GROUPS, PROGRESS_MIN_STEPS, ProgressBar, Recorder, vehicle_probes
+from ..simulation.settings import (
+    DURATION_AUTO,
+    MAX_STEPS,
+    ContactSettings,
+    RunSettings,
+    SettingsError,
+    settings_from_mapping,
+)
+from ..validation import Quantity, output_dir
 
 __all__ = [
     "SCHEMA_VERSION",
-    "SOLVERS",
+    "V1_MOVED",
     "TRACK_TYPES",
     "TIMESERIES_GROUPS",
     "FORMATS",
-    "PROGRESS_MIN_STEPS",
+    "DEFAULT_FLOOR_HEIGHT_M",
     "ScenarioError",
+    "ScenarioModel",
     "ScenarioResult",
-    "ProgressBar",
     "load_scenario",
     "validate_scenario",
     "apply_overrides",
@@ -169,36 +170,39 @@ __all__ = [
     "parse_value",
     "build_track",
     "build_bridge_modes",
-    "scenario_steps",
+    "scenario_run_settings",
     "build_scenario",
+    "run_model",
     "run_scenario",
+    "scenario_summary",
     "write_scenario_outputs",
+    "peaks",
+    "jsonable",
 ]
 
-SCHEMA_VERSION = 1
-SOLVERS = ("newmark", "rk44")
+SCHEMA_VERSION = 2
+#: keys of ``schema_version = 1`` files (and overrides) -> their place in version 2
+V1_MOVED = {"run.speed_km_h": "vehicle.speed_km_h", "run.start_s_m": "vehicle.start_s_m",
+            "run.creep_law": "contact.creep_law", "run.friction": "contact.friction",
+            "run.fastsim_grid": "contact.fastsim_grid"}
 TRACK_TYPES = ("span_deflection", "harmonic", "sampled")
 DIRECTIONS = ("lateral", "vertical")
 #: column groups of the time series, in the order they are written
-TIMESERIES_GROUPS = ("Y", "Q", "YQ", "flange", "wheelset_lateral", "carbody", "deck")
+TIMESERIES_GROUPS = GROUPS
 FORMATS = ("csv", "npz")
 NAMED_X = ("front_bogie", "rear_bogie", "centre")
 CRITERIA_VEHICLES = ("passenger", "locomotive", "freight")
-#: runs with at least this many steps get the progress bar (shorter runs finish before it would help)
-PROGRESS_MIN_STEPS = 200
-#: the paper's scheme (:mod:`.rtri_assumptions`: published β, γ)
-NEWMARK_BETA = 0.25
-NEWMARK_GAMMA = 0.5
-#: ASSUMPTION (as :mod:`.rtri`): floor height of the default car-body points above the top of rail [m]
+#: ASSUMPTION: height of a car-body floor above the top of rail [m] — typical of a standard-gauge passenger coach
+#: (~1.2 m); the Manchester data give none.  The default car-body points and the RTRI accelerometer sit there.
 DEFAULT_FLOOR_HEIGHT_M = 1.20
 #: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
 #: Euler–Bernoulli values the cut-off is computed from; as examples/bridge_crossing.py)
 MODES_CUTOFF_MARGIN = 1.01
-MAX_STEPS = 10_000_000
 SIDES_OUT = ("right", "left")
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-#: Plausibility of the scenario's lengths and times beyond their type and sign, by key (``track.*`` for every
-#: track component): a value outside is an error, one evidently given in millimetres (milliseconds) is named so.
+#: Plausibility of the scenario's lengths beyond their type and sign, by key (``track.*`` for every track
+#: component): a value outside is an error, one evidently given in millimetres is named so.  (The time step and
+#: the run-out are judged by :mod:`exudyn_wheelrail.simulation.settings`.)
 QUANTITIES = {
     "track.*.amplitude_m": Quantity("track irregularity amplitude", "m", 0.0, 0.1, magnitude=True),
     "track.*.span_length_m": Quantity("span length of a span deflection", "m", 1.0, 1000.0),
@@ -206,8 +210,6 @@ QUANTITIES = {
     "track.*.wavelength_m": Quantity("irregularity wavelength", "m", 0.01, 1000.0),
     "structure.spans_m": Quantity("bridge span length", "m", 1.0, 1000.0),
     "structure.rail_height_m": Quantity("height of the rail top above the deck's beam axis", "m", 0.0, 10.0),
-    "run.dt_s": Quantity("time step", "s", 1e-7, 0.01),
-    "run.run_out_m": Quantity("run-out length", "m", 0.0, 1000.0),
     "outputs.carbody_points.x_m": Quantity("car-body point position (x from the vehicle centre)", "m", 0.0, 30.0,
                                            magnitude=True),
     "outputs.carbody_points.y_m": Quantity("car-body point position (y from the centre line)", "m", 0.0, 2.5,
@@ -298,6 +300,13 @@ class _Check:
             raise self.error(key, f"file not found: {p}")
         return str(p.resolve())
 
+    def settings(self, cls, value, key: str):
+        """A :class:`RunSettings` / :class:`ContactSettings` from the table ``key`` (validated by it)."""
+        try:
+            return settings_from_mapping(cls, value, key)
+        except SettingsError as exc:
+            raise self.error(exc.field, exc.problem) from None
+
 
 def load_scenario(path) -> dict:
     """Read and validate a scenario file; returns the normalised scenario (module docstring)."""
@@ -312,50 +321,102 @@ def load_scenario(path) -> dict:
     return validate_scenario(data, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
 
 
+def _from_v1(data: dict) -> dict:
+    """A ``schema_version = 1`` scenario with the keys of :data:`V1_MOVED` moved to their version-2 tables."""
+    out = copy.deepcopy(data)
+    out["schema_version"] = SCHEMA_VERSION
+    run = out.get("run")
+    if isinstance(run, dict):
+        for old, new in V1_MOVED.items():
+            key = old.split(".", 1)[1]
+            if key in run:
+                table, name = new.split(".")
+                if not isinstance(out.get(table, {}), dict):
+                    continue                          # the table's own check reports it
+                out.setdefault(table, {})[name] = run.pop(key)
+    return out
+
+
 def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default_name: str = "scenario") -> dict:
     """Validate a scenario (as read from TOML, or a normalised scenario) and return its normal form: defaults
     filled in, file paths absolute (relative ones against ``base_dir``), plain Python values only."""
     c = _Check(source, Path(base_dir) if base_dir is not None else None)
-    c.table(data, "", required=("schema_version", "vehicle", "run"),
-            optional=("scenario", "track", "structure", "outputs"))
-    if c.integer(data["schema_version"], "schema_version") != SCHEMA_VERSION:
+    c.table(data, "", required=("schema_version", "vehicle"),
+            optional=("scenario", "track", "structure", "contact", "run", "outputs"))
+    version = c.integer(data["schema_version"], "schema_version")
+    if version == 1:
+        data = _from_v1(data)
+    elif version != SCHEMA_VERSION:
         raise c.error("schema_version", f"{data['schema_version']!r}: this version reads schema_version = "
-                                        f"{SCHEMA_VERSION}")
+                                        f"{SCHEMA_VERSION} (and 1)")
     out = {"schema_version": SCHEMA_VERSION}
     # ---------------------------------------------------------------------------------------- [scenario]
     sc = c.table(data.get("scenario", {}), "scenario", optional=("name", "description"))
     out["scenario"] = {"name": c.string(sc.get("name", default_name), "scenario.name"),
                        "description": c.string(sc.get("description", ""), "scenario.description")}
     # ----------------------------------------------------------------------------------------- [vehicle]
-    vt = c.table(data["vehicle"], "vehicle", optional=("name", "file"))
-    if ("name" in vt) == ("file" in vt):
-        raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle) or vehicle.file (a vehicle "
-                                 "data file)")
-    from ..multibody.vehicle_data import load_vehicle
-    if "name" in vt:
-        key, ref = "vehicle.name", c.string(vt["name"], "vehicle.name")
-        out["vehicle"] = {"name": ref}
-    else:
-        key, ref = "vehicle.file", c.path(vt["file"], "vehicle.file")
-        out["vehicle"] = {"file": ref}
-    try:
-        vehicle = load_vehicle(ref)
-    except ValueError as exc:
-        raise c.error(key, str(exc)) from None
+    out["vehicle"], vehicle = _vehicle(c, data["vehicle"])
     # ------------------------------------------------------------------------------------------- [track]
     track = c.array(data.get("track", []), "track")
     out["track"] = [_track_component(c, comp, f"track.{i}") for i, comp in enumerate(track)]
     # --------------------------------------------------------------------------------------- [structure]
     if "structure" in data:
         out["structure"] = _structure(c, data["structure"])
-    # --------------------------------------------------------------------------------------------- [run]
-    out["run"] = _run(c, data["run"], out)
-    if out.get("structure", {}).get("formulation") == "ffrf" and out["run"]["solver"] != "newmark":
+    # --------------------------------------------------------------------------------- [contact], [run]
+    contact = c.settings(ContactSettings, data.get("contact", {}), "contact")
+    run = c.settings(RunSettings, data.get("run", {}), "run")
+    out["contact"] = contact.as_dict()
+    out["run"] = run.as_dict()
+    if out.get("structure", {}).get("formulation") == "ffrf" and run.solver != "newmark":
         raise c.error("structure.formulation", "'ffrf' holds its reference frame by constraints and needs "
                                                "run.solver = 'newmark'")
+    if run.duration_s == DURATION_AUTO and _features_end_m(out) is None:
+        raise c.error("run.duration_s", "'auto' needs a track feature with an end (a span deflection, a sampled "
+                                        "table or a structure); harmonic components run along the whole track: "
+                                        "give a time in s")
+    if contact.wheel_rail == "springs" and run.record:
+        raise c.error("contact.wheel_rail", "'springs' (the cost baseline) records nothing: set run.record = false")
     # ----------------------------------------------------------------------------------------- [outputs]
     out["outputs"] = _outputs(c, data.get("outputs", {}), vehicle, "structure" in out)
     return out
+
+
+def _flat_overrides(value, prefix: str = "") -> dict:
+    """``{"primary": {"ky_N_per_m": 1}}`` (TOML dotted keys) or ``{"primary.ky_N_per_m": 1}`` -> the flat form."""
+    out = {}
+    for k, v in value.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out.update(_flat_overrides(v, key + "."))
+        else:
+            out[key] = v
+    return out
+
+
+def _vehicle(c: _Check, vt) -> tuple[dict, object]:
+    c.table(vt, "vehicle", required=("speed_km_h",), optional=("name", "file", "start_s_m", "overrides"))
+    if ("name" in vt) == ("file" in vt):
+        raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle) or vehicle.file (a vehicle "
+                                 "data file)")
+    from ..multibody.vehicle_data import load_vehicle_with_overrides
+    if "name" in vt:
+        key, ref = "vehicle.name", c.string(vt["name"], "vehicle.name")
+        out = {"name": ref}
+    else:
+        key, ref = "vehicle.file", c.path(vt["file"], "vehicle.file")
+        out = {"file": ref}
+    overrides = vt.get("overrides", {})
+    if not isinstance(overrides, dict):
+        raise c.error("vehicle.overrides", f"expected a table {{\"table.key\" = value}}, got {overrides!r}")
+    overrides = _flat_overrides(overrides)
+    try:
+        vehicle = load_vehicle_with_overrides(ref, overrides or None)
+    except ValueError as exc:
+        raise c.error("vehicle.overrides" if overrides and "override" in str(exc) else key, str(exc)) from None
+    out.update({"speed_km_h": c.number(vt["speed_km_h"], "vehicle.speed_km_h", lo=0.0, hi=600.0),
+                "start_s_m": c.number(vt.get("start_s_m", 0.0), "vehicle.start_s_m"),
+                "overrides": overrides})
+    return out, vehicle
 
 
 def _track_component(c: _Check, comp, key: str) -> dict:
@@ -426,40 +487,6 @@ def _structure(c: _Check, st) -> dict:
             "formulation": c.string(st.get("formulation", "modal"), "structure.formulation", FORMULATIONS),
             "modes_cutoff_Hz": cut,
             "section": {k: c.number(sec[k], f"structure.section.{k}", lo=0.0) for k in _SECTION_KEYS}}
-
-
-def _run(c: _Check, run, scn: dict) -> dict:
-    from ..multibody.connector import CREEP_LAWS
-    c.table(run, "run", required=("speed_km_h", "duration_s"),
-            optional=("solver", "dt_s", "creep_law", "friction", "fastsim_grid", "start_s_m", "run_out_m",
-                      "newton_tolerance"))
-    dur = run["duration_s"]
-    if isinstance(dur, str):
-        dur = c.string(dur, "run.duration_s", ("auto",))
-    else:
-        dur = c.number(dur, "run.duration_s", lo=0.0)
-    grid = c.array(run.get("fastsim_grid", [24, 8]), "run.fastsim_grid")
-    if len(grid) != 2:
-        raise c.error("run.fastsim_grid", f"{grid!r}: expected two positive integers [n_x, n_y]")
-    out = {"speed_km_h": c.number(run["speed_km_h"], "run.speed_km_h", lo=0.0, hi=600.0),
-           "duration_s": dur,
-           "solver": c.string(run.get("solver", "newmark"), "run.solver", SOLVERS),
-           "dt_s": c.plausible(c.number(run.get("dt_s", 1e-3), "run.dt_s", lo=0.0), "run.dt_s", "run.dt_s"),
-           "creep_law": c.string(run.get("creep_law", "table"), "run.creep_law", tuple(sorted(CREEP_LAWS))),
-           "friction": c.number(run.get("friction", 0.3), "run.friction", lo=0.0, hi=2.0, lo_open=False,
-                                hi_open=True),
-           "fastsim_grid": [c.integer(g, f"run.fastsim_grid.{i}", 1, 1000) for i, g in enumerate(grid)],
-           "start_s_m": c.number(run.get("start_s_m", 0.0), "run.start_s_m"),
-           "run_out_m": c.plausible(c.number(run.get("run_out_m", 10.0), "run.run_out_m", lo=0.0, lo_open=False),
-                                    "run.run_out_m", "run.run_out_m"),
-           "newton_tolerance": c.number(run.get("newton_tolerance", 1e-6), "run.newton_tolerance", lo=0.0, hi=1.0)}
-    if isinstance(dur, float) and dur / out["dt_s"] > MAX_STEPS:
-        raise c.error("run.duration_s", f"{dur} s at dt_s = {out['dt_s']} s: more than {MAX_STEPS} steps")
-    if dur == "auto" and _features_end_m(scn) is None:
-        raise c.error("run.duration_s", "'auto' needs a track feature with an end (a span deflection, a sampled "
-                                        "table or a structure); harmonic components run along the whole track: "
-                                        "give a time in s")
-    return out
 
 
 def _outputs(c: _Check, o, vehicle, has_structure: bool) -> dict:
@@ -559,10 +586,15 @@ def parse_value(text: str):
 
 def set_dotted(scn: dict, key: str, value) -> None:
     """Set ``scn[a][b]...`` for the dotted key ``a.b...`` in place; integers index arrays (``track.0.start_m``).
-    The parent must exist; the key itself may be new (validation judges it)."""
+    The parent must exist (a missing optional table, ``contact`` or ``run``, is created); the key itself may be new
+    (validation judges it).  The keys of :data:`V1_MOVED` are moved to their version-2 place."""
     if not isinstance(key, str) or not key or any(not p for p in key.split(".")):
-        raise ScenarioError(f"parameter {key!r}: expected a dotted key such as run.speed_km_h or track.0.amplitude_m")
+        raise ScenarioError(f"parameter {key!r}: expected a dotted key such as vehicle.speed_km_h or "
+                            "track.0.amplitude_m")
+    key = V1_MOVED.get(key, key)
     parts = key.split(".")
+    if parts[0] in ("contact", "run") and isinstance(scn, dict):
+        scn.setdefault(parts[0], {})
     node = scn
     for depth, part in enumerate(parts):
         last = depth == len(parts) - 1
@@ -644,32 +676,41 @@ def build_bridge_modes(structure: dict):
     return model, model.modes(f_max_Hz=f_max), float(cut)
 
 
-def scenario_steps(scn: dict, vehicle) -> tuple[int, dict]:
-    """Number of steps of the run and what it covers: ``t_passage_s`` is the time for the trailing wheelset to be
-    ``run_out_m`` past the end of the last track feature (None without an ending feature)."""
-    run = scn["run"]
-    V = run["speed_km_h"] / 3.6
+def _vehicle_data(scn: dict):
+    from ..multibody.vehicle_data import load_vehicle_with_overrides
+    v = scn["vehicle"]
+    return load_vehicle_with_overrides(v.get("name") or v["file"], v.get("overrides") or None)
+
+
+def scenario_run_settings(scn: dict, vehicle) -> tuple[RunSettings, dict]:
+    """The run settings with the duration resolved, and what the run covers: ``t_passage_s`` is the time for the
+    trailing wheelset to be ``run_out_m`` past the end of the last track feature (None without an ending
+    feature)."""
+    run = RunSettings(**scn["run"])
+    V = scn["vehicle"]["speed_km_h"] / 3.6
     x = vehicle.wheelset_x_m()
     extent = float(max(x) - min(x))
     end = _features_end_m(scn)
-    t_passage = None if end is None else (end - run["start_s_m"] + extent + run["run_out_m"]) / V
-    if run["duration_s"] == "auto":
+    t_passage = None if end is None else (end - scn["vehicle"]["start_s_m"] + extent + run.run_out_m) / V
+    if run.duration_s == DURATION_AUTO:
         if t_passage is None or t_passage <= 0.0:
             raise ScenarioError(f"run.duration_s = 'auto': the track features end at s = {end} m, behind the "
-                                f"vehicle (leading wheelset at s = {run['start_s_m']} m): give a time in s")
-        duration = t_passage
-    else:
-        duration = run["duration_s"]
-    steps = max(1, int(math.ceil(duration / run["dt_s"] - 1e-9)))
-    if steps > MAX_STEPS:
-        raise ScenarioError(f"run.duration_s: {steps} steps (more than {MAX_STEPS})")
-    return steps, {"features_end_m": end, "vehicle_extent_m": extent, "t_passage_s": t_passage,
-                   "duration_auto": run["duration_s"] == "auto"}
+                                f"vehicle (leading wheelset at s = {scn['vehicle']['start_s_m']} m): give a time in "
+                                "s")
+        try:
+            run = run.with_duration(t_passage)
+        except SettingsError as exc:
+            raise ScenarioError(f"run.duration_s = 'auto' ({t_passage:.6g} s): {exc.problem}") from None
+    if run.steps > MAX_STEPS:
+        raise ScenarioError(f"run.duration_s: {run.steps} steps (more than {MAX_STEPS})")
+    return run, {"features_end_m": end, "vehicle_extent_m": extent, "t_passage_s": t_passage,
+                 "duration_auto": scn["run"]["duration_s"] == DURATION_AUTO}
 
 
 @dataclass
 class ScenarioModel:
-    """What :func:`build_scenario` created (assembled, not solved)."""
+    """What :func:`build_scenario` created (assembled, not solved): handles, the resolved run settings, the
+    recorder (None without recording) and the Exudyn solver settings (``settings``, ``solver_type``)."""
 
     scenario: dict
     system_container: object
@@ -678,26 +719,31 @@ class ScenarioModel:
     model: object
     pair: object
     track: object
-    contact: object
+    contact: object                          #: the connector; None for ``contact.wheel_rail = "springs"``
     bridge: object
     modes: object
     f_cut_Hz: float | None
-    steps: int
+    run: RunSettings
+    contact_settings: ContactSettings
     coverage: dict
-    recorder: "_Recorder" = None
+    recorder: Recorder | None = None
     settings: object = None
     solver_type: object = None
     start_shift: float | None = None        #: largest track displacement under a wheelset at t = 0 (None: none)
 
+    @property
+    def speed_m_s(self) -> float:
+        return self.scenario["vehicle"]["speed_km_h"] / 3.6
 
-def _solver_settings(run: dict, steps: int):
-    """Exudyn settings: the trapezoidal rule as Newmark (β 1/4, γ 1/2, index-2, modified Newton) or RK44."""
-    from ..multibody.vehicle_builder import solver_settings
-    return solver_settings(run["solver"], run["dt_s"], steps, run["newton_tolerance"], NEWMARK_BETA, NEWMARK_GAMMA)
+    @property
+    def steps(self) -> int:
+        return self.run.steps
 
 
-def _vehicle_ref(scn: dict) -> str:
-    return scn["vehicle"].get("name") or scn["vehicle"]["file"]
+def _carbody_x(x, vehicle) -> float:
+    if isinstance(x, str):
+        return {"front_bogie": max(vehicle.bogie_x_m()), "rear_bogie": min(vehicle.bogie_x_m()), "centre": 0.0}[x]
+    return float(x)
 
 
 def build_scenario(scenario) -> ScenarioModel:
@@ -708,44 +754,52 @@ def build_scenario(scenario) -> ScenarioModel:
     from ..contact.pair import WheelRailPair
     from ..multibody.connector import add_wheel_rail_contact, place_on_rails
     from ..multibody.vehicle_builder import build_vehicle
-    from ..multibody.vehicle_data import load_vehicle
 
     scn, _ = _as_scenario(scenario)
-    run = scn["run"]
-    vehicle = load_vehicle(_vehicle_ref(scn))
-    steps, coverage = scenario_steps(scn, vehicle)
-    V = run["speed_km_h"] / 3.6
-    s_start = run["start_s_m"] - max(vehicle.wheelset_x_m())       # frame origin; leading wheelset at start_s_m
+    vehicle = _vehicle_data(scn)
+    run, coverage = scenario_run_settings(scn, vehicle)
+    cs = ContactSettings(**{**scn["contact"], "fastsim_grid": tuple(scn["contact"]["fastsim_grid"])})
+    V = scn["vehicle"]["speed_km_h"] / 3.6
+    s_lead0 = scn["vehicle"]["start_s_m"]
+    s_start = s_lead0 - max(vehicle.wheelset_x_m())              # frame origin; leading wheelset at start_s_m
     modes = f_cut = None
     if "structure" in scn:
         _, modes, f_cut = build_bridge_modes(scn["structure"])
     geo = vehicle.geometry
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="none")
+    springs = cs.wheel_rail == "springs"
+    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="springs" if springs else "none")
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     track = build_track(scn)
-    bridge = None
+    bridge = contact = shift = None
     if modes is not None:
         from ..structures.bridge import add_bridge
         bridge = add_bridge(mbs, modes, formulation=scn["structure"]["formulation"])
-    try:
-        contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
-                                         s_start_m=s_start, creep_law=run["creep_law"], mu=run["friction"],
-                                         fastsim_grid=tuple(run["fastsim_grid"]),
-                                         **({"bridge": bridge} if bridge is not None else {}))
-    except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
-        raise RuntimeError(f"run.creep_law = {run['creep_law']!r}: {exc}") from None
-    place_on_rails(mbs, model, pair)
-    shift = _start_on_track(mbs, model, track)
+    if not springs:
+        try:
+            contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
+                                             s_start_m=s_start, creep_law=cs.creep_law, mu=cs.friction,
+                                             fastsim_grid=cs.fastsim_grid, geometry=cs.geometry,
+                                             **({"bridge": bridge} if bridge is not None else {}))
+        except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
+            raise RuntimeError(f"contact.creep_law = {cs.creep_law!r}: {exc}") from None
+        place_on_rails(mbs, model, pair)
+        shift = _start_on_track(mbs, model, track)
     h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
-                      track=track, contact=contact, bridge=bridge, modes=modes, f_cut_Hz=f_cut, steps=steps,
-                      coverage=coverage, start_shift=shift)
-    h.recorder = _Recorder(h)
-    mbs.SetPreStepUserFunction(h.recorder.pre_step)
+                      track=track, contact=contact, bridge=bridge, modes=modes, f_cut_Hz=f_cut, run=run,
+                      contact_settings=cs, coverage=coverage, start_shift=shift)
+    if run.record and contact is not None:
+        points = [(p["name"], [_carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
+                  for p in scn["outputs"]["carbody_points"]]
+        st = scn.get("structure", {})
+        probes = vehicle_probes(model=model, contact=contact, track=track, speed_m_s=V, s_leading0_m=s_lead0,
+                                carbody_points=points, bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"),
+                                deck_start_m=st.get("start_m"))
+        h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
-    h.settings, h.solver_type = _solver_settings(run, steps)
+    h.settings, h.solver_type = run.exudyn()
     return h
 
 
@@ -810,192 +864,41 @@ def _start_on_track(mbs, model, track) -> float | None:
     return float(max(np.max(np.abs(v.y_m)), np.max(np.abs(v.z_m))))
 
 
-# ================================================================================================== recording
-class ProgressBar:
-    """A text progress bar on a stream (stderr by default), redrawn when the run passes the next whole percent:
-    ``[#######-------------]  35 %  t = 0.875 / 2.500 s  elapsed 1.2 s  left 2.2 s``."""
-
-    def __init__(self, t_end_s: float, stream=None, label: str = "", width: int = 30):
-        self.t_end = float(t_end_s)
-        self.stream = stream if stream is not None else sys.stderr
-        self.label = label
-        self.width = int(width)
-        self.last = -1
-        self.t0 = time.perf_counter()
-        self.updates = 0
-
-    def update(self, t_s: float) -> None:
-        pct = int(min(100.0, max(0.0, 100.0 * float(t_s) / self.t_end)) + 1e-9)
-        if pct <= self.last:
-            return
-        self.last = pct
-        self.updates += 1
-        elapsed = time.perf_counter() - self.t0
-        left = f"{elapsed * (100 - pct) / pct:.1f}" if pct > 0 else "?"
-        n = int(round(self.width * pct / 100))
-        self.stream.write(f"\r{self.label}[{'#' * n}{'-' * (self.width - n)}] {pct:3d} %  t = {float(t_s):.3f} / "
-                          f"{self.t_end:.3f} s  elapsed {elapsed:.1f} s  left {left} s ")
-        self.stream.flush()
-
-    def close(self, status: str = "") -> None:
-        self.stream.write(f"  {status}\n" if status else "\n")
-        self.stream.flush()
-
-
-def _carbody_x(x, vehicle) -> float:
-    if isinstance(x, str):
-        return {"front_bogie": max(vehicle.bogie_x_m()), "rear_bogie": min(vehicle.bogie_x_m()), "centre": 0.0}[x]
-    return float(x)
-
-
-class _Recorder(StepRecorder):
-    """Pre-step user function: evaluates the contact at the current state and stores one row per step.  Exudyn
-    calls it with the time at the *end* of the coming step while the coordinates are still those at its start, so
-    the contact is evaluated at the previous call's time (0 at the first call), as in :mod:`.rtri`."""
-
-    def __init__(self, h: ScenarioModel):
-        import exudyn as exu
-
-        from ..multibody.track import irregularity_at
-        self.exu = exu
-        self.h = h
-        m = h.model
-        run = h.scenario["run"]
-        self.V = run["speed_km_h"] / 3.6
-        self.s_lead0 = run["start_s_m"]
-        self.n_ws = len(m.wheelsets)
-        self.gravity = np.array([0.0, 0.0, m.gravity_m_s2])
-        self.progress = None
-        self.columns = ["time_s", "s_leading_m"]
-        self.groups = {g: [] for g in TIMESERIES_GROUPS}
-
-        def add(group, name):
-            self.groups[group].append(name)
-            self.columns.append(name)
-
-        for j in range(self.n_ws):
-            for side in SIDES_OUT:
-                add("Y", f"Y_w{j + 1}_{side}_N")
-        for j in range(self.n_ws):
-            for side in SIDES_OUT:
-                add("Q", f"Q_w{j + 1}_{side}_N")
-        for j in range(self.n_ws):
-            for side in SIDES_OUT:
-                add("YQ", f"YQ_w{j + 1}_{side}")
-        for j in range(self.n_ws):
-            for side in SIDES_OUT:
-                add("flange", f"flange_w{j + 1}_{side}")
-        for j in range(self.n_ws):
-            add("wheelset_lateral", f"y_rel_w{j + 1}_m")
-        self.points = []
-        cb = m.car_body
-        for p in h.scenario["outputs"]["carbody_points"]:
-            pos = np.array([_carbody_x(p["x_m"], h.vehicle), p["y_m"], -p["height_m"]])
-            self.points.append((pos - cb.p_cg_in_frame).tolist())
-            for d in ("lateral", "vertical"):
-                add("carbody", f"carbody_{d}_acceleration_{p['name']}_m_s2")
-            for d in ("lateral", "vertical"):
-                add("carbody", f"carbody_{d}_accelerometer_{p['name']}_m_s2")
-        self.cb_body = cb.body if cb is not None else None
-        self.deck = None
-        if h.bridge is not None:
-            st = h.scenario["structure"]
-            x0 = st["start_m"] + np.concatenate(([0.0], np.cumsum(st["spans_m"])[:-1]))
-            s_mid = x0 + 0.5 * np.asarray(st["spans_m"])
-            phi = h.modes.shape_at(s_mid)[:, 1, :]                         # (n_spans, n_modes): z rows
-            self.deck = (phi, np.diag(h.modes.modal_stiffness()).copy(), np.diag(h.modes.modal_damping()).copy())
-            for i in range(len(s_mid)):
-                add("deck", f"deck_mid_deflection_s{i + 1}_m")
-                add("deck", f"deck_mid_acceleration_s{i + 1}_m_s2")
-        # fallback for the wheelset-rail displacement (connectors without wheelset_rail_pose)
-        self.has_pose = hasattr(h.contact, "wheelset_rail_pose")
-        p = h.track.packed()
-        self.irregularity_at = irregularity_at
-        self.packed = (p.rows, p.knots, p.coefs)
-        self.ws_x = [float(ws.p_cg_in_frame[0]) for ws in m.wheelsets]
-        StepRecorder.__init__(self, run["dt_s"], h.steps + 2, self.columns)
-
-    def on_recorded(self, t):
-        if self.progress is not None:
-            self.progress.update(t)
-
-    def record(self, mbs, t):
-        exu, h = self.exu, self.h
-        c = h.contact
-        c.evaluate(mbs, t)
-        row = self.next_row()
-        row[0] = t
-        row[1] = self.s_lead0 + self.V * t
-        n_w = 2 * self.n_ws
-        k = 2
-        for j in range(self.n_ws):
-            for i_side, side in enumerate(SIDES_OUT):
-                F = c.wheel_force_N(j, side)
-                Y = float(F[1])
-                Q = -float(F[2]) + 0.0                                       # no -0.0
-                w = 2 * j + i_side
-                row[k + w] = Y
-                row[k + n_w + w] = Q
-                y_out = -Y if side == "right" else Y                         # towards the wheel's field side
-                row[k + 2 * n_w + w] = y_out / Q if Q > 0.0 else np.nan
-                row[k + 3 * n_w + w] = 1.0 if c.flange_contact(j, side) else 0.0
-        k += 4 * n_w
-        if self.has_pose:
-            row[k:k + self.n_ws] = c.wheelset_rail_pose()[:, 0]
-        else:
-            for j, ws in enumerate(h.model.wheelsets):
-                y = float(mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Displacement)[1])
-                s = float(h.model.track_distance_m(self.ws_x[j], t))
-                row[k + j] = y - float(self.irregularity_at(*self.packed, s)[0])
-        k += self.n_ws
-        if self.points:
-            ovt = exu.OutputVariableType
-            R = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.RotationMatrix)).reshape(3, 3)
-            for loc in self.points:
-                a = np.asarray(mbs.GetObjectOutputBody(self.cb_body, ovt.Acceleration, localPosition=loc))
-                f = R.T @ (a - self.gravity)
-                row[k:k + 4] = (a[1], a[2], f[1], f[2])
-                k += 4
-        if self.deck is not None:
-            phi, w2, d = self.deck
-            q, q_t = h.bridge.coordinates(mbs)
-            q_tt = c.modal_forces_N() - w2 * q - d * q_t                    # modal equations, M = I
-            for i in range(phi.shape[0]):
-                row[k] = phi[i] @ q
-                row[k + 1] = phi[i] @ q_tt
-                k += 2
-        self.n += 1
-
-
 # ==================================================================================================== running
 @dataclass
 class ScenarioResult:
-    """Time series (every recorded column -> array), the summary dict and the written files."""
+    """Time series (every recorded column -> array), the summary dict, the written files and the run's outcome."""
 
     timeseries: dict
     summary: dict
     paths: dict = field(default_factory=dict)
+    outcome: object = None
 
 
-def _peaks(ts: dict) -> dict:
+def peaks(ts: dict) -> dict:
+    """Per recorded column (``time_s`` and ``s_leading_m`` aside): ``max_abs`` (with its signed value and its
+    time), ``min``, ``max`` (NaN rows ignored)."""
     out = {}
+    if not ts:
+        return out
     t = ts["time_s"]
     for name, v in ts.items():
         if name in ("time_s", "s_leading_m") or len(v) == 0:
             continue
         if not np.isfinite(v).any():
-            out[name] = {"max_abs": None, "time_of_max_abs_s": None, "min": None, "max": None}
+            out[name] = {"max_abs": None, "value_at_max_abs": None, "time_of_max_abs_s": None, "min": None,
+                         "max": None}
             continue
         i = int(np.nanargmax(np.abs(v)))
-        out[name] = {"max_abs": float(abs(v[i])), "time_of_max_abs_s": float(t[i]), "min": float(np.nanmin(v)),
-                     "max": float(np.nanmax(v))}
+        out[name] = {"max_abs": float(abs(v[i])), "value_at_max_abs": float(v[i]), "time_of_max_abs_s": float(t[i]),
+                     "min": float(np.nanmin(v)), "max": float(np.nanmax(v))}
     return out
 
 
-def _scalars(ts: dict, groups: dict, peaks: dict, criteria, dt: float) -> dict:
+def _scalars(ts: dict, groups: dict, pk: dict, criteria, dt: float) -> dict:
     """The flat dict of scalar results (what a sweep tabulates)."""
     out = {}
-    if ts and len(ts["time_s"]):
+    if pk and ts and len(ts["time_s"]):
         def agg(fn, cols):
             vals = [fn(ts[c]) for c in cols if np.isfinite(ts[c]).any()]
             return float(max(vals)) if vals else None
@@ -1008,7 +911,7 @@ def _scalars(ts: dict, groups: dict, peaks: dict, criteria, dt: float) -> dict:
         out["flange_contact_any_wheel"] = bool(fl.any())
         out["flange_contact_duration_max_s"] = float(fl.sum(axis=1).max() * dt) if fl.size else 0.0
         out["max_abs_y_rel_any_wheelset_m"] = agg(lambda v: np.nanmax(np.abs(v)), groups["wheelset_lateral"])
-        for name, p in peaks.items():
+        for name, p in pk.items():
             if not name.startswith("flange_"):
                 out[f"max_abs_{name}"] = p["max_abs"]
     if isinstance(criteria, dict) and "verdicts" in criteria:
@@ -1037,85 +940,122 @@ def _criteria(h: ScenarioModel, ts: dict, groups: dict) -> dict:
     if p:
         cols = {"lateral": f"carbody_lateral_accelerometer_{p}_m_s2",
                 "vertical": f"carbody_vertical_acceleration_{p}_m_s2"}
-    wheel = h.model.load_path.wheel                                          # (n_ws, 2) in (left, right)
-    static = {f"w{j + 1}_{side}": float(wheel[j, 0 if side == "left" else 1])
-              for j in range(len(h.model.wheelsets)) for side in SIDES_OUT}
+    static = _static_wheel_loads(h)
     sub = {k: ts[k] for k in ["time_s"] + groups["Y"] + groups["Q"] + list(cols.values())}
-    return running_criteria_summary(sub, h.scenario["run"]["speed_km_h"] / 3.6, vehicle=o["vehicle"],
-                                    static_wheel_loads_N=static, yq_limit=o["yq_limit"],
-                                    unloading_limit=o["unloading_limit"], carbody_columns=cols or None)
+    return running_criteria_summary(sub, h.speed_m_s, vehicle=o["vehicle"], static_wheel_loads_N=static,
+                                    yq_limit=o["yq_limit"], unloading_limit=o["unloading_limit"],
+                                    carbody_columns=cols or None)
 
 
-def run_scenario(scenario, out_dir=None, progress=True) -> ScenarioResult:
-    """Build, solve and evaluate a scenario (a file path or a scenario dict); write the outputs into ``out_dir``
-    (``None``: write nothing).  ``progress``: ``True`` — a text bar on stderr for runs of at least
-    :data:`PROGRESS_MIN_STEPS` steps; a stream (anything with ``write``/``flush``) — the bar there; ``False`` —
-    none.  A failing solve gives ``summary["status"] = "error: ..."`` and the rows recorded so far."""
-    scn, source = _as_scenario(scenario)
-    h = build_scenario(scn)
-    run = scn["run"]
-    h.contact.warm_up(h.mbs, jacobian=run["solver"] == "newmark")
-    rec = h.recorder
-    t_end = h.steps * run["dt_s"]
-    if progress and h.steps >= PROGRESS_MIN_STEPS:
-        rec.progress = ProgressBar(t_end, stream=None if progress is True else progress,
-                                   label=f"{scn['scenario']['name']}: ")
-    status = "ok"
-    t0 = time.perf_counter()
+def _static_wheel_loads(h: ScenarioModel) -> dict:
+    wheel = h.model.load_path.wheel                                          # (n_ws, 2) in (left, right)
+    return {f"w{j + 1}_{side}": float(wheel[j, 0 if side == "left" else 1])
+            for j in range(len(h.model.wheelsets)) for side in SIDES_OUT}
+
+
+def run_model(h, *, progress=None, view=None, label: str = ""):
+    """Warm up and run a built model (:class:`ScenarioModel`) through the one solve wrapper
+    (:func:`exudyn_wheelrail.simulation.runner.run`); returns the :class:`~exudyn_wheelrail.simulation.runner.
+    RunOutcome`.  ``progress``: ``None`` — the run settings' ``progress``; ``True``/``False``; or a stream for the
+    bar (runs of at least :data:`~exudyn_wheelrail.simulation.recorder.PROGRESS_MIN_STEPS` steps).  ``view``: an
+    object with ``attach(model)`` (before the solve) and ``close()`` (after it), e.g.
+    :class:`~exudyn_wheelrail.interactive.view3d.RtriView`."""
+    from ..simulation.runner import run
+    if view is not None:
+        view.attach(h)
+    if h.contact is not None:
+        h.contact.warm_up(h.mbs, jacobian=h.run.implicit)
+    show = h.run.progress if progress is None else progress
+    bar = None
+    if show and h.run.steps >= PROGRESS_MIN_STEPS:
+        bar = ProgressBar(h.run.end_time_s, stream=None if show is True else show, label=label)
     try:
-        ok = h.mbs.SolveDynamic(h.settings, solverType=h.solver_type)
-        if not ok:
-            status = "error: mbs.SolveDynamic reported failure (Newton not converged or solver aborted)"
-    except Exception as exc:   # Exudyn re-raises user-function exceptions as RuntimeError
-        status = f"error: {type(exc).__name__}: {exc}".splitlines()[0]
-    solve_seconds = time.perf_counter() - t0
-    if rec.error is not None:
-        status = f"error: recorder: {type(rec.error).__name__}: {rec.error}"
-    elif status == "ok" and float(h.mbs.systemData.GetTime()) > rec.t_recorded + 0.5 * run["dt_s"]:
-        rec.record(h.mbs, float(h.mbs.systemData.GetTime()))                 # the final state
-    t_reached = float(h.mbs.systemData.GetTime())
-    if status == "ok" and abs(t_reached - t_end) > 0.5 * run["dt_s"]:
-        status = f"error: the solver stopped at t = {t_reached:.6g} s of {t_end:.6g} s"
-    if rec.progress is not None:
-        rec.progress.update(t_reached)
-        rec.progress.close(status)
-    ts = rec.table()
-    notes = _notes(h, status)
+        outcome = run(h.mbs, h.run, h.contact, speed_m_s=h.speed_m_s, recorder=h.recorder, progress=bar,
+                      exu_settings=(h.settings, h.solver_type))
+    finally:
+        if view is not None:
+            view.close()
+    if bar is not None:
+        bar.close(outcome.status.kind)
+    return outcome
+
+
+def run_scenario(scenario, out_dir=None, progress=None, view=None) -> ScenarioResult:
+    """Build, solve and evaluate a scenario (a file path or a scenario dict); write the outputs into ``out_dir``
+    (``None``: write nothing; checked before anything is built).  ``progress``, ``view``: :func:`run_model`.  The
+    summary's ``status`` is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES`."""
+    scn, source = _as_scenario(scenario)
+    if out_dir is not None:
+        output_dir("out_dir", out_dir)
+    h = build_scenario(scn)
+    outcome = run_model(h, progress=progress, view=view, label=f"{scn['scenario']['name']}: ")
+    result = scenario_summary(h, outcome, source)
+    if out_dir is not None:
+        result.paths = write_scenario_outputs(result, out_dir)
+    return result
+
+
+def _events(outcome, limit: int = 200) -> list:
+    """The monitor's events (the first ``limit``) as plain dicts."""
+    return [{"kind": e.kind, "time_s": e.time_s, "wheelset": e.wheelset, "side": e.side, "detail": e.detail}
+            for e in outcome.events[:limit]]
+
+
+def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> ScenarioResult:
+    """The :class:`ScenarioResult` of a run: the recorded time series and the summary (module docstring)."""
+    scn = h.scenario
+    run = h.run
+    status = outcome.status
+    rec = h.recorder
+    ts = rec.table() if rec is not None else {}
+    groups = {g: cols for g, cols in (rec.groups.items() if rec is not None else []) if g in TIMESERIES_GROUPS}
+    notes = _notes(h, outcome)
+    evaluate = status.kind != S.DIVERGED and bool(ts) and len(ts["time_s"]) > 0
     criteria = None
-    if scn["outputs"]["criteria"]["enabled"]:
-        if status != "ok":
-            criteria = {"error": "not evaluated: the run failed"}
+    if scn["outputs"]["criteria"]["enabled"] and rec is not None:
+        if not evaluate:
+            criteria = {"error": f"not evaluated: the run {status.kind}"}
         else:
             try:
-                criteria = _criteria(h, ts, rec.groups)
+                criteria = _criteria(h, ts, groups)
             except ValueError as exc:
                 criteria = {"error": str(exc)}
                 notes.append(f"criteria not evaluated: {exc}")
-    peaks = _peaks(ts)
+    pk = peaks(ts) if evaluate else {}
+    dt = float(run.dt_s)
+    t_end = run.end_time_s
+    sim_time = outcome.t_end_s
     summary = {
         "scenario_name": scn["scenario"]["name"],
         "scenario_file": source,
-        "status": status,
-        "steps": h.steps,
-        "dt_s": run["dt_s"],
-        "simulated_time_s": h.steps * run["dt_s"],
-        "solve_seconds": solve_seconds,
-        "real_time_factor": h.steps * run["dt_s"] / solve_seconds if solve_seconds > 0 else None,
-        "rows_recorded": int(len(ts["time_s"])),
-        "speed_m_s": run["speed_km_h"] / 3.6,
-        "solver": {"name": run["solver"],
-                   "exudyn": ("GeneralizedAlpha, useNewmark, beta %.3g, gamma %.3g, index-2, modified Newton, "
-                              "tolerance %.1e" % (NEWMARK_BETA, NEWMARK_GAMMA, run["newton_tolerance"]))
-                   if run["solver"] == "newmark" else "RK44 (explicit, Lie group), no end-of-step accelerations"},
-        "contact_calls": int(h.contact.n_calls),
+        "status": status.kind,
+        "status_detail": status.as_dict(),
+        "events": _events(outcome),
+        "n_events": len(outcome.events),
+        "steps": run.steps,
+        "dt_s": dt,
+        "duration_s": t_end,
+        "simulated_time_s": sim_time,
+        "solve_seconds": outcome.solve_seconds,
+        "real_time_factor": sim_time / outcome.solve_seconds if outcome.solve_seconds > 0 else None,
+        "rows_recorded": int(len(ts["time_s"])) if ts else 0,
+        "rows_dropped_after_divergence": outcome.rows_dropped,
+        "rejected_steps": outcome.rejected_steps,
+        "contact_omega_rad_s": outcome.contact_omega_rad_s,
+        "speed_m_s": h.speed_m_s,
+        "run_settings": run.as_dict(),
+        "solver": {"name": run.solver, "exudyn": run.describe_solver()},
+        "contact_calls": int(h.contact.n_calls) if h.contact is not None else 0,
+        "geometry": h.contact.geometry_statistics() if h.contact is not None else None,
+        "skipped": h.contact.skipped() if h.contact is not None else None,
         "coverage": {**h.coverage, "t_end_s": t_end,
                      "passage_covered": None if h.coverage["t_passage_s"] is None
                      else bool(t_end >= h.coverage["t_passage_s"] - 1e-9)},
         "model": _model_info(h),
-        "columns": {g: list(cols) for g, cols in rec.groups.items() if cols},
+        "columns": {g: list(cols) for g, cols in groups.items() if cols},
         "written_groups": list(scn["outputs"]["timeseries"]),
-        "peaks": peaks,
-        "scalars": _scalars(ts, rec.groups, peaks, criteria, run["dt_s"]),
+        "peaks": pk,
+        "scalars": _scalars(ts, groups, pk, criteria, dt),
         "criteria": criteria,
         "notes": notes,
         "sign_conventions": {
@@ -1124,26 +1064,21 @@ def run_scenario(scenario, out_dir=None, progress=True) -> ScenarioResult:
             "YQ": "YQ_w<j>_<side>: Y positive towards the wheel's field side (-F_y right, +F_y left) over Q; NaN "
                   "when lifted",
             "wheelset_lateral": "y_rel_w<j>_m: axle centre relative to the rails' centre line at rail top, + right",
+            "track": "track_<lateral|vertical>_w<j>_m: track irregularity under wheelset j (y right, z down)",
             "carbody": "acceleration: track frame (y right, z down), no gravity; accelerometer: a - g in the car "
-                       "body's axes",
+                       "body's axes; displacement: track frame",
             "deck": "vertical, + down, mid-span on the track centre line at rail-top level",
         },
         "scenario": scn,
     }
-    result = ScenarioResult(timeseries=ts, summary=summary)
-    if out_dir is not None:
-        result.paths = write_scenario_outputs(result, out_dir)
-    return result
+    return ScenarioResult(timeseries=ts, summary=summary, outcome=outcome)
 
 
 def _model_info(h: ScenarioModel) -> dict:
-    wheel = h.model.load_path.wheel
     info = {"vehicle": h.vehicle.name, "layout": h.vehicle.layout, "n_wheelsets": len(h.model.wheelsets),
             "wheelset_x_m": [float(x) for x in h.vehicle.wheelset_x_m()],
             "frame_s_start_m": float(h.model.s_start_m), "wheel_rail_pair": repr(h.pair),
-            "static_wheel_loads_N": {f"w{j + 1}_{side}": float(wheel[j, 0 if side == "left" else 1])
-                                     for j in range(len(h.model.wheelsets)) for side in SIDES_OUT},
-            "bridge": None}
+            "static_wheel_loads_N": _static_wheel_loads(h), "bridge": None}
     if h.modes is not None:
         info["bridge"] = {"n_modes": int(h.modes.n_modes), "f_cut_Hz": h.f_cut_Hz,
                           "frequencies_Hz": [float(f) for f in h.modes.frequencies_Hz], "kinds": list(h.modes.kinds),
@@ -1151,10 +1086,10 @@ def _model_info(h: ScenarioModel) -> dict:
     return info
 
 
-def _notes(h: ScenarioModel, status: str) -> list:
+def _notes(h: ScenarioModel, outcome) -> list:
     notes = []
     cov = h.coverage
-    t_end = h.steps * h.scenario["run"]["dt_s"]
+    t_end = h.run.end_time_s
     if cov["t_passage_s"] is not None and not cov["duration_auto"] and t_end < cov["t_passage_s"] - 1e-9:
         notes.append(f"the run ends at {t_end:.3f} s, before the trailing wheelset is run_out_m past the last track "
                      f"feature ({cov['t_passage_s']:.3f} s; duration_s = 'auto' runs that long)")
@@ -1165,27 +1100,36 @@ def _notes(h: ScenarioModel, status: str) -> list:
         if np.any((x0 > st["start_m"]) & (x0 < end)):
             notes.append("a wheelset stands on the deck at t = 0: the unloaded deck starts with the vehicle's "
                          "weight on it (free vibration transient); start the vehicle off the deck")
-    if h.recorder is not None and h.recorder.rejected_steps:
-        notes.append(f"the solver rejected {h.recorder.rejected_steps} step attempt(s) (Newton did not converge) and "
-                     "continued with reduced steps; rows are recorded on the dt_s grid only")
     if h.start_shift is not None:
         notes.append(f"the track is displaced by up to {h.start_shift * 1e3:.3g} mm under the wheelsets at t = 0: the "
                      "bodies start on it (wheelsets moved and yawed with the track under them, bogie frames and car "
                      "body along the line through their supports, with the matching rates); the suspensions carry "
                      "what the track's curvature leaves over, so the run may start with a small transient")
-    if status != "ok":
-        notes.append("the run failed: the time series hold the rows recorded until the failure")
+    if h.contact_settings.wheel_rail == "springs":
+        notes.append("contact.wheel_rail = springs: cost baseline only (the irregularities do not act on linear "
+                     "springs; nothing is recorded or watched)")
+    notes += outcome.warnings
+    status = outcome.status
+    if status.kind != S.OK:
+        notes.append(f"the run ended {status.kind} (status_detail): the time series hold the rows recorded up to the "
+                     "last valid state"
+                     + (f" ({outcome.rows_dropped} rows after the first step beyond the stability limit dropped)"
+                        if outcome.rows_dropped else "")
+                     + ("; peaks not evaluated" if status.kind == S.DIVERGED else ""))
     return notes
 
 
 # ==================================================================================================== outputs
-def _jsonable(o):
+def jsonable(o):
+    """``json.dump``'s ``default``: NumPy scalars and arrays as Python values."""
     if isinstance(o, (np.floating, np.integer)):
         return o.item()
     if isinstance(o, np.bool_):
         return bool(o)
     if isinstance(o, np.ndarray):
         return o.tolist()
+    if isinstance(o, tuple):
+        return list(o)
     raise TypeError(f"{type(o).__name__} is not JSON serialisable")
 
 
@@ -1196,28 +1140,39 @@ def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
     s = result.summary
     o = s["scenario"]["outputs"]
     ts = result.timeseries
-    cols = ["time_s", "s_leading_m"] + [c for g in o["timeseries"] for c in s["columns"].get(g, [])]
     paths = {}
-    if "csv" in o["formats"]:
-        paths["timeseries_csv"] = out / "timeseries.csv"
-        with open(paths["timeseries_csv"], "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(cols)
-            if len(ts["time_s"]):
-                for row in np.column_stack([ts[c] for c in cols]):
-                    w.writerow([f"{v:.10g}" for v in row])
-    if "npz" in o["formats"]:
-        paths["timeseries_npz"] = out / "timeseries.npz"
-        np.savez_compressed(paths["timeseries_npz"], **{c: ts[c] for c in cols})
+    if ts:
+        cols = ["time_s", "s_leading_m"] + [c for g in o["timeseries"] for c in s["columns"].get(g, [])]
+        if "csv" in o["formats"]:
+            paths["timeseries_csv"] = out / "timeseries.csv"
+            write_csv(paths["timeseries_csv"], {c: ts[c] for c in cols})
+        if "npz" in o["formats"]:
+            paths["timeseries_npz"] = out / "timeseries.npz"
+            np.savez_compressed(paths["timeseries_npz"], **{c: ts[c] for c in cols})
     paths["summary"] = out / "summary.json"
-    with open(paths["summary"], "w") as fh:
-        json.dump(s, fh, indent=2, allow_nan=True, default=_jsonable)
-    if o["plots"] and len(ts["time_s"]) > 1:
+    write_json(paths["summary"], s)
+    if o["plots"] and ts and len(ts["time_s"]) > 1:
         for g in o["timeseries"]:
             if g in _FIGURES and s["columns"].get(g):
                 paths[f"plot_{g}"] = out / f"plot_{g}.png"
                 _plot_group(result, g, paths[f"plot_{g}"])
     return {k: str(v) for k, v in paths.items()}
+
+
+def write_csv(path, ts: dict) -> None:
+    """A time series (column -> array) as CSV, 10 significant digits."""
+    cols = list(ts)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        if cols and len(ts[cols[0]]):
+            for row in np.column_stack([ts[c] for c in cols]):
+                w.writerow([f"{v:.10g}" for v in row])
+
+
+def write_json(path, data: dict) -> None:
+    with open(path, "w") as fh:
+        json.dump(data, fh, indent=2, allow_nan=True, default=jsonable)
 
 
 def _pyplot():
@@ -1251,9 +1206,11 @@ def _wheel_label(wheelset: int, side: str) -> str:
 
 
 def _run_title(s: dict) -> str:
-    run = s["scenario"]["run"]
-    return (f"{s['scenario_name']}: {s['model']['vehicle']}, {run['speed_km_h']:g} km/h, {run['solver']}, "
-            f"dt {run['dt_s'] * 1e3:g} ms, creep law {run['creep_law']}\nwheelset 1 = leading; {_SIDE_NOTE}")
+    scn = s["scenario"]
+    run = scn["run"]
+    return (f"{s['scenario_name']}: {s['model']['vehicle']}, {scn['vehicle']['speed_km_h']:g} km/h, {run['solver']}, "
+            f"dt {run['dt_s'] * 1e3:g} ms, creep law {scn['contact']['creep_law']}\nwheelset 1 = leading; "
+            f"{_SIDE_NOTE}")
 
 
 def _criteria_inputs(s: dict) -> dict:

@@ -2,7 +2,7 @@ r"""Parameter sweeps over a scenario (:mod:`.scenario`) through any ``concurrent
 
 >>> from concurrent.futures import ProcessPoolExecutor                                       # doctest: +SKIP
 >>> result = sweep("examples/scenarios/rtri_20m.toml",
-...                {"run.speed_km_h": [100, 150, 200, 250], "track.0.span_length_m": [20, 40]},
+...                {"vehicle.speed_km_h": [100, 150, 200, 250], "track.0.span_length_m": [20, 40]},
 ...                out_dir="out/sweep")                                                        # doctest: +SKIP
 >>> result.table["max_abs_Y_any_wheel_N"]                                                      # doctest: +SKIP
 
@@ -10,12 +10,13 @@ What it does
 ------------
 The **cartesian product** of the parameter values (in the order of ``parameters``; the last parameter varies
 fastest) is applied to the base scenario as dotted-key overrides (:func:`~.scenario.apply_overrides`:
-``run.speed_km_h``, ``track.0.amplitude_m``, ``structure.section.m_kg_m``; array entries by index), and every case
+``vehicle.speed_km_h``, ``track.0.amplitude_m``, ``structure.section.m_kg_m``; array entries by index), and every case
 is validated **before** anything runs (a bad key or value stops the sweep with an error naming the case and the
 key).  Each case is one task ``executor.submit(run_case, scenario_dict, case_dir)``: the scenario goes to the
 worker as a plain, picklable dict (never an Exudyn object), the worker builds, solves and evaluates it
-(:func:`~.scenario.run_scenario`) and returns its ``summary`` (a plain dict; a failing case returns
-``status = "error: ..."`` instead of raising, so one case does not stop the others).
+(:func:`~.scenario.run_scenario`) and returns its ``summary`` (a plain dict whose ``status`` is one of
+:data:`~exudyn_wheelrail.simulation.status.STATUSES`; a case that raises returns ``status = "error: ..."``
+instead, so one case does not stop the others).
 
 Executors
 ---------
@@ -56,7 +57,7 @@ from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .scenario import ScenarioError, _as_scenario, _jsonable, apply_overrides, run_scenario, set_dotted
+from .scenario import ScenarioError, _as_scenario, apply_overrides, jsonable, run_scenario, set_dotted
 
 __all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "sweep_cases", "DEFAULT_PLOT_RESULT",
            "TIMING_COLUMNS"]
@@ -233,7 +234,7 @@ def _write(result: SweepResult, base: dict, out: Path, plot_result: str, plot_pa
             w.writerow([_cell(t[c][i]) for c in t])
     with open(paths["json"], "w") as fh:
         json.dump({"base_scenario": base, "parameters": result.parameters, "table": t}, fh, indent=1,
-                  allow_nan=True, default=_jsonable)
+                  allow_nan=True, default=jsonable)
     if plot_result not in t:
         result.notes.append(f"plot_result = {plot_result!r}: not in the table (no case produced it); no plot "
                             f"written. Scalars: {', '.join(c for c in t if c not in ('case', 'case_dir'))}")

@@ -10,7 +10,7 @@ Sections (every row states its reference and the tolerance of the corresponding 
 (e) the RTRI 20 m vs 40 m findings at 250 km/h                                tests/test_rtri.py
 
 Section (e) makes the runs of ``python -m exudyn_wheelrail rtri --span 20`` and ``--span 40`` (every other option
-at its default: Newmark, 1 ms, 2500 steps) and tabulates their passage peaks (``peaks_passage``: what ``rtri``
+at its default: Newmark, 1 ms, 2.5 s) and tabulates their passage peaks (``peaks_passage``: what ``rtri``
 prints), so its numbers are the command's; it states the solver, the time step, the steps, the simulated window
 and the peak window in its text and its table.
 
@@ -298,7 +298,7 @@ def rtri_command(span_m: float) -> str:
 
 def rtri_report_case(span_m: float):
     """The case of :func:`rtri_command`: :class:`~.rtri.RtriCase` with its defaults, which are the ``rtri``
-    command's (the representative speed, Newmark, the published time step and 2500 steps, the creep table, the
+    command's (the representative speed, Newmark, the published time step for the published 2.5 s, the creep table, the
     online contact search)."""
     from .rtri import RtriCase
     return RtriCase(span_m=float(span_m))
@@ -308,7 +308,7 @@ def _window_cells(r) -> dict:
     """What the report states about a run's window, from the run: solver, Δt, steps, simulated and peak windows."""
     s = r.summary
     return {"solver": s["solver"]["name"], "dt_s": s["dt_s"], "steps": s["steps"],
-            "t_start_s": 0.0, "t_end_s": s["simulated_time_s"],
+            "t_start_s": 0.0, "t_end_s": s["simulated_time_s"], "status": s["status"],
             "peak_window_end_s": s["coverage"]["t_needed_with_run_out_s"]}
 
 

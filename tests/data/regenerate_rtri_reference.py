@@ -4,7 +4,7 @@
 
 which runs exactly::
 
-    python -m exudyn_wheelrail rtri --span 20 --speed-kmh 250 --solver newmark --dt 0.001 --steps 500 \\
+    python -m exudyn_wheelrail rtri --span 20 --speed-kmh 250 --solver newmark --dt 0.001 --duration 0.5 \\
         --delta-mm 12 --no-plots --out tests/data/rtri_reference
 
 Configuration: the RTRI case, 20 m span, 250 km/h, Newmark (the paper's scheme), 1 ms, 500 steps (0.5 s: the
@@ -18,7 +18,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-ARGS = ["rtri", "--span", "20", "--speed-kmh", "250", "--solver", "newmark", "--dt", "0.001", "--steps", "500",
+ARGS = ["rtri", "--span", "20", "--speed-kmh", "250", "--solver", "newmark", "--dt", "0.001", "--duration", "0.5",
         "--delta-mm", "12", "--no-plots"]
 OUT = Path(__file__).resolve().parent / "rtri_reference"
 

@@ -1,0 +1,347 @@
+r"""The one solve wrapper: every run goes through :func:`solve` (:func:`run` for a :class:`~.settings.RunSettings`;
+:func:`~exudyn_wheelrail.multibody.monitor.run_monitored` for a caller's own Exudyn settings).
+
+>>> outcome = run(h.mbs, RunSettings(solver="rk44", duration_s=0.5), contact=h.contact, speed_m_s=V,
+...               recorder=recorder)                                                    # doctest: +SKIP
+>>> outcome.status.kind, outcome.status.hint, outcome.t_end_s                           # doctest: +SKIP
+
+What a run does
+---------------
+:func:`solve` installs **one** Exudyn pre-step function.  Exudyn calls it before every step attempt with the time
+at the *end* of that step while the state is still that of the last accepted step: a call whose end time is not
+beyond the previous one is a retry after a rejected attempt (Newton did not converge; the state was rolled back).
+For every new accepted state, in this order:
+
+1. with ``grid_check``: a state that has passed a point of the ``dt_s`` grid without a state on it (the solver
+   continued with reduced steps off the grid) stops the run: ``step_rejected``;
+2. the run monitor's check (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.check`: derailment, invalid
+   states, flange climb, lift-off, hunting; always on), then the flange-climb check of :mod:`.guidance`;
+3. a stopping status returns False: Exudyn completes the step it was about to take and stops (the solve ends one
+   step after the detected state); the detected state is not recorded;
+4. the recorder (:mod:`.recorder`; the states on its grid, every ``record_every`` steps), then the progress bar.
+
+The final state (after the last step, which Exudyn does not pass to the pre-step function) is checked and
+recorded after the solve.  Exceptions of ``SolveDynamic`` (Exudyn re-raises a user function's exception as
+"Error in Python USER FUNCTION", the cause kept) and a solve that stops early are caught; the outcome is a
+:class:`RunOutcome` whose :attr:`RunOutcome.status` is a :class:`~.status.RunStatus` (:mod:`.status`).
+
+Contact frequency and time step
+-------------------------------
+Before the solve, :func:`contact_omega_rad_s` evaluates the monitor's estimate of the highest natural frequency
+ω of each wheelset on its linearised contact stiffness at the initial state.  RK44 runs carry the estimate at
+every state (the monitor's ``step_size`` event: ω h > 2√2, :data:`~exudyn_wheelrail.multibody.monitor.
+RK44_LIMIT`).  For the other solvers the same bound is the **resolution bound** of the contact oscillation: above
+it the trapezoidal rule has fewer than about 3.3 steps per period of it (its discrete frequency
+``2 atan(ω h/2)/h`` is 32 % low at ω h = 2√2) and a wheel lift or flange impact is integrated as nothing like the
+contact's dynamics — a derailment found then is reported ``diverged``, not ``derailed``, with the step that
+resolves it (:data:`RESOLUTION_LIMIT`).  Rows of a diverged RK44 run after its first ``step_size`` event are
+dropped (the integration is unstable from that state on).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from ..multibody.monitor import RK44_LIMIT, RunMonitor, Status, _contact_state_error, _status_from_state_error
+from . import status as S
+from .guidance import FlangeClimbCheck
+from .settings import RunSettings
+
+__all__ = ["RunOutcome", "solve", "run", "contact_omega_rad_s", "RESOLUTION_LIMIT"]
+
+#: largest ω h (ω the stiffest wheel–rail contact frequency) a time step of a solver other than RK44 may have for a
+#: lift-off or flange impact to be integrated as the contact's dynamics (module docstring)
+RESOLUTION_LIMIT = RK44_LIMIT
+_SERIOUS = ("invalid_state", "derailment")
+
+
+@dataclass
+class RunOutcome:
+    """What a run ended with.  ``stop``: the monitor-style :class:`~exudyn_wheelrail.multibody.monitor.Status`
+    that ended it (``completed``/``hunting`` for a complete run); :attr:`status`: the run status."""
+
+    stop: Status
+    t_end_s: float
+    t_goal_s: float
+    dt_s: float
+    solver: str
+    solve_seconds: float
+    events: list = field(default_factory=list)
+    rejected_steps: int = 0
+    rows_dropped: int = 0
+    contact_omega_rad_s: list = field(default_factory=list)
+    max_omega_h: float = 0.0
+    monitor: RunMonitor | None = None
+    guidance: FlangeClimbCheck | None = None
+
+    @property
+    def omega_rad_s(self) -> float:
+        """The stiffest contact frequency of the initial state (:func:`contact_omega_rad_s`; RK44's running estimate
+        when that is unknown) [rad/s]: what a time step must integrate for a normal run (a diverging state is
+        stiffer still)."""
+        return max(self.contact_omega_rad_s, default=0.0) or self.max_omega_h / self.dt_s
+
+    @property
+    def resolved(self) -> bool:
+        """The time step resolves the contact frequency (:data:`RESOLUTION_LIMIT`; True when unknown)."""
+        return not (self.omega_rad_s * self.dt_s > RESOLUTION_LIMIT)
+
+    @property
+    def status(self) -> S.RunStatus:
+        return _classify(self)
+
+    @property
+    def warnings(self) -> list[str]:
+        """What a completed run should say about its trustworthiness."""
+        out = []
+        m = self.monitor
+        completed = self.stop.kind in ("completed", "hunting")
+        if completed and m is not None and m.stability_exceeded is not None:
+            out.append(f"{m.stability_exceeded} — the run completed, but the integration is near its stability limit")
+        elif completed and self.solver != "rk44" and not self.resolved:
+            out.append(f"the time step {self.dt_s:g} s does not resolve the wheel–rail contact oscillation (omega h "
+                       f"= {self.omega_rad_s * self.dt_s:.3g} > {RESOLUTION_LIMIT:.3f}, omega = "
+                       f"{self.omega_rad_s:.4g} rad/s): contact-force peaks are not converged in dt; "
+                       f"dt_s <= {RESOLUTION_LIMIT / self.omega_rad_s:.3g} s resolves it")
+        if self.rejected_steps:
+            out.append(f"the solver rejected {self.rejected_steps} step attempt(s) (Newton did not converge) and "
+                       "continued with reduced steps; rows are recorded on the dt_s grid only")
+        return out
+
+
+def _stable_step_hint(o: RunOutcome) -> str:
+    w = o.omega_rad_s
+    if not w > 0.0:
+        return f"reduce dt_s (now {o.dt_s:g} s)"
+    h = RK44_LIMIT / w
+    if o.solver == "rk44":
+        return (f"the largest stable RK44 step is about {h:.3g} s (omega h <= 2 sqrt 2 with omega = {w:.4g} rad/s, "
+                f"the monitor's estimate of the stiffest wheel-rail contact mode): use dt_s <= {h:.3g} s, or the "
+                f"implicit solver newmark")
+    return (f"the wheel-rail contact oscillation (omega = {w:.4g} rad/s, the monitor's estimate) needs dt_s <= "
+            f"{h:.3g} s (omega h <= 2 sqrt 2; now {o.dt_s:g} s)")
+
+
+def _classify(o: RunOutcome) -> S.RunStatus:
+    st = o.stop
+    kind = S.MONITOR_KINDS.get(st.kind)
+    if kind is None:
+        raise RuntimeError(f"the run was stopped: {st}")
+    args = dict(time_s=st.time_s, wheelset=st.wheelset, side=st.side, detail=st.detail)
+    if kind == S.OK:
+        detail = ("hunting: " + st.detail) if st.kind == "hunting" else st.detail
+        return S.RunStatus(S.OK, time_s=o.t_end_s, detail=detail)
+    if kind == S.DERAILED and o.solver != "rk44" and not o.resolved:
+        return S.RunStatus(S.DIVERGED, **{**args, "detail": (
+            f"derailment found with a time step that does not resolve the wheel-rail contact (omega h = "
+            f"{o.omega_rad_s * o.dt_s:.3g} > {RESOLUTION_LIMIT:.3f}): not trustworthy; then: {st.detail}")},
+            hint=_stable_step_hint(o))
+    if kind == S.DIVERGED:
+        newton = st.kind == "solver_failure" and o.solver in ("newmark", "generalized_alpha")
+        hint = (f"Newton did not converge: reduce dt_s (e.g. to {o.dt_s / 2:g} s); "
+                + _stable_step_hint(o)) if newton else _stable_step_hint(o)
+        return S.RunStatus(S.DIVERGED, **args, hint=hint)
+    if kind == S.STEP_REJECTED:
+        return S.RunStatus(S.STEP_REJECTED, **args, hint=f"reduce dt_s (e.g. to {o.dt_s / 2:g} s) so that Newton "
+                                                         "converges at every step")
+    return S.RunStatus(kind, **args)
+
+
+def contact_omega_rad_s(mbs, contact, t_s: float = 0.0) -> list[float]:
+    """Per wheelset the highest natural frequency [rad/s] on its linearised contact stiffness at the current state
+    (the run monitor's estimate, :class:`~exudyn_wheelrail.multibody.monitor.RunMonitor`; 0 for a wheelset
+    without contact).  Installs a pre-step function: call before the run's own."""
+    probe = RunMonitor(contact, stop_on=(), keep_history=False)
+    probe.attach(mbs, t_start_s=t_s, rk44_step_s=1.0)
+    probe.check(mbs, t_s)
+    return [float(w) for w in probe.max_omega_h]
+
+
+class _Hook:
+    """The pre-step function (module docstring)."""
+
+    def __init__(self, monitor, guidance, recorder, record_every, progress, dt_s, t0_s, grid_check, user_function):
+        self.monitor, self.guidance, self.recorder, self.progress = monitor, guidance, recorder, progress
+        self.user_function = user_function
+        self.every = int(record_every)
+        self.dt = float(dt_s)
+        self.t0 = float(t0_s)
+        self.grid_check = grid_check
+        self.t_pending = self.t0            # end time of the step attempted after the previous call
+        self.t_state = None                 # time of the last state handled
+        self.k_next = 0                     # next dt-grid index expected
+        self.rejected = 0
+        self.stop: Status | None = None     # a stop found here (step_rejected, flange climb)
+        self.error = None
+        self.last_recorded = None
+
+    def __call__(self, mbs, t):
+        t = float(t)
+        if self.t_state is None or t > self.t_pending + 1e-9 * self.dt:
+            t_state = self.t_pending        # the previous attempt was accepted (or this is the first call)
+        else:
+            self.rejected += 1              # a retry: the state is the one already handled
+            self.t_pending = t
+            return self.stop is None and (self.monitor is None or self.monitor.status is None)
+        self.t_pending = t
+        try:
+            go = self.state(mbs, t_state)
+            if go and self.user_function is not None:   # the contact's results are those of the checked state
+                go = bool(self.user_function(mbs, t))
+            return go
+        except Exception as exc:            # a failing probe must not hide inside Exudyn's error
+            self.error = exc
+            return False
+
+    def state(self, mbs, t_state: float) -> bool:
+        """Handle a new accepted state; False: stop."""
+        self.t_state = t_state
+        if self.stop is not None or (self.monitor is not None and self.monitor.status is not None):
+            return False
+        k = (t_state - self.t0) / self.dt
+        on_grid = abs(k - round(k)) <= 1e-6
+        if self.grid_check and not on_grid and k > self.k_next + 1e-6:
+            t_miss = self.t0 + self.k_next * self.dt
+            self.stop = Status("step_rejected", t_miss, None, None,
+                               f"the solver rejected {self.rejected} step attempt(s) (Newton did not converge at "
+                               f"dt_s = {self.dt:g} s) and continued with reduced steps off the dt_s grid: no state "
+                               f"at t = {t_miss:.6g} s (the state after it is at {t_state:.6g} s); the rows end at "
+                               f"the last state on the grid")
+            return False
+        if on_grid:
+            self.k_next = int(round(k)) + 1
+        if self.monitor is not None:
+            st = self.monitor.check(mbs, t_state)
+            if st is not None:
+                return False
+            if self.guidance is not None:
+                st = self.guidance(self.monitor.contact, t_state)
+                if st is not None:
+                    self.stop = self.monitor.annotate(st)
+                    self.monitor.events.append(self.stop)
+                    return False
+        if self.recorder is not None and on_grid and int(round(k)) % self.every == 0:
+            self.recorder.record(mbs, t_state)
+            self.last_recorded = t_state
+        if self.progress is not None:
+            self.progress.update(t_state)
+        return True
+
+
+def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, solver: str, guidance=None,
+          recorder=None, record_every: int = 1, progress=None, grid_check: bool = False, contact_omega=(),
+          attach_monitor: bool = True, user_function=None) -> RunOutcome:
+    """``mbs.SolveDynamic(sim, solverType=solver_type)`` watched by ``monitor`` (``mbs`` assembled; None only for a
+    model without wheel–rail contact) with the pre-step function of the module docstring; ``solver`` the name
+    (:data:`~.settings.SOLVERS`).  ``attach_monitor=False`` keeps an attachment the caller made
+    (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.attach`); ``user_function(mbs, t)`` (Exudyn's
+    arguments; a bool, False stops) is called after the checks of every new state.  Returns the
+    :class:`RunOutcome`."""
+    ti = sim.timeIntegration
+    t0 = float(ti.startTime)
+    t_goal = float(ti.endTime)
+    if monitor is not None and attach_monitor:
+        monitor.attach(mbs, t_start_s=t0, rk44_step_s=dt_s if solver == "rk44" else None)
+    hook = _Hook(monitor, guidance, recorder, record_every, progress, dt_s, t0, grid_check, user_function)
+    mbs.SetPreStepUserFunction(hook)
+    out = RunOutcome(stop=None, t_end_s=t0, t_goal_s=t_goal, dt_s=float(dt_s), solver=solver, solve_seconds=0.0,
+                     monitor=monitor, guidance=guidance, contact_omega_rad_s=list(contact_omega))
+    events = monitor.events if monitor is not None else []
+    t_start = time.perf_counter()
+    exc = None
+    ok = False
+    try:
+        ok = mbs.SolveDynamic(sim, solverType=solver_type)
+    except Exception as e:                 # Exudyn re-raises user-function exceptions (the cause is kept)
+        exc = e
+    out.solve_seconds = time.perf_counter() - t_start
+    out.t_end_s = float(mbs.systemData.GetTime())
+    out.rejected_steps = hook.rejected
+    out.events = events
+    if monitor is not None:
+        out.max_omega_h = max(monitor.max_omega_h)
+    if hook.error is not None:
+        raise RuntimeError(f"recording the run failed at t = {hook.t_state}: {type(hook.error).__name__}: "
+                           f"{hook.error}") from hook.error
+    stop = (monitor.status if monitor is not None else None) or hook.stop
+    if exc is not None:
+        out.stop = stop or _failure(monitor, exc, out.t_end_s, events)
+    elif stop is not None:
+        out.stop = stop
+    elif not ok:
+        out.stop = Status("solver_failure", out.t_end_s, None, None, "mbs.SolveDynamic reported failure (Newton "
+                                                                     "did not converge or the solver aborted)")
+        events.append(out.stop)
+    else:
+        out.stop = _completed(mbs, hook, monitor, out, events)
+    onset = monitor.stability_exceeded if monitor is not None else None
+    if recorder is not None and onset is not None and out.stop.kind in ("invalid_state", "solver_failure"):
+        out.rows_dropped = recorder.keep_until(onset.time_s)     # unstable integration from that state on
+    if progress is not None:
+        progress.update(hook.t_state if hook.t_state is not None else t0)
+    return out
+
+
+def _failure(monitor, exc, t_fail, events) -> Status:
+    err = _contact_state_error(exc)
+    text = str(exc).splitlines()[0] if str(exc) else ""
+    serious = [e for e in events if e.kind in _SERIOUS]
+    if serious and monitor is not None:
+        e = monitor.annotate(serious[0])
+        later = (f"ContactStateError: {str(err).splitlines()[0]}" if err is not None else f"{type(exc).__name__}: "
+                                                                                           f"{text}")
+        return Status(e.kind, e.time_s, e.wheelset, e.side, e.detail + f" (not stopped; later: {later})")
+    if err is not None:
+        st = _status_from_state_error(err, t_fail)
+    else:
+        st = Status("solver_failure", t_fail, None, None, f"{type(exc).__name__}: {text}")
+    if monitor is not None:
+        st = monitor.annotate(st)
+    events.append(st)
+    return st
+
+
+def _completed(mbs, hook: _Hook, monitor, out: RunOutcome, events) -> Status:
+    t_end = out.t_end_s
+    if hook.t_state is None or t_end > hook.t_state + 0.5 * out.dt_s:       # the final state: not checked yet
+        if not hook.state(mbs, t_end):
+            return (monitor.status if monitor is not None else None) or hook.stop
+    if abs(t_end - out.t_goal_s) > 0.5 * out.dt_s:
+        st = Status("solver_failure", t_end, None, None, f"the solver stopped at t = {t_end:.6g} s of "
+                                                         f"{out.t_goal_s:.6g} s")
+        events.append(st)
+        return st
+    serious = [e for e in events if e.kind in _SERIOUS]
+    if serious:                      # not stopped for (stop_on), but never reported as a completed run
+        e = monitor.annotate(serious[0])
+        return Status(e.kind, e.time_s, e.wheelset, e.side,
+                      e.detail + f" (not stopped: run continued to t = {t_end:.6g} s)")
+    warn = "" if monitor is None or monitor.stability_exceeded is None else \
+        f" (warning: {monitor.stability_exceeded})"
+    hunt = [h for h in (monitor.hunting if monitor is not None else []) if h is not None]
+    if hunt:
+        h = hunt[0]
+        return Status("hunting", h.time_s, h.wheelset, None, h.detail + f"; run completed at t = {t_end:.6g} s" + warn)
+    return Status("completed", t_end, None, None, "end time reached" + warn)
+
+
+def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None, progress=None,
+        exu_settings=None) -> RunOutcome:
+    """Run ``mbs`` (assembled) with ``settings`` (duration resolved), watched by a new
+    :class:`~exudyn_wheelrail.multibody.monitor.RunMonitor` of ``contact`` and the flange-climb check
+    (``speed_m_s`` the running speed; ``contact`` None only for the wheel–rail springs baseline, which has nothing
+    to watch).  ``recorder``: a :class:`~.recorder.Recorder` (None or ``settings.record`` False: nothing recorded);
+    ``progress``: a :class:`~.recorder.ProgressBar` or None; ``exu_settings``: ``(SimulationSettings,
+    DynamicSolverType)`` of these settings when the caller changed them (a viewer slows the solve), else built
+    here."""
+    sim, solver_type = exu_settings if exu_settings is not None else settings.exudyn()
+    monitor = guidance = None
+    omega = []
+    if contact is not None:
+        t0 = float(sim.timeIntegration.startTime)
+        omega = contact_omega_rad_s(mbs, contact, t0)
+        monitor = RunMonitor(contact)
+        guidance = FlangeClimbCheck(len(contact.nodes_exu), speed_m_s, monitor.nadal_limit)
+    return solve(mbs, sim, solver_type, monitor, dt_s=float(settings.dt_s), solver=settings.solver,
+                 guidance=guidance, recorder=recorder if settings.record else None,
+                 record_every=settings.record_every, progress=progress, grid_check=True, contact_omega=omega)
