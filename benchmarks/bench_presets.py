@@ -4,7 +4,7 @@ solve_seconds = wall time inside ``mbs.SolveDynamic`` (model building, table loa
 minimum of ``--repeats`` fresh runs, interleaved (the machine may be shared); ``record=False`` (the pure simulation)
 and ``record=True`` (the CLI's configuration: one more contact evaluation and the outputs per step).  The peak
 lateral-force error of each preset is taken from ``benchmarks/results/work_precision.csv`` (same configuration,
-against the RK44 0.05 ms reference); targets from issue 6 (``presets.TARGETS``).
+against the RK44 0.05 ms reference); the preset targets: ``simulation.presets.TARGETS``.
 
 Run:  python benchmarks/bench_presets.py [--repeats 3]   Writes benchmarks/results/presets.json.
 """

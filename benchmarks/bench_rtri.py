@@ -12,7 +12,7 @@ with RK44 and with Newmark (trapezoidal rule, modified Newton):
 ``solve_seconds`` = wall time inside ``mbs.SolveDynamic`` only (model building, numba cache loading and a warm-up
 contact call are outside).  Every configuration is repeated (default 3 times, fresh model each time) and the
 **minimum** is reported (the machine is shared), with all repeats listed.  Ratio = contact / springs (same solver,
-no recording); real-time factor = simulated time / solve time (> 1: faster than real time).  Issue targets:
+no recording); real-time factor = simulated time / solve time (> 1: faster than real time).  Targets:
 ratio <= 1.5 and real-time factor >= 6 on one core.
 
 Also: the Python-level cost of one contact evaluation (``WheelRailContact.forces`` for 4 wheelsets, at the initial

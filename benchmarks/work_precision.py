@@ -1,5 +1,5 @@
 """Work–precision of the RTRI 20 m case: wall time of the solve against the error of the outputs with respect to a
-converged reference, over time step, integrator and contact options (issue 6, item 1).
+converged reference, over time step, integrator and contact options.
 
 Case: ``RtriCase`` at the default span (20 m) and representative speed (250 km/h), substitute inputs
 (``exudyn_wheelrail.scenarios.rtri``), simulated time 2.5 s for every run (``steps = round(2.5 s / dt)``: the

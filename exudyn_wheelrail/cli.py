@@ -723,7 +723,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     """Run a command; bad input gives one line ``error: <what>: <problem>`` on stderr and exit code 2 (module
-    docstring), an unusual value one line ``warning: ...``."""
+    docstring), an unusual value one line ``warning: ...``; any other failure (``RuntimeError``: e.g. a creep table
+    that cannot be loaded, a recorder that failed, no display for a window) one line ``error: ...`` and exit code 1;
+    a run's own status sets the exit code of a completed command (:mod:`.simulation.status`)."""
+    from .simulation.status import EXIT_BAD_INPUT, EXIT_ERROR
     with warnings.catch_warnings():
         warnings.showwarning = _show_warning
         warnings.simplefilter("always", InputWarning)
@@ -731,13 +734,16 @@ def main(argv=None) -> int:
         try:
             args.check(args)           # cheap checks of every option before any work
             return args.func(args)
-        except (ValueError, RuntimeError) as exc:
+        except ValueError as exc:      # bad input: an option, a key of a file, a value out of range
             _print_line("error", exc)
-            return 2
+            return EXIT_BAD_INPUT
+        except RuntimeError as exc:    # not the input: the environment or the run itself failed
+            _print_line("error", exc)
+            return EXIT_ERROR
         except OSError as exc:         # a file that cannot be read or written
             where = f"{exc.filename}: " if exc.filename else ""
             _print_line("error", f"{where}{exc.strerror or exc}")
-            return 2
+            return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":

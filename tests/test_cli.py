@@ -1,4 +1,5 @@
-"""The command-line contract of issue 2 (scripts and regression tests call it)."""
+"""The command line's contract that scripts and regression tests rely on: the geometry CSV's leading columns and
+its sweep, profile point files giving the analytic profiles' geometry, the conicity line, bad input -> exit code 2."""
 import csv
 import re
 import subprocess

@@ -1,5 +1,5 @@
-"""The README and the documentation pages (docs/README.md, docs/validation.md, docs/performance.md, docs/cli.md) say
-what the product does today:
+"""The README and the documentation pages (docs/README.md, docs/tutorial.md, docs/validation.md, docs/performance.md,
+docs/cli.md) say what the product does today:
 
 * the README's first two commands are the install and the test command that CI runs (``.ci/fresh-venv``);
 * every relative link and every repository path named in the README exists;
@@ -8,7 +8,8 @@ what the product does today:
   ``python <script>`` names an existing file;
 * docs/cli.md holds the ``--help`` text of every command as the parser prints it (at 100 columns).  After a change
   of the command line, regenerate those blocks with ``python tests/test_docs.py --write-cli``;
-* the pages describe the product, not the work on it (no milestones, issues or unfinished work).
+* the pages describe the product, not the work on it (no milestones, issues or unfinished work); so do the
+  package's, the benchmarks', the examples' and the tests' comments, docstrings and messages, and the other READMEs.
 """
 from __future__ import annotations
 
@@ -25,7 +26,14 @@ ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 DOCS = ROOT / "docs"
 CLI_DOC = DOCS / "cli.md"
-PAGES = (README, DOCS / "README.md", DOCS / "validation.md", DOCS / "performance.md", CLI_DOC)
+PAGES = (README, DOCS / "README.md", DOCS / "tutorial.md", DOCS / "validation.md", DOCS / "performance.md", CLI_DOC)
+#: words of the work on the product, not of the product: a milestone, an issue number, a provisional state
+WORK_WORDS = r"milestone|\bissues?[ -]?#?\d|\bfor now\b|\bTODO\b|being (?:completed|validated)"
+#: more of them, for prose (in code "not yet assembled" is a state of an Exudyn system)
+PAGE_WORK_WORDS = WORK_WORDS + r"|\bnot yet\b|\bwill be\b|\bfollow \("
+#: text files beside the pages that are held to WORK_WORDS
+SOURCE_GLOBS = ("exudyn_wheelrail/**/*.py", "benchmarks/**/*.py", "benchmarks/README.md", "examples/**/*.py",
+                "examples/**/*.md", "examples/**/*.toml", "tests/**/*.py", "vehicles/*.md")
 HELP_COLUMNS = 100
 TOP = "python -m exudyn_wheelrail"          # marker name of the top-level help in docs/cli.md
 HELP_BLOCK = re.compile(r"<!-- help: (.+?) -->\n```text\n(.*?)```\n<!-- /help -->", re.S)
@@ -137,19 +145,33 @@ def test_cli_doc_holds_the_help_of_every_command():
 
 
 def test_cli_doc_has_the_exit_code_section():
+    """docs/cli.md's table has a row for every run status with its exit code, and for bad input and other errors,
+    as exudyn_wheelrail/simulation/status.py declares them."""
+    from exudyn_wheelrail.simulation import status as S
     text = CLI_DOC.read_text(encoding="utf-8")
     assert "## Exit codes and run status" in text
     section = text.split("## Exit codes and run status")[1].split("\n## ")[0]
-    for code in ("| 0 |", "| 1 |", "| 2 |"):
-        assert code in section
+    rows = {f"| {S.EXIT_CODES[kind]} | `{kind}` |" for kind in S.STATUSES}
+    rows |= {f"| {S.EXIT_BAD_INPUT} | — |", f"| {S.EXIT_ERROR} | — |"}
+    for row in rows:
+        assert row in section, row
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: str(p.relative_to(ROOT)))
 def test_pages_describe_the_product_not_the_work_on_it(page):
     text = page.read_text(encoding="utf-8")
-    found = re.findall(r"(?i)milestone|\bissues? \d|being (?:completed|validated)|\bfor now\b|\bnot yet\b|"
-                       r"\bwill be\b|\bfollow \(|\bTODO\b", text)
+    found = re.findall(f"(?i){PAGE_WORK_WORDS}", text)
     assert not found, (page.name, found)
+
+
+def test_source_text_describes_the_product_not_the_work_on_it():
+    files = sorted({path for pattern in SOURCE_GLOBS for path in ROOT.glob(pattern)} - {Path(__file__).resolve()})
+    assert len(files) > 50
+    found = []
+    for path in files:
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            found += [f"{path.relative_to(ROOT)}:{number}: {m}" for m in re.findall(f"(?i){WORK_WORDS}", line)]
+    assert not found, "\n".join(found)
 
 
 if __name__ == "__main__":

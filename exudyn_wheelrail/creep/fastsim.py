@@ -17,7 +17,7 @@ Integrating over the ellipse in full adhesion (``∫∫(a(y)-x) dA = 8a²b/3``, 
 
     Fx = -(8a²b/(3L1)) ξ = -G c² C11 ξ,   Fy = -(8a²b/(3L2)) η - (πa³b/(4L3)) φ = -G c² (C22 η + c C23 φ),
 
-which is how L1, L2, L3 are fixed (the issue's signs: forces on the wheel).  The traction bound is the
+which is how L1, L2, L3 are fixed (Kalker's signs: forces on the wheel).  The traction bound is the
 simplified theory's **parabolic** pressure, ``|p| <= μ p_z``, ``p_z = 2N/(πab)·(1 - (x/a)² - (y/b)²)`` (it carries
 N: ``∫∫ p_z dA = N``; Kalker 1982 uses the parabolic, not the Hertzian ellipsoidal, distribution because it makes
 the simplified theory's total forces agree best with the exact theory at saturation).  Where the trial
@@ -131,7 +131,7 @@ def fastsim(a, b, xi, eta, phi, normal_force, mu, shear_modulus, poisson, n_x: i
             n_y: int = DEFAULT_NY, nu_interpolation: str = "quadratic", flexibility: str = "three"):
     """Creep forces by Kalker's FASTSIM: ``(Fx, Fy, Mz)`` in N and N·m, forces **on the wheel**, in the contact
     frame, ``a`` [m] the semi-axis along rolling, ``b`` [m] lateral, creepages ξ, η [-] and φ [1/m] with the
-    issue-#3 signs (small creepage: ``Fx = -G c² C11 ξ``, ``Fy = -G c² (C22 η + c C23 φ)``).
+    Kalker's signs (small creepage: ``Fx = -G c² C11 ξ``, ``Fy = -G c² (C22 η + c C23 φ)``).
 
     C11, C22, C23 come from Kalker's Table E.3 at ``a/b`` and ``poisson`` (so ``0.1 <= a/b <= 10`` and
     ``0 <= ν <= 0.5``, else ``ValueError``).  Raises ``ValueError`` for a, b <= 0, N < 0, μ < 0, G <= 0,

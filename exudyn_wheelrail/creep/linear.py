@@ -21,7 +21,7 @@ Interpolation (the choice made here)
 * limits: ``0.1 <= a/b <= 10`` and ``0 <= ν <= 0.5`` (the table's range); outside them a ``ValueError`` is raised
   — there is no extrapolation.
 
-Linear creep forces (forces on the wheel, issue #3 convention, c = √(ab))::
+Linear creep forces (forces on the wheel, Kalker's signs, c = √(ab))::
 
     Fx = -G c² C11 ξ,   Fy = -G c² (C22 η + c C23 φ),   Mz = G c³ (C23 η - c C33 φ)
 
@@ -195,7 +195,7 @@ def fastsim_spin_moment_coefficient(a_over_b, poisson, nu_interpolation: str = "
 
 
 def linear_creep_forces(a, b, xi, eta, phi, shear_modulus, poisson, nu_interpolation: str = "quadratic"):
-    """Kalker's linear creep forces ``(Fx, Fy, Mz)`` in N and N·m, forces on the wheel (issue #3 signs)::
+    """Kalker's linear creep forces ``(Fx, Fy, Mz)`` in N and N·m, forces on the wheel (Kalker's signs)::
 
         Fx = -G c² C11 ξ,  Fy = -G c² (C22 η + c C23 φ),  Mz = G c³ (C23 η - c C33* φ),  c = √(ab)
 
