@@ -8,8 +8,8 @@ against the rigid track, and of the modal against the FFRF formulation.
    modified Newton with the connector's Jacobian):
 
    * ``rigid``: the contact connector on the rigid track (no bridge);
-   * ``bridge``: the same with the 20 m simply supported deck of ``examples/bridge_crossing.py`` (section
-     assumptions of that example; modal formulation, 7 modes up to 54 Hz = the EN 1990 A2 cut-off), coupled in the
+   * ``bridge``: the same with the 20 m simply supported deck of ``examples/scenarios/bridge_20m.toml`` (section
+     assumptions of that scenario; modal formulation, 7 modes up to 54 Hz = the EN 1990 A2 cut-off), coupled in the
      connector (``bridge=``);
    * ``bridge+support``: the same plus a lateral support motion (sine burst 1.5 m/s², 1.5 Hz,
      :mod:`exudyn_wheelrail.structures.support_motion`): the cost of the effective modal load's user function and
@@ -31,7 +31,6 @@ Writes benchmarks/results/bridge.json and prints Markdown tables.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import os
 import platform
@@ -46,7 +45,8 @@ from exudyn_wheelrail.contact import WheelRailPair
 from exudyn_wheelrail.multibody import build_vehicle, simulation_settings
 from exudyn_wheelrail.multibody import connector as C
 from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
-from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge, benchmark_formulations
+from exudyn_wheelrail.scenarios.scenario import build_bridge_modes, load_scenario
+from exudyn_wheelrail.structures import add_bridge, benchmark_formulations
 from exudyn_wheelrail.structures.support_motion import SmoothHarmonicSupportMotion
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,22 +60,10 @@ TRACKS = ("rigid", "bridge", "bridge+support", "rigid+lat_irr")
 SOLVERS = ("rk44", "newmark")
 
 
-def _example():
-    spec = importlib.util.spec_from_file_location("bridge_crossing", ROOT / "examples" / "bridge_crossing.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def deck_modes():
-    a = _example().deck_assumptions(SPAN_M)
-    sec = DeckSection(m_kg_m=a["m_kg_m"], EI_y_Nm2=a["EI_y_Nm2"], EI_z_Nm2=a["EI_z_Nm2"], GJ_Nm2=a["GJ_Nm2"],
-                      EA_N=a["EA_N"], Ip_kgm2_m=a["Ip_kgm2_m"])
-    model = BridgeModel((SPAN_M,), sec, damping_ratio=a["damping_ratio"], rail_height_m=a["rail_height_m"],
-                        start_m=0.0, elements_per_span=20)
-    f1 = sec.vertical_frequency_Hz(SPAN_M)
-    f_cut = max(30.0, 1.5 * f1, sec.vertical_frequency_Hz(SPAN_M, 3))
-    return model.modes(f_max_Hz=1.01 * f_cut)
+    """The modes of the 20 m deck of examples/scenarios/bridge_20m.toml (EN 1990 cut-off)."""
+    scn = load_scenario(ROOT / "examples" / "scenarios" / "bridge_20m.toml")
+    return build_bridge_modes(scn["structure"])[1]
 
 
 def run_once(track: str, solver: str, steps: int, modes) -> dict:
@@ -198,8 +186,8 @@ def main(argv=None):
 
     result = dict(
         case=f"Manchester vehicle 1, {SPEED_KM_H:g} km/h, {args.steps} steps of {DT_S * 1e3:g} ms, straight track "
-             f"without irregularities; bridge: {SPAN_M:g} m simply supported deck of examples/bridge_crossing.py "
-             f"(modal, {modes.n_modes} modes up to {modes.frequencies_Hz[-1]:.1f} Hz), leading wheelset "
+             f"without irregularities; bridge: {SPAN_M:g} m simply supported deck of "
+             f"examples/scenarios/bridge_20m.toml (modal, {modes.n_modes} modes up to {modes.frequencies_Hz[-1]:.1f} Hz), leading wheelset "
              f"{LEAD_IN_M:g} m before it at t = 0",
         creep_law=CREEP["creep_law"], fastsim_grid=list(CREEP["fastsim_grid"]), repeats=args.repeats,
         simulated_time_s=sim_time, timing="wall time inside mbs.SolveDynamic, minimum over the repeats",

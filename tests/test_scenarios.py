@@ -5,7 +5,9 @@ References, independent of the code under test:
 * the bridge deck alone under the static axle loads moving at V (structures.simulate_moving_forces, a separate
   Exudyn model without vehicle) for the deck deflection of the bridge scenario; the EN 1990 cut-off computed by
   hand from the stated section; the trapezoidal rule's identity (w₊ − 2w + w₋)/h² = (a₊ + 2a + a₋)/4 between
-  the recorded deck deflection and acceleration; the total static wheel load = vehicle weight;
+  the recorded deck deflection and acceleration; the total static wheel load = vehicle weight; the FE beam's
+  static deflection (the sum over all its modes) for the quasi-static reference; the mid-span deflection when a
+  wheelset passes mid-span for the deck under that wheelset; the load path's static wheel loads for ΔQ/Q;
 * invariance: a rigid lateral/vertical translation of the whole track does not change the contact forces;
 * the serial run (in process) for the sweep through a thread pool, a process pool and a Dask cluster;
 * a ``schema_version = 1`` file is the same scenario as its version-2 form (the keys moved, nothing else).
@@ -41,7 +43,7 @@ from exudyn_wheelrail.simulation.recorder import PROGRESS_MIN_STEPS
 from exudyn_wheelrail.simulation.runner import _Hook
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "scenarios"
-SHIPPED = ("rtri_20m", "bridge_40m", "harmonic_track")
+SHIPPED = ("rtri_20m", "bridge_20m", "bridge_40m", "bridge_20m_support_motion", "harmonic_track")
 
 BASE_TOML = """\
 schema_version = 2
@@ -57,6 +59,16 @@ transition_length_m = 3.0
 [run]
 duration_s = 0.02
 """
+
+
+STRUCTURE = "[structure]\nspans_m = [20.0]\nstart_m = 50.0\ndamping_ratio = 0.01\nrail_height_m = 1.0\n"
+SECTION = ("[structure.section]\nm_kg_m = 1e4\nEI_y_Nm2 = 1e10\nEI_z_Nm2 = 1e10\nGJ_Nm2 = 1e10\nEA_N = 1e11\n"
+           "Ip_kgm2_m = 1e4\n")
+
+
+def _motion(*lines):
+    """A deck with a [structure.support_motion] table of these lines."""
+    return STRUCTURE + SECTION + "[structure.support_motion]\n" + "".join(f"{line}\n" for line in lines)
 
 
 def read_csv(path):
@@ -112,6 +124,21 @@ LOADER_ERRORS = [
      + "[structure]\nspans_m = [20.0]\nstart_m = 50.0\ndamping_ratio = 0.01\nrail_height_m = 1.0\n"
        "formulation = \"ffrf\"\n[structure.section]\nm_kg_m = 1e4\nEI_y_Nm2 = 1e10\nEI_z_Nm2 = 1e10\n"
        "GJ_Nm2 = 1e10\nEA_N = 1e11\nIp_kgm2_m = 1e4\n", "structure.formulation", "newmark"),
+    (lambda t: t + STRUCTURE + "track_form = \"slab\"\n" + SECTION, "structure.track_form", "ballasted"),
+    (lambda t: t + _motion("frequency_Hz = 1.5"), "structure.support_motion.peak_acceleration_m_s2", "missing"),
+    (lambda t: t + _motion("peak_acceleration_m_s2 = 0.0", "frequency_Hz = 1.5"),
+     "structure.support_motion.peak_acceleration_m_s2", "> 0.0"),
+    (lambda t: t + _motion("peak_acceleration_m_s2 = 15.0", "frequency_Hz = 1.5"),
+     "structure.support_motion.peak_acceleration_m_s2", "plausible peak ground"),
+    (lambda t: t + _motion("peak_acceleration_m_s2 = 1.5", "frequency_Hz = 50"),
+     "structure.support_motion.frequency_Hz", "plausible ground-motion frequency"),
+    (lambda t: t + _motion("peak_acceleration_m_s2 = 1.5", "frequency_Hz = 1.5", "ramp_cycles = 0"),
+     "structure.support_motion.ramp_cycles", "> 0.0"),
+    (lambda t: t + _motion("peak_acceleration_m_s2 = 1.5", "frequency_Hz = 1.5", "plateau_cycles = \"forever\""),
+     "structure.support_motion.plateau_cycles", "auto"),
+    (lambda t: t + _motion("peak_acceleration_m_s2 = 1.5", "frequency_Hz = 1.5", "amplitude_m = 0.01"),
+     "structure.support_motion.amplitude_m", "unknown key"),
+    (lambda t: t + "[outputs]\ntimeseries = [\"deck_lateral\"]\n", "outputs.timeseries.0", "needs a [structure]"),
     (lambda t: t.replace("type = \"span_deflection\"\nspan_length_m = 20.0\namplitude_m = 0.01\nstart_m = 11.5\n"
                          "transition_length_m = 3.0", "type = \"harmonic\"\namplitude_m = 0.001\nwavelength_m = 20.0")
      .replace("duration_s = 0.02", "duration_s = \"auto\""), "run.duration_s", "harmonic"),
@@ -274,11 +301,40 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
                                      step_s=dt)
     w_ref = q @ modes.shape_at(scn["structure"]["start_m"] + 20.0)[1]
     assert np.max(w) == pytest.approx(np.max(w_ref), rel=0.01)
+    sp = s["deck"]["spans"][0]
+    assert sp["coupled_over_moving_force"] == pytest.approx(np.max(w) / np.max(w_ref), rel=1e-9)
     # the recorded acceleration is the one the trapezoidal rule integrates to the recorded deflection
     lhs = (w[2:] - 2 * w[1:-1] + w[:-2]) / dt ** 2
     rhs = (a[2:] + 2 * a[1:-1] + a[:-2]) / 4
     assert np.max(np.abs(lhs - rhs)) < 1e-4 * np.max(np.abs(a))
     assert s["scalars"]["max_abs_deck_mid_acceleration_s1_m_s2"] == pytest.approx(np.max(np.abs(a)))
+    # quasi-static reference against the static deflection of the FE beam under the axle loads at their places: the
+    # sum over all its modes of phi(mid) phi(s) P / omega^2 (Hermite elements: exact Euler-Bernoulli nodal statics;
+    # the tolerance is the eigensolution's round-off)
+    _, all_modes, _ = build_bridge_modes({**scn["structure"], "modes_cutoff_Hz": 1e5})
+    t = ts["time_s"]
+    s_ax = scn["vehicle"]["start_s_m"] - x.max() + V * t[:, None] + x[None, :]
+    phi_ax = all_modes.shape_at(s_ax)[..., 1, :]                                   # (n_t, n_ws, n_modes)
+    phi_mid = all_modes.shape_at(scn["structure"]["start_m"] + 20.0)[1]
+    w_static = np.einsum("tjn,j,n->t", phi_ax, P, phi_mid / all_modes.omega_rad_s ** 2)
+    assert sp["quasi_static_max_mid_span_deflection_m"] == pytest.approx(np.max(w_static), rel=1e-8)
+    # EN 1990 A2.4.4.2.1(4)P: the largest of the nine points' accelerations against 3.5 m/s2 (ballasted track)
+    pts = np.array([ts[f"deck_acceleration_s1_p{k}_m_s2"] for k in range(1, 10)])
+    en = s["deck"]["EN1990_A2_deck_acceleration"]
+    assert en["peak_m_s2"] == np.max(np.abs(pts)) and en["passed"] == (en["peak_m_s2"] <= 3.5)
+    np.testing.assert_allclose(pts[4], a, rtol=0.0, atol=1e-12 * np.max(np.abs(a)))            # x = L/2
+    # the deck under each wheelset: zero before it reaches the deck; the mid-span deflection when it passes there
+    # (both read between rows: linear interpolation in time, error dt^2/8 max|w_tt| ~ (V dt pi/L)^2/8 w = 2e-6 w)
+    for j, xj in enumerate(x):
+        under = ts[f"deck_deflection_w{j + 1}_m"]
+        s_j = scn["vehicle"]["start_s_m"] - x.max() + V * t + xj
+        assert np.all(under[s_j < scn["structure"]["start_m"] - 1e-3] == 0.0)
+        t_mid = (scn["structure"]["start_m"] + 20.0 - (s_j[0] - V * t[0])) / V
+        assert np.interp(t_mid, t, under) == pytest.approx(np.interp(t_mid, t, w), abs=1e-5 * np.max(w))
+    # the wheel unloading against the static wheel loads of the vehicle's load path
+    Q0 = static_load_path(vehicle).wheel                                             # (n_ws, 2): left, right
+    np.testing.assert_allclose(ts["dQQ_w2_left"], (Q0[1, 0] - ts["Q_w2_left_N"]) / Q0[1, 0], rtol=1e-12)
+    assert s["scalars"]["max_dQQ_any_wheel"] == max(np.max(ts[c]) for c in s["columns"]["unloading"])
 
 
 # --------------------------------------------------------------------------------------------- start and recorder

@@ -57,7 +57,10 @@ from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .scenario import ScenarioError, _as_scenario, apply_overrides, jsonable, run_scenario, set_dotted
+from .outputs import jsonable
+from .overrides import apply_overrides, set_dotted
+from .run import run_scenario
+from .spec import ScenarioError, as_scenario
 
 __all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "sweep_cases", "DEFAULT_PLOT_RESULT",
            "TIMING_COLUMNS"]
@@ -106,7 +109,7 @@ def run_case(scenario: dict, case_dir=None) -> dict:
 def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
     """``(base, combinations, scenarios)``: the validated base scenario, the parameter combinations (dicts) and the
     validated scenario of every case."""
-    base, _ = _as_scenario(base_scenario)
+    base, _ = as_scenario(base_scenario)
     if not isinstance(parameters, dict) or not parameters:
         raise ScenarioError("parameters: expected a non-empty dict {dotted key: [values]}")
     values = {}
@@ -250,8 +253,8 @@ def _number(v):
 
 def plot_sweep(table: dict, keys: list, result: str, x_key: str, path) -> None:
     """``result`` against ``x_key``, one line per combination of the other parameters (failed cases left out)."""
-    from .scenario import _pyplot
-    plt = _pyplot()
+    from .plots import pyplot
+    plt = pyplot()
     others = [k for k in keys if k != x_key]
     n = len(table["case"])
     xs = table[x_key]

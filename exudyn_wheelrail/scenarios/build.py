@@ -1,0 +1,260 @@
+r"""The builder: a scenario's normal form (:mod:`.spec`) -> the assembled Exudyn model (:class:`ScenarioModel`).
+
+:func:`build_scenario` creates the vehicle of a data file (:func:`~exudyn_wheelrail.multibody.build_vehicle`, frame
+moving with the running speed V), the wheel–rail connector (:func:`~exudyn_wheelrail.multibody.
+add_wheel_rail_contact`) on a rigid straight track (:func:`build_track`) displaced by the listed irregularities,
+optionally a modally reduced bridge deck (:func:`build_bridge_modes`, coupled through the connector's
+``bridge=``) with its support motion (:func:`.deck.support_motion`, for the resolved duration), puts the vehicle in
+static equilibrium on the rails at t = 0 and on the displaced track (:func:`start_on_track`; the starting state of
+:mod:`exudyn_wheelrail.scenarios.scenario`), and the recorder (the recorder's probes and the deck's,
+:func:`.deck.deck_probes`); it returns handles, not strings.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..simulation.recorder import Recorder, vehicle_probes
+from ..simulation.settings import DURATION_AUTO, MAX_STEPS, ContactSettings, RunSettings, SettingsError
+from .deck import deck_probes, en1990_cutoff_Hz, support_motion
+from .spec import ScenarioError, as_scenario, features_end_m
+
+__all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "vehicle_data", "scenario_run_settings",
+           "build_scenario", "start_on_track", "MODES_CUTOFF_MARGIN"]
+
+#: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
+#: Euler–Bernoulli values the cut-off is computed from)
+MODES_CUTOFF_MARGIN = 1.01
+
+
+def build_track(scn: dict):
+    """The :class:`~..multibody.track.RigidStraightTrack` of the scenario's ``track`` components."""
+    from ..multibody.track import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
+    parts = []
+    for comp in scn["track"]:
+        if comp["type"] == "span_deflection":
+            parts.append(SpanDeflection(span_length_m=comp["span_length_m"], amplitude_m=comp["amplitude_m"],
+                                        start_m=comp["start_m"], transition_length_m=comp["transition_length_m"],
+                                        direction=comp["direction"]))
+        elif comp["type"] == "harmonic":
+            parts.append(Harmonic(amplitude_m=comp["amplitude_m"], wavelength_m=comp["wavelength_m"],
+                                  phase_rad=comp["phase_rad"], direction=comp["direction"]))
+        else:
+            parts.append(SampledIrregularity.from_csv(comp["file"]))
+    if not parts:
+        return RigidStraightTrack()
+    return RigidStraightTrack(parts[0] if len(parts) == 1 else IrregularitySum(parts))
+
+
+def build_bridge_modes(structure: dict):
+    """``(BridgeModel, BridgeModes, f_cut_Hz)`` of a normalised ``[structure]`` table."""
+    from ..structures.bridge import BridgeModel, DeckSection
+    sec = DeckSection(**structure["section"])
+    model = BridgeModel(tuple(structure["spans_m"]), sec, continuous=structure["continuous"],
+                        damping_ratio=structure["damping_ratio"], rail_height_m=structure["rail_height_m"],
+                        start_m=structure["start_m"], elements_per_span=structure["elements_per_span"])
+    cut = structure["modes_cutoff_Hz"]
+    if cut == "en1990":
+        cut = en1990_cutoff_Hz(structure["spans_m"], structure["section"])
+        f_max = MODES_CUTOFF_MARGIN * cut
+    else:
+        f_max = float(cut)
+    return model, model.modes(f_max_Hz=f_max), float(cut)
+
+
+def vehicle_data(scn: dict):
+    from ..multibody.vehicle_data import load_vehicle_with_overrides
+    v = scn["vehicle"]
+    return load_vehicle_with_overrides(v.get("name") or v["file"], v.get("overrides") or None)
+
+
+def scenario_run_settings(scn: dict, vehicle) -> tuple[RunSettings, dict]:
+    """The run settings with the duration resolved, and what the run covers: ``t_passage_s`` is the time for the
+    trailing wheelset to be ``run_out_m`` past the end of the last track feature (None without an ending
+    feature)."""
+    run = RunSettings(**scn["run"])
+    V = scn["vehicle"]["speed_km_h"] / 3.6
+    x = vehicle.wheelset_x_m()
+    extent = float(max(x) - min(x))
+    end = features_end_m(scn)
+    t_passage = None if end is None else (end - scn["vehicle"]["start_s_m"] + extent + run.run_out_m) / V
+    if run.duration_s == DURATION_AUTO:
+        if t_passage is None or t_passage <= 0.0:
+            raise ScenarioError(f"run.duration_s = 'auto': the track features end at s = {end} m, behind the "
+                                f"vehicle (leading wheelset at s = {scn['vehicle']['start_s_m']} m): give a time in "
+                                "s")
+        try:
+            run = run.with_duration(t_passage)
+        except SettingsError as exc:
+            raise ScenarioError(f"run.duration_s = 'auto' ({t_passage:.6g} s): {exc.problem}") from None
+    if run.steps > MAX_STEPS:
+        raise ScenarioError(f"run.duration_s: {run.steps} steps (more than {MAX_STEPS})")
+    return run, {"features_end_m": end, "vehicle_extent_m": extent, "t_passage_s": t_passage,
+                 "duration_auto": scn["run"]["duration_s"] == DURATION_AUTO}
+
+
+@dataclass
+class ScenarioModel:
+    """What :func:`build_scenario` created (assembled, not solved): handles, the resolved run settings, the
+    recorder (None without recording) and the Exudyn solver settings (``settings``, ``solver_type``)."""
+
+    scenario: dict
+    system_container: object
+    mbs: object
+    vehicle: object
+    model: object
+    pair: object
+    track: object
+    contact: object                          #: the connector; None for ``contact.wheel_rail = "springs"``
+    bridge: object
+    modes: object
+    f_cut_Hz: float | None
+    run: RunSettings
+    contact_settings: ContactSettings
+    coverage: dict
+    recorder: Recorder | None = None
+    settings: object = None
+    solver_type: object = None
+    start_shift: float | None = None        #: largest track displacement under a wheelset at t = 0 (None: none)
+    support_motion: object = None           #: the ground motion of the supports and the track (None: none)
+
+    @property
+    def speed_m_s(self) -> float:
+        return self.scenario["vehicle"]["speed_km_h"] / 3.6
+
+    @property
+    def steps(self) -> int:
+        return self.run.steps
+
+
+def _carbody_x(x, vehicle) -> float:
+    if isinstance(x, str):
+        return {"front_bogie": max(vehicle.bogie_x_m()), "rear_bogie": min(vehicle.bogie_x_m()), "centre": 0.0}[x]
+    return float(x)
+
+
+def build_scenario(scenario) -> ScenarioModel:
+    """Build and assemble the Exudyn model of a scenario (path or dict): vehicle, track, bridge, contact,
+    recorder; not solved."""
+    import exudyn as exu
+
+    from ..contact.pair import WheelRailPair
+    from ..multibody.connector import add_wheel_rail_contact, place_on_rails
+    from ..multibody.vehicle_builder import build_vehicle
+
+    scn, _ = as_scenario(scenario)
+    vehicle = vehicle_data(scn)
+    run, coverage = scenario_run_settings(scn, vehicle)
+    cs = ContactSettings(**{**scn["contact"], "fastsim_grid": tuple(scn["contact"]["fastsim_grid"])})
+    V = scn["vehicle"]["speed_km_h"] / 3.6
+    s_lead0 = scn["vehicle"]["start_s_m"]
+    s_start = s_lead0 - max(vehicle.wheelset_x_m())              # frame origin; leading wheelset at start_s_m
+    modes = f_cut = None
+    if "structure" in scn:
+        _, modes, f_cut = build_bridge_modes(scn["structure"])
+    geo = vehicle.geometry
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    springs = cs.wheel_rail == "springs"
+    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="springs" if springs else "none")
+    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    track = build_track(scn)
+    bridge = contact = shift = motion = None
+    if modes is not None:
+        from ..structures.bridge import add_bridge
+        bridge = add_bridge(mbs, modes, formulation=scn["structure"]["formulation"])
+        if "support_motion" in scn["structure"]:
+            motion = support_motion(scn["structure"]["support_motion"], run.end_time_s)
+            bridge.add_support_motion(mbs, motion)
+    if not springs:
+        try:
+            contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
+                                             s_start_m=s_start, creep_law=cs.creep_law, mu=cs.friction,
+                                             fastsim_grid=cs.fastsim_grid, geometry=cs.geometry,
+                                             **({"bridge": bridge} if bridge is not None else {}))
+        except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
+            raise RuntimeError(f"contact.creep_law = {cs.creep_law!r}: {exc}") from None
+        place_on_rails(mbs, model, pair)
+        shift = start_on_track(mbs, model, track)
+    h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
+                      track=track, contact=contact, bridge=bridge, modes=modes, f_cut_Hz=f_cut, run=run,
+                      contact_settings=cs, coverage=coverage, start_shift=shift, support_motion=motion)
+    if run.record and contact is not None:
+        points = [(p["name"], [_carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
+                  for p in scn["outputs"]["carbody_points"]]
+        st = scn.get("structure", {})
+        probes = vehicle_probes(model=model, contact=contact, track=track, speed_m_s=V, s_leading0_m=s_lead0,
+                                carbody_points=points, bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"),
+                                deck_start_m=st.get("start_m"))
+        if bridge is not None:
+            probes += deck_probes(contact=contact, bridge=bridge, modes=modes, spans_m=st["spans_m"],
+                                  start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
+        h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
+    mbs.Assemble()
+    h.settings, h.solver_type = run.exudyn()
+    return h
+
+
+def start_on_track(mbs, model, track) -> float | None:
+    """Put the bodies' initial state on the track under the wheelsets at t = 0 (call after
+    :func:`~..multibody.place_on_rails`, which puts the centred vehicle on the *undisplaced* rails).
+
+    Each wheelset moves by the track's lateral and vertical displacement ``(y, z)`` at its track distance and is
+    yawed along the track, ``ψ = atan(dy/ds)``; its velocity gets ``(V dy/ds, V dz/ds)`` and its yaw rate
+    ``V y''/(1 + y'²)`` — the rates at which the track moves and turns under it in the frame moving with V —, so
+    it starts without lateral creepage and without penetration.  Each bogie frame (and the car body) follows the
+    straight line through its supports (its wheelsets; the bogie centres): displacement at its centre of mass,
+    yaw ``atan(Δy/Δx)`` and pitch ``-atan(Δz/Δx)`` (z down: the nose goes up for θ > 0), with the matching rates
+    (rotation vector ``(0, θ, ψ)``, the small-angle composition).  Without it a millimetre of vertical
+    irregularity is a millimetre of Hertz penetration at t = 0 (MN contact forces) and a slope dy/ds a lateral
+    creepage dy/ds.  Returns the largest displacement [m], or None when the track under every wheelset is
+    undisplaced and parallel to the frame (nothing is changed)."""
+    x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
+    v = track.rail_offset(model.track_distance_m(x, 0.0))
+    if not (np.any(v.y_m) or np.any(v.z_m) or np.any(v.dy_ds) or np.any(v.dz_ds)):
+        return None
+    V = model.speed_m_s
+    # per body: x, (y, z, pitch θ, yaw ψ) and their rates
+    ws = [(x[j], np.array([v.y_m[j], v.z_m[j], 0.0, math.atan(v.dy_ds[j])]),
+           V * np.array([v.dy_ds[j], v.dz_ds[j], 0.0, v.d2y_ds2[j] / (1.0 + v.dy_ds[j] ** 2)]))
+          for j in range(len(x))]
+
+    def on_line(supports, x_cg):
+        """State of a body resting on the line through its supports (front and rear: largest and smallest x)."""
+        f = max(supports, key=lambda b: b[0])
+        r = min(supports, key=lambda b: b[0])
+        dx = f[0] - r[0]
+        lam = (x_cg - r[0]) / dx
+        pos = r[1] + lam * (f[1] - r[1])
+        rate = r[2] + lam * (f[2] - r[2])
+        dy, dz = f[1][0] - r[1][0], f[1][1] - r[1][1]
+        pos[2] = -math.atan(dz / dx)
+        pos[3] = math.atan(dy / dx)
+        rate[2] = -(f[2][1] - r[2][1]) / dx / (1.0 + (dz / dx) ** 2)
+        rate[3] = (f[2][0] - r[2][0]) / dx / (1.0 + (dy / dx) ** 2)
+        return x_cg, pos, rate
+
+    def shift(node, state):
+        _, pos, rate = state
+        q0 = np.array(mbs.GetNodeParameter(node, "initialCoordinates"), dtype=float)
+        v0 = np.array(mbs.GetNodeParameter(node, "initialVelocities"), dtype=float)
+        q0[1:3] += pos[:2]
+        q0[4:6] += pos[2:]              # rotation vector (0, θ, ψ); the reference rotation is zero
+        v0[1:3] += rate[:2]
+        v0[4:6] += rate[2:]             # body-frame angular velocity (= track frame for these small rotations)
+        mbs.SetNodeParameter(node, "initialCoordinates", q0.tolist())
+        mbs.SetNodeParameter(node, "initialVelocities", v0.tolist())
+
+    for j, w in enumerate(model.wheelsets):
+        shift(w.node, ws[j])
+    bogies = []
+    for i, b in enumerate(model.bogies):
+        bogies.append(on_line([ws[j] for j, w in enumerate(model.wheelsets) if w.bogie == i], b.p_cg_in_frame[0]))
+        shift(b.node, bogies[-1])
+    if model.car_body is not None:
+        shift(model.car_body.node, on_line(bogies, model.car_body.p_cg_in_frame[0]))
+    return float(max(np.max(np.abs(v.y_m)), np.max(np.abs(v.z_m))))
+

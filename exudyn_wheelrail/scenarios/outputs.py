@@ -1,0 +1,72 @@
+r"""Writing a scenario's results: the time series (CSV, NPZ), ``summary.json`` and the plots (:mod:`.plots`)."""
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .plots import FIGURES, save_group_figure
+
+if TYPE_CHECKING:
+    from .run import ScenarioResult
+
+__all__ = ["jsonable", "write_scenario_outputs", "write_csv", "write_json"]
+
+
+def jsonable(o):
+    """``json.dump``'s ``default``: NumPy scalars and arrays as Python values."""
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.bool_):
+        return bool(o)
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, tuple):
+        return list(o)
+    raise TypeError(f"{type(o).__name__} is not JSON serialisable")
+
+
+def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
+    """Write ``timeseries.csv`` / ``.npz`` (the written groups), ``summary.json`` and the plots; returns the paths."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    s = result.summary
+    o = s["scenario"]["outputs"]
+    ts = result.timeseries
+    paths = {}
+    if ts:
+        cols = ["time_s", "s_leading_m"] + [c for g in o["timeseries"] for c in s["columns"].get(g, [])]
+        if "csv" in o["formats"]:
+            paths["timeseries_csv"] = out / "timeseries.csv"
+            write_csv(paths["timeseries_csv"], {c: ts[c] for c in cols})
+        if "npz" in o["formats"]:
+            paths["timeseries_npz"] = out / "timeseries.npz"
+            np.savez_compressed(paths["timeseries_npz"], **{c: ts[c] for c in cols})
+    paths["summary"] = out / "summary.json"
+    write_json(paths["summary"], s)
+    if o["plots"] and ts and len(ts["time_s"]) > 1:
+        for g in o["timeseries"]:
+            if g in FIGURES and s["columns"].get(g):
+                paths[f"plot_{g}"] = out / f"plot_{g}.png"
+                save_group_figure(result, g, paths[f"plot_{g}"])
+    return {k: str(v) for k, v in paths.items()}
+
+
+def write_csv(path, ts: dict) -> None:
+    """A time series (column -> array) as CSV, 10 significant digits."""
+    cols = list(ts)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        if cols and len(ts[cols[0]]):
+            for row in np.column_stack([ts[c] for c in cols]):
+                w.writerow([f"{v:.10g}" for v in row])
+
+
+def write_json(path, data: dict) -> None:
+    with open(path, "w") as fh:
+        json.dump(data, fh, indent=2, allow_nan=True, default=jsonable)
+
