@@ -76,7 +76,7 @@ from pathlib import Path
 
 import numpy as np
 
-from exudyn_wheelrail.scenarios import rtri
+from exudyn_wheelrail.scenarios import rtri_run as rtri
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
 from exudyn_wheelrail.simulation.settings import SOLVERS
 
