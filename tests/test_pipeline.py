@@ -224,3 +224,16 @@ def test_cli_run_exits_with_the_status_code(tmp_path):
     assert "status: derailed wheelset 0" in r.stdout
     with pytest.raises(ScenarioError, match="run.steps: unknown key"):
         apply_overrides(load_scenario(EXAMPLES / "rtri_20m.toml"), {"run.steps": 10})
+
+
+def test_recorder_refuses_a_contact_with_another_number_of_wheelsets():
+    """The wheel columns are filled by compiled code without bounds checks: a contact coupling more wheelsets than
+    the recorded model must be refused before the run (it would write past the end of the row)."""
+    from exudyn_wheelrail.contact.layout import N_RES
+    from exudyn_wheelrail.simulation.recorder import _Wheels
+
+    class FourWheelsets:                      # results of 4 wheelsets: (wheels, slots, fields)
+        results = np.zeros((8, 3, N_RES))
+
+    with pytest.raises(ValueError, match="expects 2 wheelsets but the contact couples 4"):
+        _Wheels(FourWheelsets(), 2)

@@ -11,14 +11,20 @@ How it runs
 :meth:`RunMonitor.attach` installs :meth:`RunMonitor.pre_step` as Exudyn's pre-step user function (chaining a
 function already given).  Exudyn calls it before every step with the time at the *end* of the coming step while
 the coordinates are still those at its start, so the monitor evaluates the contact at the time *of the state*: the
-previous call's time (the start time at the first call) — :meth:`.connector.WheelRailContact.evaluate`, which does
-not change the warm start.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
+previous call's time (the start time at the first call) — one contact call as
+:meth:`.connector.WheelRailContact.evaluate` (the warm start is kept), with the coordinates taken from the system
+vectors.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
 checked in ``tests/stress``) then still completes the step it was about to take and stops, so the solve ends one
 step after the detected state, at ``mbs.systemData.GetTime()``.  :func:`run_monitored` wraps ``SolveDynamic``: it
 catches :class:`~.connector.ContactStateError` (non-finite coordinates; Exudyn re-raises a user function's exception
 with it as the ``__cause__``) and any other solver failure, checks the final state and returns ``(status, t_end)``.
-Cost: one compiled contact evaluation plus Python bookkeeping per step, about 0.15–0.2 ms per step for one wheelset
-(RK44 with the stability estimate; the plain RK44 step of that model costs about 0.07 ms).
+
+Cost: the checks of a state are one compiled call over the arrays of that contact evaluation
+(:mod:`.monitor_core`: every quantity, record, interval and the hunting counter below, and the stability estimate
+with a Jacobi eigenvalue); it returns a code, and Python builds events only for a state where something starts,
+ends or fires.  For the RTRI vehicle (4 wheelsets, RK44) the monitor's work besides the contact call is about 5–10
+µs per state at rest and 15–20 µs along a run; the contact call itself about 25–35 µs
+(``benchmarks/bench_watching.py``).
 
 Quantities per wheel (wheel ``2k`` the right, ``2k+1`` the left wheel of wheelset k, as the connector) — all in the
 *side frame* of the wheel's rail (:mod:`exudyn_wheelrail.conventions`: y towards the field side, z down; the pose
@@ -87,9 +93,11 @@ Invalid states (stop the run)
 * with RK44 (:func:`run_monitored` passes the step): the **stability estimate** — the highest natural frequency ω
   of each wheelset on its linearised contact stiffness (6x6: Σ dN/dδ g gᵀ over the loaded contacts, g = (n, r x n)
   with the rail normal n and the lever r from the axle centre, against the wheelset's mass and inertia) — exceeds
-  RK44's limit ω h <= 2√2.  This alone is recorded as a ``step_size`` event (a short excursion may pass); every
-  stopping status after it becomes ``invalid_state`` naming both ("the integration is not trustworthy; then: …"),
-  so a diverged run is never reported as a derailment.  Creep damping is not in the estimate.
+  RK44's limit ω h <= 2√2 (per state the largest eigenvalue by Jacobi's method; within
+  :data:`STABILITY_SCREEN_MARGIN` of the limit LAPACK's eigenvalue decides).  This alone is recorded as a
+  ``step_size`` event (a short excursion may pass); every stopping status after it becomes ``invalid_state`` naming
+  both ("the integration is not trustworthy; then: …"), so a diverged run is never reported as a derailment.  Creep
+  damping is not in the estimate.
 
 ``time_limit``: the wall-clock limit ``time_limit_s`` was reached.  ``solver_failure``: ``SolveDynamic`` failed for
 another reason (returned False, raised, or stopped early).  Completed runs end with ``completed`` — or ``hunting``
@@ -107,9 +115,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis.safety import nadal_limit, prudhomme_limit_N
-from ..contact import kernel as K
 from ..contact import layout as L
 from . import connector as C
+from . import monitor_core as MC
 from .rotations import rotation_from_vector
 
 __all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "run_monitored", "STATUS_KINDS", "STOP_KINDS"]
@@ -209,60 +217,14 @@ def _status_from_state_error(err: C.ContactStateError, fallback_t: float | None)
     return Status("invalid_state", t, wheelset, None, f"ContactStateError: {msg}")
 
 
-class _Hunting:
-    """Consecutive half-cycles of the lateral displacement about the centre with peaks >= amplitude."""
-
-    def __init__(self, amplitude_m: float, cycles: int):
-        self.a = amplitude_m
-        self.need = 2 * cycles
-        self.sign = 0
-        self.peak = 0.0
-        self.count = 0
-        self.crossings: list[float] = []
-        self.peaks: list[float] = []
-
-    def update(self, t: float, y: float) -> tuple[float, float] | None:
-        """Returns (amplitude, frequency) when the count is reached (every time after), else None."""
-        s = 1 if y > 0.0 else (-1 if y < 0.0 else 0)
-        if s == 0:
-            return None
-        if self.sign == 0:
-            self.sign = s
-        if s != self.sign:
-            if self.peak >= self.a:
-                self.count += 1
-                self.crossings.append(t)
-                self.peaks.append(self.peak)
-            else:
-                self.count = 0
-                self.crossings = [t]
-                self.peaks = []
-            self.sign = s
-            self.peak = 0.0
-        self.peak = max(self.peak, abs(y))
-        if self.count >= self.need and len(self.crossings) >= 3:
-            ts = self.crossings[-self.need:]
-            f = 0.5 / float(np.mean(np.diff(ts))) if len(ts) >= 2 else float("nan")
-            return float(min(self.peaks[-self.need:])), f
-        return None
-
-
-def _wheel_rail_poses(contact) -> np.ndarray:
-    """Per wheel (2k right, 2k+1 left) its pose relative to its rail in the side frame, ``(c_y, c_z, roll)``, from
-    the contact's last evaluation (what the kernel solved for)."""
-    ws = np.asarray(contact.wheelset_rail_pose(), dtype=float).reshape(-1, 3)
-    poses = np.empty((2 * len(ws), 3))
-    poses[0::2] = ws
-    poses[1::2, 0] = -ws[:, 0]
-    poses[1::2, 1] = ws[:, 1]
-    poses[1::2, 2] = -ws[:, 2]
-    return poses
-
-
 #: a flange contact counts as beyond the flank where the profile's slope is this much below the flank's steepest
 FLANK_ANGLE_DROP_RAD = 0.05
 #: RK44's stability limit on the imaginary axis, |omega h| <= 2 sqrt(2)
 RK44_LIMIT = 2.0 * math.sqrt(2.0)
+#: relative margin below RK44_LIMIT above which the compiled value of the stability estimate (Jacobi's method,
+#: :func:`.monitor_core.largest_eigenvalue_psd`, relative error near 1e-15) is replaced by LAPACK's eigenvalue before
+#: anything is decided
+STABILITY_SCREEN_MARGIN = 1e-6
 
 
 def _wheelset_inertia(mbs, nodes):
@@ -277,6 +239,15 @@ def _wheelset_inertia(mbs, nodes):
             ev, U = np.linalg.eigh(I3)
             found[int(d["nodeNumber"])] = (float(d["mass"]), U @ np.diag(1.0 / np.sqrt(ev)) @ U.T)
     return [found.get(int(n)) for n in nodes]
+
+
+def _reason_names(bits: int) -> set:
+    return {name for bit, name in MC.REASON_NAMES if bits & bit}
+
+
+#: interval kinds of the compiled records -> (event kind, WheelRecord list)
+_INTERVALS = ((MC.IV_FLANGE, "flange_climb", "flange_climbs"), (MC.IV_LIFT, "lift_off", "lift_offs"),
+              (MC.IV_DEEP, "deep_penetration", "deep_penetrations"))
 
 
 class RunMonitor:
@@ -316,7 +287,8 @@ class RunMonitor:
             raise ValueError(f"time_limit_s = {time_limit_s!r}: expected > 0 or None")
         if not (isinstance(hunting_cycles, int) and hunting_cycles >= 1):
             raise ValueError(f"hunting_cycles = {hunting_cycles!r}: expected an integer >= 1")
-        if not all(hasattr(contact, a) for a in ("evaluate", "kernel_output", "wheelset_rail_pose")):
+        if not all(hasattr(contact, a) for a in ("forces", "kernel_output", "wheelset_rail_pose",
+                                                 "save_warm_start")):
             raise TypeError("RunMonitor needs a WheelRailContact (multibody.connector)")
         self.contact = contact
         self.stop_on = tuple(stop_on)
@@ -332,8 +304,8 @@ class RunMonitor:
         self._geometry(contact.pair)
         n_ws = len(contact.nodes_exu)
         self.n_wheelsets = n_ws
-        self.wheels = [WheelRecord(w // 2, SIDES[w % 2]) for w in range(2 * n_ws)]
-        self._hunt = [_Hunting(self.hunting_amplitude_m, hunting_cycles) for _ in range(n_ws)]
+        self._wheels = [WheelRecord(w // 2, SIDES[w % 2]) for w in range(2 * n_ws)]
+        self._open = [[None] * MC.N_IV for _ in range(2 * n_ws)]     # the open Interval of each wheel and kind
         self.hunting: list = [None] * n_ws       # per wheelset: Status of the first detection
         self.events: list[Status] = []           # every event in order (the start of each interval)
         self.status: Status | None = None        # the stopping status (None while running / completed)
@@ -342,19 +314,62 @@ class RunMonitor:
         self._t_prev = 0.0
         self._wall0 = None
         self._user = None
-        self._hist: list = []
         self._reported: set = set()
         self.rk44_step_s = None
         self._inertia = None
         self._R = np.empty((3, 3))
         self._Mh = np.zeros((6, 6))
-        #: per wheelset: the largest omega h of the RK44 stability estimate (0 without it)
-        self.max_omega_h = [0.0] * n_ws
         #: the first ``step_size`` event (the RK44 stability limit exceeded), or None
         self.stability_exceeded: Status | None = None
         #: Nadal's limit Y/Q at the flank (the contact's friction coefficient), for reference
         self.nadal_limit = (nadal_limit(self.flank_angle_rad, float(contact.cp[L.CP_MU]))
                             if math.isfinite(self.flank_angle_rad) else float("nan"))
+        # the compiled records (monitor_core) and their constants
+        self._need = 2 * hunting_cycles
+        (self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
+         self._work) = MC.empty_arrays(n_ws, self._need)
+        self._par = self._constants()
+        self._ws_par = np.zeros((n_ws, MC.N_WSP))
+        self._ws_par[:, MC.WSP_P_REF:MC.WSP_P_REF + 3] = np.asarray(contact.p_ref, dtype=float)
+        self._hist = np.zeros((0, 1 + 7 * 2 * n_ws))
+        self._hist_n = 0
+        self._out = contact.kernel_output()      # read-only view of the kernel output, updated by every evaluation
+        self._system = None                      # (mbs, its coordinate getters, the connector's global indices)
+        self._load_compiled()
+
+    def _load_compiled(self):
+        """One call of the compiled check on copies of the records (loads or compiles it here, not inside a timed
+        solve)."""
+        n_ws = self.n_wheelsets
+        records = [a.copy() for a in (self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
+                                      self._work)]
+        MC.monitor_state(0.0, np.zeros_like(self.contact.results), self._out, np.zeros((n_ws, 3)),
+                         np.zeros(6 * n_ws), np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records,
+                         self._hist, -1)
+
+    def _constants(self) -> np.ndarray:
+        par = np.zeros(MC.N_PAR)
+        par[MC.PAR_LIFT_FORCE] = self.lift_force_N
+        par[MC.PAR_LARGE_LATERAL] = math.nan if self.large_lateral_force_N is None else self.large_lateral_force_N
+        # Prud'homme's limit is affine in the axle load: its two coefficients from the one formula
+        f3, f6 = prudhomme_limit_N(static_axle_load_N=3.0), prudhomme_limit_N(static_axle_load_N=6.0)
+        par[MC.PAR_PRUDHOMME_C1] = (f6 - f3) / 3.0
+        par[MC.PAR_PRUDHOMME_C0] = f3 - 3.0 * par[MC.PAR_PRUDHOMME_C1]
+        par[MC.PAR_PRUDHOMME_NONE] = 10e3
+        par[MC.PAR_INVALID_PEN] = self.invalid_penetration_m
+        par[MC.PAR_MAX_SPEED] = self.max_speed_m_s
+        par[MC.PAR_MAX_RATE] = self.max_rate_rad_s
+        par[MC.PAR_Y_CROWN], par[MC.PAR_Z_CROWN] = self.y_crown, self.z_crown
+        par[MC.PAR_TIP_Y], par[MC.PAR_TIP_Z] = self.tip
+        par[MC.PAR_FIELD_Y], par[MC.PAR_FIELD_Z] = self.field_end
+        par[MC.PAR_FLANGED] = 1.0 if self.flanged else 0.0
+        par[MC.PAR_S_FLANK] = self.s_flank
+        par[MC.PAR_PROFILE_END_LAT] = self.profile_end_lateral_m
+        par[MC.PAR_HUNT_AMP] = self.hunting_amplitude_m
+        par[MC.PAR_HUNT_NEED] = self._need
+        par[MC.PAR_STEP] = 0.0
+        par[MC.PAR_STAB_SCREEN] = RK44_LIMIT * (1.0 - STABILITY_SCREEN_MARGIN)
+        return par
 
     # -- geometry of the pair (side frame, wheelset frame for the wheel) -------------------------------------------
     def _geometry(self, pair):
@@ -410,6 +425,14 @@ class RunMonitor:
         self._wall0 = time.perf_counter()
         self.rk44_step_s = None if rk44_step_s is None else float(rk44_step_s)
         self._inertia = _wheelset_inertia(mbs, self.contact.nodes_exu) if self.rk44_step_s else None
+        self._par[MC.PAR_STEP] = self.rk44_step_s or 0.0
+        self._ws_par[:, MC.WSP_HAS_INERTIA] = 0.0
+        for k, inertia in enumerate(self._inertia or ()):
+            if inertia is not None:
+                mass, I_inv_sqrt = inertia
+                self._ws_par[k, MC.WSP_HAS_INERTIA] = 1.0
+                self._ws_par[k, MC.WSP_INV_SQRT_MASS] = 1.0 / math.sqrt(mass)
+                self._ws_par[k, MC.WSP_I_INV_SQRT:MC.WSP_I_INV_SQRT + 9] = np.asarray(I_inv_sqrt).ravel()
         mbs.SetPreStepUserFunction(self.pre_step)
         self._attached_to = mbs
         return self
@@ -449,9 +472,30 @@ class RunMonitor:
             self.events.append(status)
         return None
 
+    def _evaluate(self, mbs, t: float):
+        """The contact at the model's current state, time ``t`` of that state (as
+        :meth:`~.connector.WheelRailContact.evaluate`: the warm start is kept); returns the connector's coordinates
+        and velocities.  The coordinates come from the system vectors (two Exudyn calls for any number of nodes)."""
+        c = self.contact
+        if self._system is None or self._system[0] is not mbs:
+            import exudyn as exu
+            sd = mbs.systemData
+            self._system = (mbs, sd.GetODE2Coordinates, sd.GetODE2Coordinates_t, exu.ConfigurationType.Current,
+                            np.asarray(sd.GetObjectLTGODE2(c.object), dtype=np.int64))
+        _, coordinates, velocities, current, ltg = self._system
+        q = coordinates(current, False)[ltg]           # (configuration, copy): a view of the system vector, indexed
+        v = velocities(current, False)[ltg]
+        warm = c.save_warm_start()
+        try:
+            c.forces(q, v, t)
+        finally:
+            c.restore_warm_start(warm)
+        return q, v
+
     def check(self, mbs, t: float) -> Status | None:
         """Evaluate the contact at the model's current state (``t`` = the time of that state), update the records and
-        return the stopping :class:`Status`, or None."""
+        return the stopping :class:`Status`, or None.  The per-state work is one compiled call
+        (:func:`.monitor_core.monitor_state`); Python builds events only when that call reports one."""
         if self.status is not None:
             return self.status
         self.n_checks += 1
@@ -462,206 +506,185 @@ class RunMonitor:
                                      f"wall-clock limit of {self.time_limit_s:g} s reached"))
         c = self.contact
         try:
-            res = c.evaluate(mbs, t)
+            q, v = self._evaluate(mbs, float(t))
         except C.ContactStateError as err:
             st = _status_from_state_error(err, t)
             return self._stop(st)
-        # kinematic plausibility: wheelset velocities (lateral, vertical, moving frame) and roll/yaw rates (body
-        # frame x, z; y is the spin) — exceeded only by a diverging integration
-        q, v = c.coordinates(mbs)
-        for k in range(self.n_wheelsets):
-            vy, vz = abs(v[6 * k + 1]), abs(v[6 * k + 2])
-            wx, wz = abs(v[6 * k + 3]), abs(v[6 * k + 5])
-            if max(vy, vz) > self.max_speed_m_s or max(wx, wz) > self.max_rate_rad_s:
+        row = -1
+        if self.keep_history:
+            if self._hist_n >= self._hist.shape[0]:
+                grown = np.zeros((max(256, 2 * self._hist.shape[0]), self._hist.shape[1]))
+                grown[:self._hist_n] = self._hist[:self._hist_n]
+                self._hist = grown
+            row = self._hist_n
+            self._hist_n += 1
+        code = MC.monitor_state(float(t), c.results, self._out, c.wheelset_rail_pose(), q, v, self._par, self._ws_par,
+                                self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
+                                self._work, self._hist, row)
+        if code:
+            self._events_of_state(t, q, v)
+        return self.status
+
+    def _events_of_state(self, t, q, v):
+        """What the compiled call reported for this state, in the order of the checks: implausible velocities, the
+        stability estimate, per wheel the invalid states, derailment and the intervals that start or end, then
+        hunting."""
+        wss = self._wss
+        ws_flags = [int(f) for f in wss[:, MC.WS_FLAGS]]
+        for k, f in enumerate(ws_flags):
+            if f & MC.WSF_VELOCITY:
+                vy, vz = abs(v[6 * k + 1]), abs(v[6 * k + 2])
+                wx, wz = abs(v[6 * k + 3]), abs(v[6 * k + 5])
                 self._stop(Status(
                     "invalid_state", t, k, None, f"wheelset velocity (lateral {vy:.3g}, vertical {vz:.3g} m/s) or "
                     f"roll/yaw rate ({wx:.3g}, {wz:.3g} rad/s) beyond the plausible {self.max_speed_m_s:g} m/s / "
                     f"{self.max_rate_rad_s:g} rad/s — the integration diverged (time step beyond the stability "
                     "limit?)"))
-        out = c.kernel_output()        # kernel output of the same evaluation (wheel parameter of the contacts)
-        if self._inertia is not None:
-            self._stability(t, q, out, res)
-        poses = _wheel_rail_poses(c)   # (2n, 3) wheel pose relative to its rail, side frame (of this evaluation)
-        n_w = 2 * self.n_wheelsets
-        loaded = (res[:, :, L.RES_STATUS] > 0) & (res[:, :, L.RES_N] > 0.0)           # (n_wheels, slots)
-        any_loaded = loaded.any(axis=1)
-        N = np.where(loaded, res[:, :, L.RES_N], 0.0).sum(axis=1)
-        Y = res[:, :, L.RES_F_TRACK_Y].sum(axis=1)
-        Q = -res[:, :, L.RES_F_TRACK_Z].sum(axis=1)
-        Y_flange = np.where(loaded[:, L.SLOT_FLANGE], res[:, L.SLOT_FLANGE, L.RES_F_TRACK_Y], 0.0)
-        depth = np.where(loaded, res[:, :, L.RES_DELTA], 0.0).max(axis=1)
-        gamma = np.where(any_loaded, np.where(loaded, res[:, :, L.RES_GAMMA], -np.inf).max(axis=1), np.nan)
-        deep = (loaded & ((res[:, :, L.RES_FLAGS].astype(np.int64) & K.FLAG_DEEP_PENETRATION) != 0)).any(axis=1)
-        prof_end = (res[:, L.SLOT_FLANGE, L.RES_FLAGS].astype(np.int64) & K.FLAG_PROFILE_END) != 0
-        pen = np.where(np.isfinite(out[:, :, L.F_PENETRATION]), out[:, :, L.F_PENETRATION], -np.inf)
-        gap = -pen.max(axis=1)                      # smallest wheel-rail distance of the separated regions
-        s_flange = out[:, L.SLOT_FLANGE, L.F_S_WHEEL]
-        cols = [L.RES_N, L.RES_F_TRACK_X, L.RES_F_TRACK_Y, L.RES_F_TRACK_Z, L.RES_GAMMA, L.RES_DELTA, L.RES_P_Y,
-                L.RES_P_Z]
-        finite = np.all(np.isfinite(np.where(loaded[:, :, None], res[:, :, cols], 0.0)), axis=(1, 2)) & \
-            np.all(np.isfinite(poses), axis=1)
-        N, Y, Q, Y_flange, depth, gamma, gap = (a.tolist() for a in (N, Y, Q, Y_flange, depth, gamma, gap))
-        hist_row = []
-        for w in range(n_w):
+        for k, f in enumerate(ws_flags):
+            if f & MC.WSF_STABILITY:
+                self._stability_exact(t, k, q)
+        for w in range(2 * self.n_wheelsets):
+            f = int(self._wflag[w])
+            if not f & ((1 << MC.WF_REASONS_SHIFT) - 1):
+                continue
             k, side = w // 2, SIDES[w % 2]
-            rec = self.wheels[w]
-            if not finite[w]:
+            wq = self._wq[w]
+            N, Y, Q = float(wq[MC.WQ_N]), float(wq[MC.WQ_Y]), float(wq[MC.WQ_Q])
+            depth, gamma, c_y = float(wq[MC.WQ_DEPTH]), float(wq[MC.WQ_GAMMA]), float(wq[MC.WQ_CY])
+            if f & MC.WF_NON_FINITE:
                 self._stop(Status("invalid_state", t, k, side, "non-finite contact results for a finite state"))
-            c_y, c_z, roll = poses[w].tolist()
-            rec.max_lateral_m = max(rec.max_lateral_m, c_y)
-            rec.min_lateral_m = min(rec.min_lateral_m, c_y)
-            rec.max_normal_force_N = max(rec.max_normal_force_N, N[w])
-            rec.max_abs_lateral_force_N = max(rec.max_abs_lateral_force_N, abs(Y[w]))
-            rec.max_penetration_m = max(rec.max_penetration_m, depth[w])
-            if any_loaded[w]:
-                rec.max_contact_angle_rad = max(rec.max_contact_angle_rad, gamma[w])
             # ---- invalid: a penetration no elastic contact has
-            if depth[w] > self.invalid_penetration_m:
+            if f & MC.WF_PENETRATION:
                 self._stop(Status(
-                    "invalid_state", t, k, side, f"penetration {depth[w] * 1e3:.3g} mm > "
-                    f"{self.invalid_penetration_m * 1e3:g} mm (normal force {N[w] / 1e3:.4g} kN): far outside "
+                    "invalid_state", t, k, side, f"penetration {depth * 1e3:.3g} mm > "
+                    f"{self.invalid_penetration_m * 1e3:g} mm (normal force {N / 1e3:.4g} kN): far outside "
                     "elastic contact — diverged integration (time step?) or a state outside the model"))
             # ---- derailment D1 (crown outside [flange tip, field end]) and D2 (flange tip above the rail top)
-            cr, sr = math.cos(roll), math.sin(roll)
-            y_tip = c_y + cr * self.tip[0] - sr * self.tip[1]
-            z_tip = c_z + sr * self.tip[0] + cr * self.tip[1]
-            y_field = c_y + cr * self.field_end[0] - sr * self.field_end[1]
-            if y_tip >= self.y_crown:
+            if f & MC.WF_D1_TIP:
                 self._stop(Status(
-                    "derailment", t, k, side, f"flange tip {1e3 * (y_tip - self.y_crown):.1f} mm beyond the rail crown "
-                    f"towards the field side (lateral displacement relative to the rail {c_y * 1e3:.1f} mm, limit "
-                    f"{self.derail_lateral_m * 1e3:.1f} mm at zero roll; normal force {N[w] / 1e3:.3g} kN)"))
-            elif self.flanged and z_tip < self.z_crown:
+                    "derailment", t, k, side, f"flange tip {1e3 * (wq[MC.WQ_Y_TIP] - self.y_crown):.1f} mm beyond "
+                    f"the rail crown towards the field side (lateral displacement relative to the rail "
+                    f"{c_y * 1e3:.1f} mm, limit {self.derail_lateral_m * 1e3:.1f} mm at zero roll; normal force "
+                    f"{N / 1e3:.3g} kN)"))
+            elif f & MC.WF_D2_LIFTED:
                 self._stop(Status(
-                    "derailment", t, k, side, f"flange tip {1e3 * (self.z_crown - z_tip):.1f} mm above the rail top: "
-                    f"the wheel lifted by more than the flange height ({self.flange_height_m * 1e3:.1f} mm), the "
-                    f"flange no longer overlaps the rail head (lateral displacement relative to the rail "
+                    "derailment", t, k, side, f"flange tip {1e3 * (self.z_crown - wq[MC.WQ_Z_TIP]):.1f} mm above the "
+                    f"rail top: the wheel lifted by more than the flange height ({self.flange_height_m * 1e3:.1f} "
+                    f"mm), the flange no longer overlaps the rail head (lateral displacement relative to the rail "
                     f"{c_y * 1e3:.1f} mm)"))
-            elif y_field <= self.y_crown:
+            elif f & MC.WF_D1_FIELD:
                 self._stop(Status(
-                    "derailment", t, k, side, f"field-side tread end {1e3 * (self.y_crown - y_field):.1f} mm inside "
-                    f"the rail crown (lateral displacement relative to the rail {c_y * 1e3:.1f} mm): the wheel dropped "
-                    "off towards the track centre"))
-            # ---- flange climb indications
-            reasons = set()
-            if loaded[w, L.SLOT_FLANGE]:
-                if s_flange[w] < self.s_flank:
-                    reasons.add("beyond_flank")
-                if prof_end[w]:
-                    reasons.add("profile_end")
-                    if c_y >= self.profile_end_lateral_m:
-                        self._stop(Status(
-                            "derailment", t, k, side, f"loaded flange contact at the end of the profile data with "
-                            f"the wheel {c_y * 1e3:.1f} mm towards the field side (limit "
-                            f"{self.profile_end_lateral_m * 1e3:.1f} mm)"))
-            other = w + 1 if w % 2 == 0 else w - 1
-            if N[other] <= self.lift_force_N and Y_flange[w] != 0.0:
-                limit = self.large_lateral_force_N
-                if limit is None:           # Prud'homme, with the wheelset's instantaneous axle load
-                    P = Q[w] + Q[other]
-                    limit = prudhomme_limit_N(static_axle_load_N=P) if P > 0.0 else 10e3
-                if abs(Y_flange[w]) > limit:
-                    reasons.add("other_wheel_lifted")
-            if reasons or (rec.flange_climbs and rec.flange_climbs[-1].end_s is None):
-                self._interval(rec.flange_climbs, bool(reasons), t, gamma[w] if reasons else 0.0, "flange_climb", k,
-                               side, reasons, f"contact angle {gamma[w]:.3f} rad, Y {Y[w] / 1e3:.3g} kN, "
-                                              f"Q {Q[w] / 1e3:.3g} kN")
-            # ---- lift-off
-            lifted = N[w] <= self.lift_force_N
-            if lifted:
-                rec.max_gap_m = max(rec.max_gap_m, gap[w])
-            self._interval(rec.lift_offs, lifted, t, gap[w] if lifted else 0.0, "lift_off", k, side, None,
-                           "no normal force")
-            # ---- deep penetration flag
-            if deep[w] or (rec.deep_penetrations and rec.deep_penetrations[-1].end_s is None):
-                self._interval(rec.deep_penetrations, bool(deep[w]), t, depth[w], "deep_penetration", k, side, None,
-                               f"penetration {depth[w] * 1e3:.3g} mm")
-            if self.keep_history:
-                hist_row += [c_y, c_z, roll, N[w], Y[w], gamma[w], depth[w]]
+                    "derailment", t, k, side, f"field-side tread end {1e3 * (self.y_crown - wq[MC.WQ_Y_FIELD]):.1f} "
+                    f"mm inside the rail crown (lateral displacement relative to the rail {c_y * 1e3:.1f} mm): the "
+                    "wheel dropped off towards the track centre"))
+            if f & MC.WF_D3:
+                self._stop(Status(
+                    "derailment", t, k, side, f"loaded flange contact at the end of the profile data with the wheel "
+                    f"{c_y * 1e3:.1f} mm towards the field side (limit {self.profile_end_lateral_m * 1e3:.1f} mm)"))
+            # ---- the intervals: flange climb, lift-off, deep penetration
+            reasons = _reason_names(f >> MC.WF_REASONS_SHIFT)
+            details = {MC.IV_FLANGE: f"contact angle {gamma:.3f} rad, Y {Y / 1e3:.3g} kN, Q {Q / 1e3:.3g} kN",
+                       MC.IV_LIFT: "no normal force", MC.IV_DEEP: f"penetration {depth * 1e3:.3g} mm"}
+            for kind, start_bit, end_bit in ((MC.IV_FLANGE, MC.WF_FLANGE_START, MC.WF_FLANGE_END),
+                                             (MC.IV_LIFT, MC.WF_LIFT_START, MC.WF_LIFT_END),
+                                             (MC.IV_DEEP, MC.WF_DEEP_START, MC.WF_DEEP_END)):
+                if f & start_bit:
+                    self._interval_starts(w, kind, t, reasons if kind == MC.IV_FLANGE else set(), details[kind])
+                elif f & end_bit:
+                    self._interval_ends(w, kind, t)
         # ---- hunting per wheelset (lateral displacement of the wheelset relative to the rails = c_y of its right
         # wheel)
-        for k in range(self.n_wheelsets):
-            h = self._hunt[k].update(t, float(poses[2 * k, 0]))
-            if h is not None and self.hunting[k] is None:
+        for k, f in enumerate(ws_flags):
+            if f & MC.WSF_HUNTING and self.hunting[k] is None:
+                ts, peaks = MC.hunting_rings_ordered(self._rings[k], int(wss[k, MC.WS_HUNT_COUNT]),
+                                                     int(wss[k, MC.WS_HUNT_CROSSINGS]), self._need)
+                freq = 0.5 / float(np.mean(np.diff(ts))) if len(ts) >= 2 else float("nan")
+                amp = float(min(peaks))
                 st = Status("hunting", t, k, None, f"lateral oscillation relative to the rails >= "
-                            f"{h[0] * 1e3:.2f} mm in {self.hunting_cycles} consecutive cycles, {h[1]:.3g} Hz")
+                            f"{amp * 1e3:.2f} mm in {self.hunting_cycles} consecutive cycles, {freq:.3g} Hz")
                 self.hunting[k] = st
                 self._stop(st)
-        if self.keep_history:
-            self._hist.append([t] + hist_row)
-        return self.status
 
-    def _interval(self, intervals, active, t, value, kind, k, side, reasons, detail):
-        cur = intervals[-1] if intervals and intervals[-1].end_s is None else None
-        if active:
-            if cur is None:
-                cur = Interval(t, None, t, value)
-                intervals.append(cur)
-                if kind in self.stop_on and self.status is None:
-                    self._stop(Status(kind, t, k, side, detail + (f" ({', '.join(sorted(reasons))})" if reasons
-                                                                   else "")))
-                else:
-                    self.events.append(Status(kind, t, k, side, detail + (
-                        f" ({', '.join(sorted(reasons))})" if reasons else "")))
-            cur.last_s = t
-            cur.peak = max(cur.peak, value) if math.isfinite(value) else cur.peak
-            if reasons:
-                cur.reasons |= reasons
-        elif cur is not None:
-            cur.end_s = t
-            cur.last_s = t
+    def _interval_starts(self, w, kind, t, reasons, detail):
+        name, attr = next((n, a) for kd, n, a in _INTERVALS if kd == kind)
+        k, side = w // 2, SIDES[w % 2]
+        cur = Interval(t, None, t, float(self._iv[w, kind, MC.IVF_PEAK]), set(reasons))
+        getattr(self._wheels[w], attr).append(cur)
+        self._open[w][kind] = cur
+        st = Status(name, t, k, side, detail + (f" ({', '.join(sorted(reasons))})" if reasons else ""))
+        if name in self.stop_on and self.status is None:
+            self._stop(st)
+        else:
+            self.events.append(st)
 
-    def _stability(self, t, q, out, res):
-        """RK44 stability estimate: the highest frequency of each wheelset on its linearised contact stiffness."""
+    def _interval_ends(self, w, kind, t):
+        cur = self._open[w][kind]
+        self._open[w][kind] = None
+        if cur is None:
+            return
+        self._sync_interval(cur, w, kind)
+        cur.end_s = t
+        cur.last_s = t
+
+    def _sync_interval(self, cur, w, kind):
+        iv = self._iv[w, kind]
+        cur.last_s = float(iv[MC.IVF_LAST])
+        cur.peak = float(iv[MC.IVF_PEAK])
+        cur.reasons = _reason_names(int(iv[MC.IVF_REASONS]))
+
+    def _stability_exact(self, t, k, q):
+        """The stability estimate of wheelset k with LAPACK's eigenvalue (the compiled screening value came close
+        to or above RK44's limit): the highest frequency on its linearised contact stiffness (module docstring)."""
         h = self.rk44_step_s
-        R = self._R
-        Mh = self._Mh
-        for k in range(self.n_wheelsets):
-            inertia = self._inertia[k]
-            if inertia is None:
-                continue
-            mass, I_inv_sqrt = inertia
-            rows = []
-            cx, cy, cz = (float(self.contact.p_ref[k, i] + q[6 * k + i]) for i in range(3))
-            for side in range(2):
-                w = 2 * k + side
-                mirror = 1.0 if side == 0 else -1.0
-                for j in range(out.shape[1]):
-                    if not (res[w, j, L.RES_STATUS] > 0 and res[w, j, L.RES_N] > 0.0):
-                        continue
-                    ny = mirror * out[w, j, L.F_NR_Y]
-                    nz = out[w, j, L.F_NR_Z]
-                    rx = res[w, j, L.RES_P_X] - cx
-                    ry = res[w, j, L.RES_P_Y] - cy
-                    rz = res[w, j, L.RES_P_Z] - cz
-                    sk = math.sqrt(max(out[w, j, L.F_DN_DDELTA], 0.0))
-                    # sqrt(k) (n, r x n), n = (0, ny, nz)
-                    rows.append((0.0, sk * ny, sk * nz, sk * (ry * nz - rz * ny), -sk * rx * nz, sk * rx * ny))
-            if not rows:
-                continue
-            G = np.array(rows)
-            rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
-            Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
-            Mh[3:, 3:] = R @ I_inv_sqrt @ R.T              # (R I R^T)^(-1/2)
-            A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
-            lam = float(np.linalg.eigvalsh(A @ A.T)[-1]) if len(rows) > 1 else float(A[0] @ A[0])
-            wh = math.sqrt(max(lam, 0.0)) * h
-            self.max_omega_h[k] = max(self.max_omega_h[k], wh)
-            if wh > RK44_LIMIT and self.stability_exceeded is None:
-                st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the "
-                            f"contact stiffness (omega h = {wh:.3g} > {RK44_LIMIT:.3f}, omega = {wh / h:.4g} rad/s: "
-                            f"stable below {RK44_LIMIT / (wh / h):.3g} s)")
-                self.stability_exceeded = st
-                self._stop(st)
+        mass, I_inv_sqrt = self._inertia[k]
+        n_rows = int(self._wss[k, MC.WS_ROWS])
+        G = self._G[k, :n_rows].copy()
+        R, Mh = self._R, self._Mh
+        rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
+        Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
+        Mh[3:, 3:] = R @ I_inv_sqrt @ R.T              # (R I R^T)^(-1/2)
+        A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
+        lam = float(np.linalg.eigvalsh(A @ A.T)[-1]) if n_rows > 1 else float(A[0] @ A[0])
+        wh = math.sqrt(max(lam, 0.0)) * h
+        self._wss[k, MC.WS_MAX_OMEGA_H] = max(float(self._wss[k, MC.WS_MAX_OMEGA_H]), wh)
+        if wh > RK44_LIMIT and self.stability_exceeded is None:
+            st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the "
+                        f"contact stiffness (omega h = {wh:.3g} > {RK44_LIMIT:.3f}, omega = {wh / h:.4g} rad/s: "
+                        f"stable below {RK44_LIMIT / (wh / h):.3g} s)")
+            self.stability_exceeded = st
+            self._par[MC.PAR_STAB_SCREEN] = math.inf       # decided once
+            self._stop(st)
 
     # -- results --------------------------------------------------------------------------------------------------
+    @property
+    def wheels(self) -> list[WheelRecord]:
+        """Per wheel (2k right, 2k+1 left) what the monitor recorded so far (:class:`WheelRecord`)."""
+        ext = self._ext
+        for w, rec in enumerate(self._wheels):
+            rec.max_lateral_m = float(ext[w, MC.EXT_MAX_LATERAL])
+            rec.min_lateral_m = float(ext[w, MC.EXT_MIN_LATERAL])
+            rec.max_normal_force_N = float(ext[w, MC.EXT_MAX_N])
+            rec.max_abs_lateral_force_N = float(ext[w, MC.EXT_MAX_ABS_Y])
+            rec.max_penetration_m = float(ext[w, MC.EXT_MAX_PENETRATION])
+            rec.max_contact_angle_rad = float(ext[w, MC.EXT_MAX_ANGLE])
+            rec.max_gap_m = float(ext[w, MC.EXT_MAX_GAP])
+            for kind, cur in enumerate(self._open[w]):
+                if cur is not None:
+                    self._sync_interval(cur, w, kind)
+        return self._wheels
+
+    @property
+    def max_omega_h(self) -> list[float]:
+        """Per wheelset the largest omega h of the RK44 stability estimate (0 without it)."""
+        return [float(x) for x in self._wss[:, MC.WS_MAX_OMEGA_H]]
+
     def history(self) -> dict:
         """Per checked state: ``time_s`` and per wheel ``(lateral_m, vertical_m, roll_rad, N, Y, gamma, delta)``
         arrays of shape (n_states, n_wheels) — pose relative to the rail (side frame), total normal force, lateral
         force Y (track frame), largest loaded contact angle (NaN: no contact), largest penetration."""
-        if not self._hist:
+        if not self._hist_n:
             return {}
-        a = np.array(self._hist, dtype=float)
+        a = self._hist[:self._hist_n].copy()
         n_w = 2 * self.n_wheelsets
         body = a[:, 1:].reshape(len(a), n_w, 7)
         names = ("lateral_m", "vertical_m", "roll_rad", "normal_force_N", "lateral_force_N", "contact_angle_rad",

@@ -20,21 +20,92 @@ rails do not show.
 from __future__ import annotations
 
 import math
-from collections import deque
 
 import numpy as np
+from numba import njit
 
 from ..analysis.safety import EN14363_WINDOW_M, prudhomme_limit_N
-from ..multibody import connector as C
+from ..contact.layout import N_RES, N_SLOTS, RES_F_TRACK_Y, RES_F_TRACK_Z
 from ..multibody.monitor import SIDES, Status
 
 __all__ = ["FlangeClimbCheck"]
+
+# ---- the running window: idx[I_*] ------------------------------------------------------------------------------------
+I_HEAD = 0            # ring position of the oldest state in the window
+I_COUNT = 1           # states in the window
+I_STARTED = 2         # 1 after the first state (axle loads and start time taken)
+N_I = 3
+#: ``window_quotient`` before the window spans 2 m of running
+SHORT = -2
+#: ``window_quotient`` with no quotient above the limit
+BELOW = -1
+
+
+@njit(cache=True)
+def window_quotient(t, res, window_s, nadal, idx, ring_t, ring_y, ring_q, sums, max_quotient, first):
+    """One state of the 2 m window (O(1) per state: running sums over a ring of the states in the window).
+
+    ``res`` the connector's results of the state; ``ring_t`` (cap,), ``ring_y``, ``ring_q`` (cap, n_w) the states
+    in the window (Y towards each wheel's field side, Q); ``sums`` (2, n_w) their sums; ``max_quotient`` (n_w) the
+    largest quotient per wheel; ``first`` (1 + n_ws): the time and the axle loads of the first state.  The caller
+    keeps ``idx[I_COUNT] < cap``.  Returns the wheel whose quotient exceeds ``nadal`` (the largest, first of equal),
+    :data:`BELOW`, or :data:`SHORT` while less than the window has been run.  The sums take each state's values and
+    drop the oldest in the order of arrival, as a sequence of additions and subtractions of whole states."""
+    n_w = res.shape[0]
+    cap = ring_t.shape[0]
+    pos = (idx[I_HEAD] + idx[I_COUNT]) % cap
+    ring_t[pos] = t
+    for w in range(n_w):
+        fy = res[w, 0, RES_F_TRACK_Y]
+        fz = res[w, 0, RES_F_TRACK_Z]
+        for j in range(1, N_SLOTS):
+            fy = fy + res[w, j, RES_F_TRACK_Y]
+            fz = fz + res[w, j, RES_F_TRACK_Z]
+        y_out = -fy if w % 2 == 0 else fy            # towards the wheel's field side
+        q = -fz
+        if not (q >= 0.0 or q != q):                 # NumPy's maximum(q, 0): NaN propagates
+            q = 0.0
+        ring_y[pos, w] = y_out
+        ring_q[pos, w] = q
+    if idx[I_STARTED] == 0:
+        idx[I_STARTED] = 1
+        first[0] = t
+        for k in range(n_w // 2):
+            first[1 + k] = ring_q[pos, 2 * k] + ring_q[pos, 2 * k + 1]
+    idx[I_COUNT] += 1
+    for w in range(n_w):
+        sums[0, w] += ring_y[pos, w]
+        sums[1, w] += ring_q[pos, w]
+    while idx[I_COUNT] > 0 and t - ring_t[idx[I_HEAD]] > window_s:
+        h = idx[I_HEAD]
+        for w in range(n_w):
+            sums[0, w] -= ring_y[h, w]
+            sums[1, w] -= ring_q[h, w]
+        idx[I_HEAD] = (h + 1) % cap
+        idx[I_COUNT] -= 1
+    if t - first[0] < window_s * (1.0 - 1e-9):
+        return SHORT                                  # less than 2 m run so far
+    best = BELOW
+    q_best = -math.inf
+    for w in range(n_w):
+        qw = sums[0, w] / sums[1, w] if sums[1, w] > 0.0 else 0.0
+        m = max_quotient[w]
+        if m == m and (qw != qw or qw > m):
+            max_quotient[w] = qw
+        if best < 0 or qw != qw or qw > q_best:      # argmax: the first maximum, the first NaN
+            if q_best == q_best:
+                best = w
+                q_best = qw
+    if not q_best > nadal:
+        return BELOW
+    return best
 
 
 class FlangeClimbCheck:
     """``check(contact, t)`` after the monitor evaluated the contact at the state of time ``t``: a ``derailment``
     :class:`~exudyn_wheelrail.multibody.monitor.Status` when a wheel's 2 m quotient exceeds ``nadal_limit``, else
-    None.  Inactive for a flangeless wheel (``nadal_limit`` NaN) or a standing vehicle."""
+    None.  Inactive for a flangeless wheel (``nadal_limit`` NaN) or a standing vehicle.  The per-state work is one
+    compiled call (:func:`window_quotient`)."""
 
     def __init__(self, n_wheelsets: int, speed_m_s: float, nadal_limit: float, window_m: float = EN14363_WINDOW_M):
         self.n = int(n_wheelsets)
@@ -42,47 +113,48 @@ class FlangeClimbCheck:
         self.window_s = window_m / speed_m_s if speed_m_s > 0.0 else math.inf
         self.window_m = float(window_m)
         self.active = math.isfinite(self.nadal_limit) and math.isfinite(self.window_s)
-        self._states = deque()                  # (t, Y towards the field side per wheel, Q per wheel)
-        self._sum_y = np.zeros(2 * self.n)
-        self._sum_q = np.zeros(2 * self.n)
-        self._axle_load_N = None
-        self._t_first = None
-        self.max_quotient = np.zeros(2 * self.n)  #: per wheel: the largest 2 m quotient seen
-        self._right = np.arange(2 * self.n) % 2 == 0
+        n_w = 2 * self.n
+        self._idx = np.zeros(N_I, dtype=np.int64)
+        self._ring_t = np.zeros(64)
+        self._ring_y = np.zeros((64, n_w))
+        self._ring_q = np.zeros((64, n_w))
+        self._sums = np.zeros((2, n_w))                 # Y towards the field side, Q: sums over the window
+        self._first = np.zeros(1 + self.n)              # time and axle loads of the first state
+        self.max_quotient = np.zeros(n_w)  #: per wheel: the largest 2 m quotient seen
+        # load (or compile) the compiled window here, not inside a timed solve: one call on copies
+        window_quotient(0.0, np.zeros((n_w, N_SLOTS, N_RES)), 1.0, 1.0, self._idx.copy(), self._ring_t.copy(),
+                        self._ring_y.copy(), self._ring_q.copy(), self._sums.copy(), self.max_quotient.copy(),
+                        self._first.copy())
+
+    def _grow(self):
+        """Double the ring, the window's states kept in order from position 0."""
+        cap = self._ring_t.shape[0]
+        order = (self._idx[I_HEAD] + np.arange(self._idx[I_COUNT])) % cap
+        for name in ("_ring_t", "_ring_y", "_ring_q"):
+            old = getattr(self, name)
+            new = np.zeros((2 * cap,) + old.shape[1:])
+            new[:len(order)] = old[order]
+            setattr(self, name, new)
+        self._idx[I_HEAD] = 0
 
     def __call__(self, contact, t: float) -> Status | None:
         if not self.active:
             return None
-        res = contact.results                        # this state's evaluation (the monitor's), per wheel and slot
-        fy = res[:, :, C.RES_F_TRACK_Y].sum(axis=1)
-        y_out = np.where(self._right, -fy, fy)       # towards each wheel's field side
-        q = np.maximum(-res[:, :, C.RES_F_TRACK_Z].sum(axis=1), 0.0)
-        if self._axle_load_N is None:
-            self._axle_load_N = q[0::2] + q[1::2]
-            self._t_first = float(t)
-        self._states.append((float(t), y_out, q))
-        self._sum_y += y_out
-        self._sum_q += q
-        while self._states and t - self._states[0][0] > self.window_s:
-            _, y0, q0 = self._states.popleft()
-            self._sum_y -= y0
-            self._sum_q -= q0
-        if t - self._t_first < self.window_s * (1.0 - 1e-9):
-            return None                                    # less than 2 m run so far
-        with np.errstate(divide="ignore", invalid="ignore"):
-            quotient = np.where(self._sum_q > 0.0, self._sum_y / self._sum_q, 0.0)
-        np.maximum(self.max_quotient, quotient, out=self.max_quotient)
-        w = int(np.argmax(quotient))
-        if not quotient[w] > self.nadal_limit:
+        if self._idx[I_COUNT] >= self._ring_t.shape[0]:
+            self._grow()
+        w = window_quotient(float(t), contact.results, self.window_s, self.nadal_limit, self._idx, self._ring_t,
+                            self._ring_y, self._ring_q, self._sums, self.max_quotient, self._first)
+        if w < 0:
             return None
         k = w // 2
-        n_states = len(self._states)
-        track_shift = abs(self._sum_y[2 * k] - self._sum_y[2 * k + 1]) / n_states   # ΣY on the track, both wheels
-        P = float(self._axle_load_N[k])
+        quotient = self._sums[0, w] / self._sums[1, w]
+        n_states = int(self._idx[I_COUNT])
+        track_shift = abs(self._sums[0, 2 * k] - self._sums[0, 2 * k + 1]) / n_states   # ΣY on the track, both wheels
+        P = float(self._first[1 + k])
         shift = (f"; track-shift force ΣY over the same 2 m {track_shift / 1e3:.4g} kN = "
                  f"{track_shift / prudhomme_limit_N(static_axle_load_N=P):.3g} x Prud'homme's limit "
                  f"{prudhomme_limit_N(static_axle_load_N=P) / 1e3:.4g} kN" if P > 0.0 else "")
         return Status("derailment", float(t), k, SIDES[w % 2],
-                      f"flange climb: Y/Q averaged over the last {self.window_m:g} m of running = {quotient[w]:.4g} "
+                      f"flange climb: Y/Q averaged over the last {self.window_m:g} m of running = {quotient:.4g} "
                       f"> Nadal's limit {self.nadal_limit:.4g} of the flange: friction no longer holds the flange "
                       f"down, the wheel climbs" + shift)

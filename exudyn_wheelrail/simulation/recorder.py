@@ -3,9 +3,9 @@ one kind; and the progress bar.
 
 The runner (:mod:`.runner`) calls :meth:`Recorder.record` for every accepted state on the recording grid (every
 ``record_every``-th multiple of ``dt_s``), *after* the run monitor has evaluated the contact at that state: the
-probes read the connector's results of that evaluation (:meth:`~exudyn_wheelrail.multibody.connector.
-WheelRailContact.wheel_force_N`, ``results``, ``wheelset_rail_pose``) and Exudyn's outputs of the bodies — the
-contact is never evaluated twice for one state.
+probes read the connector's results of that evaluation (``results``, ``wheelset_rail_pose``; the wheels' columns in
+one compiled call, :func:`wheel_columns`) and Exudyn's outputs of the bodies — the contact is never evaluated twice
+for one state.  A row is filled in place and copied into the table once.
 
 Column groups (:data:`GROUPS`, in the order the columns are stored; wheelset j = 1 leading, wheel ``<side>`` right
 or left looking in the running direction; track frame of :mod:`exudyn_wheelrail.conventions`: x forward, y right,
@@ -32,10 +32,15 @@ z down):
 """
 from __future__ import annotations
 
+import math
 import sys
 import time
 
 import numpy as np
+from numba import njit
+
+from ..contact.layout import N_SLOTS, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_N, RES_STATUS, SLOT_FLANGE
+from ..multibody.track import irregularity_at
 
 __all__ = ["GROUPS", "SIDES", "Recorder", "ProgressBar", "PROGRESS_MIN_STEPS", "vehicle_probes"]
 
@@ -48,7 +53,9 @@ PROGRESS_MIN_STEPS = 200
 
 class Recorder:
     """Rows of the ``probes``' columns, one per :meth:`record` call; ``time_s`` first.  A probe has ``columns``
-    (a list of ``(group, name)``) and ``fill(mbs, t, row)`` writing its slice of the row."""
+    (a list of ``(group, name)``) and either ``fill(mbs, t, row)`` writing its slice of the row of a state, or —
+    for columns that are a function of the time alone — ``fill_rows(t, rows)`` writing its columns of many rows at
+    once (``t`` (m,), ``rows`` (m, k)); those are filled when the table is read (:attr:`data`)."""
 
     def __init__(self, probes, n_rows_hint: int = 64):
         self.probes = list(probes)
@@ -61,27 +68,46 @@ class Recorder:
                 self.columns.append(name)
                 self.groups.setdefault(group, []).append(name)
             self._slices.append(slice(start, len(self.columns)))
-        self.data = np.full((max(1, int(n_rows_hint)), len(self.columns)), np.nan)
+        self._data = np.full((max(1, int(n_rows_hint)), len(self.columns)), np.nan)
         self.n = 0
+        self._n_complete = 0                                   # rows whose time-only columns are filled
+        self._row = np.full(len(self.columns), np.nan)          # the row being filled; its slices per probe
+        self._fills = [(p.fill, self._row[sl]) for p, sl in zip(self.probes, self._slices)
+                       if not hasattr(p, "fill_rows")]
+        self._time_only = [(p, sl) for p, sl in zip(self.probes, self._slices) if hasattr(p, "fill_rows")]
 
     def record(self, mbs, t: float) -> None:
-        if self.n >= self.data.shape[0]:
-            self.data = np.vstack([self.data, np.full_like(self.data, np.nan)])
-        row = self.data[self.n]
+        if self.n >= self._data.shape[0]:
+            self._data = np.vstack([self._data, np.full_like(self._data, np.nan)])
+        row = self._row
+        row.fill(np.nan)
         row[0] = t
-        for p, sl in zip(self.probes, self._slices):
-            p.fill(mbs, t, row[sl])
+        for fill, out in self._fills:
+            fill(mbs, t, out)
+        self._data[self.n] = row
         self.n += 1
 
     @property
+    def data(self) -> np.ndarray:
+        """The table (rows ``[:n]`` are the recorded states), every column filled."""
+        if self._n_complete < self.n:
+            rows = slice(self._n_complete, self.n)
+            t = self._data[rows, 0]
+            for p, sl in self._time_only:
+                p.fill_rows(t, self._data[rows, sl])            # a view: written in place
+            self._n_complete = self.n
+        return self._data
+
+    @property
     def last_time_s(self) -> float | None:
-        return float(self.data[self.n - 1, 0]) if self.n else None
+        return float(self._data[self.n - 1, 0]) if self.n else None
 
     def keep_until(self, t_s: float) -> int:
         """Drop the rows after ``t_s`` (inclusive bound); returns how many were dropped."""
-        keep = int(np.searchsorted(self.data[:self.n, 0], t_s + 1e-12, side="right"))
+        keep = int(np.searchsorted(self._data[:self.n, 0], t_s + 1e-12, side="right"))
         dropped = self.n - keep
         self.n = keep
+        self._n_complete = min(self._n_complete, keep)
         return dropped
 
     def table(self) -> dict:
@@ -97,43 +123,58 @@ class _TrackDistance:
         self.s0, self.V = float(s_leading0_m), float(speed_m_s)
         self.columns = [("", "s_leading_m")]
 
-    def fill(self, mbs, t, out):
-        out[0] = self.s0 + self.V * t
+    def fill_rows(self, t, rows):
+        rows[:, 0] = self.s0 + self.V * t
+
+
+@njit(cache=True)
+def wheel_columns(res, out):
+    """The ``_Wheels`` columns of one state from the connector's results ``res`` (2 n, N_SLOTS, N_RES) into
+    ``out`` (5 x 2 n: Y, Q, YQ, flange, contact angle per wheel); sums over the slots in slot order, as
+    :meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.wheel_force_N`."""
+    n_w = res.shape[0]
+    for w in range(n_w):
+        fy = res[w, 0, RES_F_TRACK_Y]
+        fz = res[w, 0, RES_F_TRACK_Z]
+        for j in range(1, N_SLOTS):
+            fy = fy + res[w, j, RES_F_TRACK_Y]
+            fz = fz + res[w, j, RES_F_TRACK_Z]
+        q = -fz + 0.0                                         # no -0.0
+        y_out = -fy if w % 2 == 0 else fy                     # towards the wheel's field side
+        out[w] = fy
+        out[n_w + w] = q
+        out[2 * n_w + w] = y_out / q if q > 0.0 else math.nan
+        out[3 * n_w + w] = 1.0 if (res[w, SLOT_FLANGE, RES_STATUS] > 0 and res[w, SLOT_FLANGE, RES_N] > 0.0) \
+            else 0.0
+        reg = 0                                               # the most loaded region (first maximum, first NaN)
+        for j in range(1, N_SLOTS):
+            a = res[w, reg, RES_N]
+            b = res[w, j, RES_N]
+            if a == a and (b != b or b > a):
+                reg = j
+        out[4 * n_w + w] = res[w, reg, RES_GAMMA] if res[w, reg, RES_N] > 0.0 else math.nan
 
 
 class _Wheels:
-    """Groups ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` of every wheel, from the contact's results."""
+    """Groups ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` of every wheel, from the contact's results (one
+    compiled call, :func:`wheel_columns`)."""
 
     def __init__(self, contact, n_wheelsets: int):
-        from ..multibody import connector as C
-        self.C = C
         self.c = contact
         self.n = int(n_wheelsets)
+        if contact.results.shape[0] != 2 * self.n:     # the compiled fill does not check bounds
+            raise ValueError(f"the recorder expects {self.n} wheelsets but the contact couples "
+                             f"{contact.results.shape[0] // 2}: give it the model whose wheelsets the contact couples")
         wheels = [(j, side) for j in range(self.n) for side in SIDES]
         self.columns = ([("Y", f"Y_w{j + 1}_{s}_N") for j, s in wheels]
                         + [("Q", f"Q_w{j + 1}_{s}_N") for j, s in wheels]
                         + [("YQ", f"YQ_w{j + 1}_{s}") for j, s in wheels]
                         + [("flange", f"flange_w{j + 1}_{s}") for j, s in wheels]
                         + [("contact_angle", f"contact_angle_w{j + 1}_{s}_rad") for j, s in wheels])
+        wheel_columns(np.zeros_like(contact.results), np.zeros(len(self.columns)))  # loaded here, not in the solve
 
     def fill(self, mbs, t, out):
-        c, C = self.c, self.C
-        n_w = 2 * self.n
-        res = c.results
-        F = res[:, :, C.RES_F_TRACK_X:C.RES_F_TRACK_Z + 1].sum(axis=1)   # per wheel, as wheel_force_N
-        Y = F[:, 1]
-        Q = -F[:, 2] + 0.0                                                # no -0.0
-        y_out = np.where(np.arange(n_w) % 2 == 0, -Y, Y)                  # towards the wheel's field side
-        out[:n_w] = Y
-        out[n_w:2 * n_w] = Q
-        with np.errstate(divide="ignore", invalid="ignore"):
-            out[2 * n_w:3 * n_w] = np.where(Q > 0.0, y_out / np.where(Q > 0.0, Q, 1.0), np.nan)
-        for w in range(n_w):
-            out[3 * n_w + w] = 1.0 if c.flange_contact(w // 2, SIDES[w % 2]) else 0.0
-        loads = res[:, :, C.RES_N]
-        reg = np.argmax(loads, axis=1)
-        rows = np.arange(n_w)
-        out[4 * n_w:5 * n_w] = np.where(loads[rows, reg] > 0.0, res[rows, reg, C.RES_GAMMA], np.nan)
+        wheel_columns(self.c.results, out)
 
 
 class _WheelsetLateral:
@@ -147,26 +188,36 @@ class _WheelsetLateral:
         out[:] = self.c.wheelset_rail_pose()[:, 0]
 
 
+@njit(cache=True)
+def track_columns(rows, knots, coefs, s, out):
+    """The irregularity (y, z) at the track distances ``s`` (m, n) into ``out`` (m, 2 n): y for every wheelset, then
+    z."""
+    n = s.shape[1]
+    for i in range(s.shape[0]):
+        for j in range(n):
+            v = irregularity_at(rows, knots, coefs, s[i, j])
+            out[i, j] = v[0]
+            out[i, n + j] = v[3]
+
+
 class _Track:
-    """``track_lateral_w<j>_m``, ``track_vertical_w<j>_m``: the irregularity under each wheelset."""
+    """``track_lateral_w<j>_m``, ``track_vertical_w<j>_m``: the irregularity under each wheelset (a function of the
+    time: filled for all rows at once)."""
 
     def __init__(self, model, track):
-        from ..multibody.track import irregularity_at
         self.model = model
-        self.x = [float(ws.p_cg_in_frame[0]) for ws in model.wheelsets]
+        self.x = np.array([float(ws.p_cg_in_frame[0]) for ws in model.wheelsets])
         p = track.packed()
         self.packed = (p.rows, p.knots, p.coefs)
-        self.at = irregularity_at
         n = len(self.x)
         self.columns = ([("track", f"track_lateral_w{j + 1}_m") for j in range(n)]
                         + [("track", f"track_vertical_w{j + 1}_m") for j in range(n)])
 
-    def fill(self, mbs, t, out):
-        n = len(self.x)
-        for j, x in enumerate(self.x):
-            v = self.at(*self.packed, float(self.model.track_distance_m(x, t)))
-            out[j] = v[0]
-            out[n + j] = v[3]
+    def fill_rows(self, t, rows):
+        s = self.model.track_distance_m(self.x[None, :], np.asarray(t)[:, None])      # (m, n)
+        out = np.empty((len(t), 2 * len(self.x)))
+        track_columns(*self.packed, np.ascontiguousarray(s, dtype=float), out)
+        rows[:] = out
 
 
 class _CarBodyPoints:
@@ -174,7 +225,9 @@ class _CarBodyPoints:
 
     def __init__(self, model, points):
         import exudyn as exu
-        self.ovt = exu.OutputVariableType
+        ovt = exu.OutputVariableType
+        self._rotation, self._acceleration, self._displacement = (ovt.RotationMatrix, ovt.Acceleration,
+                                                                  ovt.Displacement)
         cb = model.car_body
         self.body = cb.body
         self.gravity = np.array([0.0, 0.0, model.gravity_m_s2])
@@ -186,12 +239,13 @@ class _CarBodyPoints:
                              for d in ("lateral", "vertical")]
 
     def fill(self, mbs, t, out):
-        ovt = self.ovt
-        R = np.asarray(mbs.GetObjectOutputBody(self.body, ovt.RotationMatrix)).reshape(3, 3)
+        output = mbs.GetObjectOutputBody               # (body, variable, local position): three calls per point
+        body = self.body
+        R = np.asarray(output(body, self._rotation)).reshape(3, 3)
         k = 0
         for loc in self.local:
-            a = np.asarray(mbs.GetObjectOutputBody(self.body, ovt.Acceleration, localPosition=loc))
-            u = np.asarray(mbs.GetObjectOutputBody(self.body, ovt.Displacement, localPosition=loc))
+            a = np.asarray(output(body, self._acceleration, loc))
+            u = np.asarray(output(body, self._displacement, loc))
             f = R.T @ (a - self.gravity)
             out[k:k + 6] = (a[1], a[2], f[1], f[2], u[1], u[2])
             k += 6
