@@ -25,8 +25,9 @@ import numpy as np
 from numba import njit
 
 from ..analysis.safety import EN14363_WINDOW_M, prudhomme_limit_N
-from ..contact.layout import N_RES, N_SLOTS, RES_F_TRACK_Y, RES_F_TRACK_Z
+from ..contact.layout import N_RES, N_SLOTS
 from ..multibody.monitor import SIDES, Status
+from .recorder import wheel_force_yz
 
 __all__ = ["FlangeClimbCheck"]
 
@@ -56,12 +57,7 @@ def window_quotient(t, res, window_s, nadal, idx, ring_t, ring_y, ring_q, sums, 
     pos = (idx[I_HEAD] + idx[I_COUNT]) % cap
     ring_t[pos] = t
     for w in range(n_w):
-        fy = res[w, 0, RES_F_TRACK_Y]
-        fz = res[w, 0, RES_F_TRACK_Z]
-        for j in range(1, N_SLOTS):
-            fy = fy + res[w, j, RES_F_TRACK_Y]
-            fz = fz + res[w, j, RES_F_TRACK_Z]
-        y_out = -fy if w % 2 == 0 else fy            # towards the wheel's field side
+        fy, fz, y_out = wheel_force_yz(res, w)        # y_out: towards the wheel's field side
         q = -fz
         if not (q >= 0.0 or q != q):                 # NumPy's maximum(q, 0): NaN propagates
             q = 0.0

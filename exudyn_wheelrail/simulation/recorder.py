@@ -127,6 +127,19 @@ class _TrackDistance:
         rows[:, 0] = self.s0 + self.V * t
 
 
+@njit(cache=True, inline="always")
+def wheel_force_yz(res, w):
+    """Track-frame y and z components [N] of the total contact force of the rail on wheel ``w`` (the sum over its
+    slots in slot order, as :meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.wheel_force_N`) and the
+    lateral force towards the wheel's field side (wheel ``2k`` the right one: ``-F_y``; ``2k+1`` the left: ``F_y``)."""
+    fy = res[w, 0, RES_F_TRACK_Y]
+    fz = res[w, 0, RES_F_TRACK_Z]
+    for j in range(1, N_SLOTS):
+        fy = fy + res[w, j, RES_F_TRACK_Y]
+        fz = fz + res[w, j, RES_F_TRACK_Z]
+    return fy, fz, (-fy if w % 2 == 0 else fy)
+
+
 @njit(cache=True)
 def wheel_columns(res, out):
     """The ``_Wheels`` columns of one state from the connector's results ``res`` (2 n, N_SLOTS, N_RES) into
@@ -134,13 +147,8 @@ def wheel_columns(res, out):
     :meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.wheel_force_N`."""
     n_w = res.shape[0]
     for w in range(n_w):
-        fy = res[w, 0, RES_F_TRACK_Y]
-        fz = res[w, 0, RES_F_TRACK_Z]
-        for j in range(1, N_SLOTS):
-            fy = fy + res[w, j, RES_F_TRACK_Y]
-            fz = fz + res[w, j, RES_F_TRACK_Z]
+        fy, fz, y_out = wheel_force_yz(res, w)
         q = -fz + 0.0                                         # no -0.0
-        y_out = -fy if w % 2 == 0 else fy                     # towards the wheel's field side
         out[w] = fy
         out[n_w + w] = q
         out[2 * n_w + w] = y_out / q if q > 0.0 else math.nan
