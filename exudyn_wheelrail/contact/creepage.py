@@ -79,7 +79,8 @@ from numba import njit
 __all__ = [
     "DEFAULT_V_MIN_M_S", "CREEP_OK", "CREEP_STANDSTILL", "CREEP_REVERSED", "CREEP_DEGENERATE_FRAME",
     "CREEP_INVALID_INPUT", "Creepages", "contact_frame", "contact_frame_core", "creepages", "creepages_core",
-    "wheelset_axis", "yawed_contact_point", "yawed_contact_point_core", "creep_status_names",
+    "wheelset_axis", "yawed_contact_point", "yawed_contact_point_core", "yawed_contact_point_cs",
+    "creep_status_names",
 ]
 
 #: Default standstill guard [m/s]: creepages are divided by max(|V|, v_min).
@@ -109,7 +110,7 @@ def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def contact_frame_core(n_rail, e_axle, direction, frame_out):
     """Fill ``frame_out`` (3, 3) with rows x_c, y_c, z_c (track frame) from the outward rail normal and the wheelset
     axis; ``direction`` +1 (forward) or -1 (x_c, y_c reversed).  Returns a status (0 or CREEP_DEGENERATE_FRAME /
@@ -147,7 +148,7 @@ def contact_frame_core(n_rail, e_axle, direction, frame_out):
     return CREEP_OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def creepages_core(p_contact, n_rail, e_axle, p_centre, v_centre, omega_wheelset, v_rail, omega_rail, v_min,
                    frame_out):
     """Compiled creepages (no Python objects): all vectors (3,) in the track frame, ``v_min`` > 0 [m/s].
@@ -215,10 +216,14 @@ def yawed_contact_point_core(p_y, p_z, n_y, n_z, c_x, c_y, c_z, roll, yaw):
     (track frame, in the cross-section x = c_x of the wheelset centre ``(c_x, c_y, c_z)``); ``roll``, ``yaw`` [rad].
     Returns ``(x, y, z, theta, ok)``: the point rotated on its wheel circle by ``theta`` [rad] so that the wheel
     normal has no x component; ok False (NaN point) when no such angle exists (a normal almost along the axle)."""
-    cr = math.cos(roll)
-    sr = math.sin(roll)
-    cp = math.cos(yaw)
-    sp = math.sin(yaw)
+    return yawed_contact_point_cs(p_y, p_z, n_y, n_z, c_x, c_y, c_z, math.cos(roll), math.sin(roll), math.cos(yaw),
+                                  math.sin(yaw))
+
+
+@njit(cache=True)
+def yawed_contact_point_cs(p_y, p_z, n_y, n_z, c_x, c_y, c_z, cr, sr, cp, sp):
+    """:func:`yawed_contact_point_core` with the cosine and sine of the roll (``cr``, ``sr``) and of the yaw
+    (``cp``, ``sp``) given: the connector computes them once per wheelset for all its contacts."""
     dy = p_y - c_y
     dz = p_z - c_z
     u = cr * dy + sr * dz              # body (wheelset) frame: axial and radial coordinates of the point

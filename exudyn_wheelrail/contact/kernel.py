@@ -117,9 +117,10 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 200
 @njit(cache=True)
 def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params):
     """Evaluate geometry at (s_w, s_r) and Hertz; write one output row."""
-    wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheelset frame
+    wy = c_y + cos_r * qy - sin_r * qz                                      # placed by the pose (wheel_point)
+    wz = c_z + sin_r * qy + cos_r * qz
     ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
-    qy, qz, qty, qtz, qny, qnz, qk = curve_eval(nodes, meta, wheel, s_w)   # wheelset frame
     delta = -((wy - ry) * rny + (wz - rz) * rnz)
     r_roll = qz
     k_w_roll = qnz / r_roll        # Meusnier: normal curvature of the parallel circle, cos(psi)/r
@@ -182,11 +183,22 @@ def _no_overlap(out, w, reg):
     out[w, reg, F_PENETRATION] = -np.inf
 
 
+#: rows of the scratch array of :func:`_solve_region` (N_SCRATCH_ROWS, MAX_STARTS): Newton starts and candidates
+_SC_START_SW = 0
+_SC_START_SR = 1
+_SC_CAND_SW = 2
+_SC_CAND_SR = 3
+_SC_CAND_DELTA = 4
+_SC_CAND_CONVEX = 5     # 1.0: the candidate is a convex optimum
+N_SCRATCH_ROWS = 6
+MAX_STARTS = 8          # Newton starts and tracked candidates per region
+
+
 @njit(cache=True)
 def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, k_max, out_sw, out_sr):
     """Newton starts: the deepest local maxima of a coarse vertical-overlap scan, or the nearest sample pair."""
-    n = overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, min(k_max, 8),
-                      out_sw, out_sr)
+    n = overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
+                      min(k_max, MAX_STARTS), out_sw, out_sr)
     if n == 0:
         # a Newton start only: 50 rail samples (2-3 mm apart) are plenty
         out_sw[0], out_sr[0] = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
@@ -216,11 +228,18 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     """Contact of one wheel region with the rail (steps in the module docstring); updates ``warm[w, reg]``.
     ``slot2`` >= 0: the output slot for the region's second, separate contact zone (filled when a distinct convex
     optimum also penetrates and the surfaces separate between the two points), else left untouched."""
+    _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, np.cos(roll), np.sin(roll), warm, params, out, w,
+                  reg, slot2, np.empty((N_SCRATCH_ROWS, MAX_STARTS)))
+
+
+@njit(cache=True)
+def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, warm, params, out, w, reg, slot2,
+                  scratch):
+    """:func:`solve_region` with the cosine and sine of the roll given and a scratch array (``N_SCRATCH_ROWS``,
+    ``MAX_STARTS``) for the Newton starts and candidates (no allocation per call)."""
     if wheel < 0:                                   # the profile has no such region (e.g. a flangeless cone)
         _no_overlap(out, w, reg)
         return
-    cos_r = np.cos(roll)
-    sin_r = np.sin(roll)
     first = int(meta[wheel, 0])
     s_lo = nodes[first, 0]
     s_hi = nodes[first + int(meta[wheel, 1]) - 1, 0]
@@ -245,8 +264,8 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     warm[w, reg, W_GAP] = -1.0
     if not scanned and not abs(c_y - warm[w, reg, W_SCAN_Y]) <= params[P_RESCAN_DISTANCE]:
         scanned = True          # moved far since the last scan (or never scanned): look for other zones again
-    starts_sw = np.empty(8)
-    starts_sr = np.empty(8)
+    starts_sw = scratch[_SC_START_SW]
+    starts_sr = scratch[_SC_START_SR]
     n_starts = 1
     if scanned:
         n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
@@ -267,10 +286,10 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     alt_sw = 0.0
     alt_sr = 0.0
     alt_delta = -np.inf
-    cand_sw = np.empty(8)
-    cand_sr = np.empty(8)
-    cand_delta = np.empty(8)
-    cand_convex = np.zeros(8, dtype=np.bool_)
+    cand_sw = scratch[_SC_CAND_SW]
+    cand_sr = scratch[_SC_CAND_SR]
+    cand_delta = scratch[_SC_CAND_DELTA]
+    cand_convex = scratch[_SC_CAND_CONVEX]
     n_cand = 0
     iters = 0
     sep_ok = False          # a convex, separated Newton solution from the global start (exact gap candidate)
@@ -287,11 +306,11 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
                                                                    starts_sr[k], starts_sw[k], s_lo, s_hi, r_lo,
                                                                    r_hi, params)
             iters += it
-            if valid and n_cand < 8:       # any converged optimum marks a zone worth tracking
+            if valid and n_cand < MAX_STARTS:       # any converged optimum marks a zone worth tracking
                 cand_sw[n_cand] = s_w
                 cand_sr[n_cand] = s_r
                 cand_delta[n_cand] = delta
-                cand_convex[n_cand] = convex
+                cand_convex[n_cand] = 1.0 if convex else 0.0
                 n_cand += 1
             if valid and convex and delta > best_delta:
                 best_delta = delta
@@ -325,7 +344,7 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
                     mid_ok, mid_dv, mid_sr = _overlap_at_wheel(nodes, meta, mono, rail, wheel,
                                                                0.5 * (alt_sw + best_sw), c_y, c_z, cos_r, sin_r)
                     if mid_ok and mid_dv < 0.0:
-                        fill2 = cand_convex[k2]  # two separate patches: a true two-point contact on the tread
+                        fill2 = cand_convex[k2] != 0.0  # two separate patches: a two-point tread contact
                     else:
                         # one overlap zone with two penetration maxima (a conformal zone, e.g. S1002/UIC60 near
                         # the centre): Hertz at either maximum jumps when their depths cross, so the two are
@@ -449,6 +468,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
     out : (n_wheels, N_SLOTS, N_FIELDS) — filled: slots tread, flange and the tread's second zone.
     """
     n_wheels = poses.shape[0]
+    scratch = np.empty((N_SCRATCH_ROWS, MAX_STARTS))
     for w in range(n_wheels):
         rail = curve_ids[w, 0]
         if not (np.isfinite(poses[w, 0]) and np.isfinite(poses[w, 1]) and np.isfinite(poses[w, 2])):
@@ -456,9 +476,12 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
             out[w, :, F_STATUS] = STATUS_INVALID_POSE
             continue
         _no_overlap(out, w, SLOT_TREAD_2)
+        roll = poses[w, 2]
+        cos_r = np.cos(roll)
+        sin_r = np.sin(roll)
         for reg in range(2):
-            solve_region(nodes, meta, mono, rail, curve_ids[w, 1 + reg], poses[w, 0], poses[w, 1], poses[w, 2],
-                         warm, params, out, w, reg, SLOT_TREAD_2 if reg == 0 else -1)
+            _solve_region(nodes, meta, mono, rail, curve_ids[w, 1 + reg], poses[w, 0], poses[w, 1], roll, cos_r, sin_r,
+                          warm, params, out, w, reg, SLOT_TREAD_2 if reg == 0 else -1, scratch)
         t2 = out[w, SLOT_TREAD_2]
         if t2[F_STATUS] > 0 and out[w, 1, F_STATUS] > 0 and np.hypot(
                 t2[F_PW_Y] - out[w, 1, F_PW_Y], t2[F_PW_Z] - out[w, 1, F_PW_Z]) < params[P_DEDUP_DISTANCE]:

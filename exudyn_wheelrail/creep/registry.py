@@ -85,7 +85,7 @@ _BOUNDED = tuple(law.coulomb_bound for law in sorted(LAWS.values(), key=lambda l
 assert [law.code for law in sorted(LAWS.values(), key=lambda law: law.code)] == list(range(len(LAWS)))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def creep_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     """Creep forces ``(Fx, Fy, Mz, flag)`` of the law with code ``law`` (module docstring: its rules) on an
     ellipse ``a``, ``b`` [m] under ``N`` [N] at the creepages ``xi``, ``eta`` [-], ``phi`` [1/m]; ``cp`` the
@@ -102,7 +102,7 @@ def creep_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     return Fx, Fy, Mz, flag
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     """The law of :func:`creep_forces` without the Coulomb bound."""
     if law == _NONE or N <= 0.0:

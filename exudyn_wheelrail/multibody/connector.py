@@ -80,8 +80,8 @@ from ..creep.registry import CREEP_AB_CLAMPED, CREEP_LAWS, combined_elastic_cons
 from ..creep.registry import creep_forces as _creep  # noqa: F401  (the compiled creep dispatch, importable here)
 from ..structures.deck_kinematics import DECK_GROUND_VY, DECK_GROUND_Y, N_DECK_STATE, deck_arrays
 from ..validation import finite, poisson_ratio, youngs_modulus
-from .connector_core import (FRAME_MOVING, FRAME_S_START, FRAME_SPEED, N_FRAME, contact_forces_core,
-                             contact_jacobian_core)
+from .connector_core import (FRAME_MOVING, FRAME_S_START, FRAME_SPEED, N_FRAME, compiled_for, contact_data,
+                             contact_forces_core, contact_jacobian_core, work_arrays)
 from .placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
 from .rotations import rotation_from_vector  # noqa: F401  (importable from here)
 from .rotations import rotation_vector_from_matrix as _rotation_vector_from_matrix  # noqa: F401
@@ -249,16 +249,20 @@ class WheelRailContact:
         self._deck_state = np.zeros((n_ws, N_DECK_STATE))
         self._side_poses = np.zeros((2 * n_ws, 3))
         kc = self._kc
-        # the compiled call's packed arguments (connector_core): constant model data, and the arrays it updates
+        # the compiled call's packed arguments (connector_core): model data, updated arrays, scratch: one object
         self._model = ((self.p_ref, self._frame), irr, (kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params,
                                                       (par, cz_ref, data)), creep.core, self._deck)
         self._state = (kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws, self._rail_f,
                        self._deck_state)
+        self._work = work_arrays(n_ws, self.n_modes)
+        self._data = contact_data(self._model, self._state, self._work)
         n = 6 * n_ws + self.n_modes
         self.n_coordinates = n
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.results = np.zeros((2 * n_ws, N_SLOTS, N_RES))
+        # the compiled force call for exactly the argument types forces() passes: no type dispatch per call
+        self._forces_core = compiled_for(contact_forces_core, self._f, self._f, 0.0, self._data, self._f, self.results)
         self.n_calls = 0
         node_numbers = self.nodes_exu + ([bridge.modal_node] if bridge is not None else [])
         kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=np.zeros((n, n)),
@@ -311,30 +315,39 @@ class WheelRailContact:
         return float(y), float(v)
 
     def _args(self, q, q_t, t):
-        """The leading arguments ``(q, q_t, t, model, state)`` of the compiled force and Jacobian calls
-        (:mod:`.connector_core`); the model and state tuples are built once at construction."""
-        return q, q_t, t, self._model, self._state
+        """The leading arguments ``(q, q_t, t, data)`` of the compiled force and Jacobian calls
+        (:mod:`.connector_core`); ``data`` is built once at construction."""
+        return q, q_t, t, self._data
 
     def forces(self, q, q_t, t: float) -> np.ndarray:
         """Generalized contact forces for the object coordinates (force global, torque body frame per wheelset, then
         the generalized modal forces of the bridge, if any); updates :attr:`results`.  Raises
         :class:`ContactStateError` for non-finite coordinates."""
+        # the hot path: nothing allocated for Exudyn's float64 arrays; the ground state only with a bridge
         q = np.ascontiguousarray(q, dtype=float)
         q_t = np.ascontiguousarray(q_t, dtype=float)
-        if q.shape != (self.n_coordinates,) or q_t.shape != (self.n_coordinates,):
-            raise ValueError(f"coordinates of shapes {q.shape}, {q_t.shape}: expected ({self.n_coordinates},) each "
+        n = self.n_coordinates
+        if q.shape != (n,) or q_t.shape != (n,):
+            raise ValueError(f"coordinates of shapes {q.shape}, {q_t.shape}: expected ({n},) each "
                              f"(6 per wheelset{f' + {self.n_modes} modal' if self.n_modes else ''})")
-        self._set_ground(float(t))
-        bad = contact_forces_core(*self._args(q, q_t, float(t)), self._f, self.results)
+        t = float(t)
+        if self.bridge is not None:
+            self._set_ground(t)
+        f = self._f
+        bad = self._forces_core(q, q_t, t, self._data, f, self.results)
         self.n_calls += 1
+        if bad >= 0:
+            self._raise_bad(bad, t)
+        return f
+
+    def _raise_bad(self, bad: int, t: float):
+        """The :class:`ContactStateError` of a non-finite state (``bad`` from the compiled call)."""
         if bad == len(self.nodes_exu):
             raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's modal coordinates are "
-                                    "non-finite — the simulation diverged (time step too large?)", time_s=float(t))
-        if bad >= 0:
-            raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: wheelset {bad} (node "
-                                    f"{self.nodes_exu[bad]}) has non-finite coordinates — the simulation diverged "
-                                    "(time step too large?)", time_s=float(t), wheelset=int(bad))
-        return self._f
+                                    "non-finite — the simulation diverged (time step too large?)", time_s=t)
+        raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: wheelset {bad} (node "
+                                f"{self.nodes_exu[bad]}) has non-finite coordinates — the simulation diverged "
+                                "(time step too large?)", time_s=t, wheelset=int(bad))
 
     def _force_uf(self, mbs, t, itemIndex, q, q_t):
         return self.forces(q, q_t, t)

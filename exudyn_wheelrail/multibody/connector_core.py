@@ -3,11 +3,14 @@ in one call, and their Jacobian by structured forward differences.
 
 :class:`~.connector.WheelRailContact` packs everything once at construction and hands it over as
 
-``contact_forces_core(q, q_t, t, model, state, f_out, res)``
+``contact_forces_core(q, q_t, t, data, f_out, res)``
 
 * ``q``, ``q_t`` (6 n + n_m): per wheelset displacement (global), rotation vector, velocity (global) and body-frame
   angular velocity (Lie-group node coordinates), then the n_m modal coordinates of the bridge (none without one);
   ``t`` the time [s];
+* ``data`` — a :class:`ContactData` (:func:`contact_data`) holding the three tuples below as ``data.model``,
+  ``data.state`` and ``data.work``: one argument for numba to unbox per call instead of the forty arrays in them
+  (about 0.1 µs each);
 * ``model`` — constant data, ``(vehicle, track, geometry, creep, deck)``:
 
   - ``vehicle = (p_ref, frame)``: reference positions (n, 3) [m] of the wheelset nodes (track/model frame) and
@@ -26,8 +29,16 @@ in one call, and their Jacobian by structured forward differences.
   ``STAT_*`` counters, the increments added to the deck state of every wheelset on the deck (n, 6; zero, the
   Jacobian perturbs it), and per wheelset ``Φ(s)`` (n, 3, n_m), the force on the rails ``(F_y, F_z, M_x)`` that is
   projected (n, 3) and the deck state (n, ``N_DECK_STATE``);
+* ``work`` — scratch the call overwrites, allocated once (:func:`work_arrays`; nothing is allocated per call):
+  ``(work_ds, deck_work, rot, wheelset, vec, frame)``: the deck's shape scratch (3, n_m) and rail state (9,), per
+  wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of its pose (n, ``N_WS``), the vectors
+  ``V_*`` of a contact (``N_VEC``, 3) and the contact frame (3, 3);
 * ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
   ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
+
+The call runs in three stages (:func:`wheelset_poses`, the geometry of
+:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`, :func:`wheel_forces`); the trigonometry
+of a wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
 
 Per wheel it takes the wheelset pose from the node coordinates, subtracts the rails' position (irregularity, ground
 motion, deck: :mod:`~exudyn_wheelrail.structures.deck_kinematics`), solves the contact geometry and Hertz
@@ -40,11 +51,13 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
 from ..contact import geometry_table as GT
-from ..contact.creepage import creepages_core, yawed_contact_point_core
+from ..contact.creepage import creepages_core, yawed_contact_point_cs
 from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z, F_PENETRATION,
                               F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, RES_A, RES_B, RES_CREEP_STATUS,
                               RES_DECK_ROLL, RES_DECK_Y, RES_DECK_Z, RES_DELTA, RES_ETA, RES_F_TRACK_X,
@@ -58,8 +71,8 @@ from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, deck_st
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
 from .track import irregularity_at
 
-__all__ = ["contact_forces_core", "contact_jacobian_core", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START",
-           "N_FRAME"]
+__all__ = ["contact_forces_core", "contact_jacobian_core", "contact_data", "ContactData", "work_arrays", "compiled_for",
+           "wheelset_poses", "wheel_forces", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "N_FRAME"]
 
 # ---- model frame: frame[FRAME_*] ---------------------------------------------------------------------------------
 FRAME_SPEED = 0       # running speed V [m/s]
@@ -67,17 +80,83 @@ FRAME_MOVING = 1      # 1.0: the model frame translates with V (rail material ve
 FRAME_S_START = 2     # track distance of the frame's origin at t = 0 [m]
 N_FRAME = 3
 
+# ---- per wheelset quantities of the call: work[3][k, WS_*] ----------------------------------------------------------
+WS_S = 0              # track distance s of the axle centre [m]
+WS_ROLL = 1           # roll and yaw of the wheelset (from its axle direction) [rad]
+WS_YAW = 2
+WS_COS_ROLL = 3       # their cosines and sines
+WS_SIN_ROLL = 4
+WS_COS_YAW = 5
+WS_SIN_YAW = 6
+WS_Y_RAIL = 7         # the rails' centre line under the wheelset (irregularity, ground, deck) [m]
+WS_Z_RAIL = 8
+WS_COS_TH = 9         # cosine and sine of the rail pair's roll θ (deck)
+WS_SIN_TH = 10
+N_WS = 11
+
+# ---- vectors of one contact (track frame): work[4][V_*] -----------------------------------------------------------
+V_P_CONTACT = 0       # contact point [m]
+V_N_RAIL = 1          # outward rail normal
+V_E_AXLE = 2          # wheelset axle direction
+V_P_CENTRE = 3        # axle centre [m]
+V_V_CENTRE = 4        # its velocity [m/s]
+V_OMEGA = 5           # wheelset angular velocity [rad/s]
+V_V_RAIL = 6          # rail material velocity at the contact [m/s]
+V_OMEGA_RAIL = 7      # rail angular velocity [rad/s]
+N_VEC = 8
+
+
+def work_arrays(n_wheelsets: int, n_modes: int) -> tuple:
+    """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets`` and ``n_modes``."""
+    return (np.zeros((3, n_modes)), np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
+            np.zeros((N_VEC, 3)), np.zeros((3, 3)))
+
+
+@structref.register
+class ContactDataType(types.StructRef):
+    """Numba type of :class:`ContactData`."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+class ContactData(structref.StructRefProxy):
+    """The ``model``, ``state`` and ``work`` tuples of the compiled call in one object (module docstring); build it
+    with :func:`contact_data`."""
+
+
+structref.define_constructor(ContactData, ContactDataType, ["model", "state", "work"])
+structref.define_boxing(ContactDataType, ContactData)
+
 
 @njit(cache=True)
-def contact_forces_core(q, q_t, t, model, state, f_out, res):
-    """All wheelsets in one call (module docstring: the arguments).  Fills ``f_out`` and ``res`` and the state;
-    returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
+def contact_data(model, state, work):
+    """The :class:`ContactData` of the tuples (compiled and cached, like the calls that take it)."""
+    return ContactData(model, state, work)
+
+
+def compiled_for(dispatcher, *args):
+    """The compiled specialization of the numba ``dispatcher`` for the types of ``args``, callable from Python
+    without numba's type dispatch (for the contact call's arguments about 0.6 µs of the about 0.9 µs it costs per
+    call).  The caller must then pass arguments of exactly these types (arrays of the same dtype, dimension and
+    layout: nothing is checked).  Returns the dispatcher itself when numba offers no such entry."""
+    compile_ = getattr(dispatcher, "compile", None)
+    if compile_ is None:
+        return dispatcher
+    entry = compile_(tuple(numba.typeof(a) for a in args))
+    return entry if callable(entry) else dispatcher
+
+
+@njit(cache=True)
+def wheelset_poses(q, q_t, t, model, state, work):
+    """Stage 1: per wheelset the rotation, roll and yaw (``work``), the track distance, the rails under it
+    (irregularity, ground motion, deck state) and the pose of each wheel relative to its rail (``side_poses``).
+    Returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
     vehicle, track, geometry, creep, deck = model
     p_ref, frame_par = vehicle
     irr_rows, irr_knots, irr_coefs = track
-    nodes, meta, mono, curve_ids, params, gtab = geometry
-    law, cp, t_nodes, coef, tab = creep
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
+    work_ds, deck_work, rot, wsd, vec, frame = work
     speed = frame_par[FRAME_SPEED]
     moving_frame = frame_par[FRAME_MOVING] != 0.0
     s_start = frame_par[FRAME_S_START]
@@ -86,28 +165,8 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
     n_m = q.shape[0] - n_w6
     q_m = q[n_w6:]
     q_m_t = q_t[n_w6:]
-    f_m = f_out[n_w6:]
     y_g = deck[0][DECK_GROUND_Y]
-    v_g = deck[0][DECK_GROUND_VY]
-    work_ds = np.empty((3, n_m))
-    st = np.zeros(9)
-    R = np.empty((3, 3))
-    frame = np.empty((3, 3))
-    pc = np.empty(3)
-    nr = np.empty(3)
-    e_axle = np.empty(3)
-    p_centre = np.empty(3)
-    v_centre = np.empty(3)
-    omega = np.empty(3)
-    v_rail = np.zeros(3)
-    omega_rail = np.zeros(3)
-    if moving_frame:
-        v_rail[0] = -speed
     bad = -1
-    s_ws = np.empty(n_ws)
-    rolls = np.empty(n_ws)
-    yaws = np.empty(n_ws)
-    rails = np.empty((n_ws, 2))
     for k in range(n_ws):
         o = 6 * k
         finite = True
@@ -119,6 +178,7 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
             side_poses[2 * k, :] = np.nan
             side_poses[2 * k + 1, :] = np.nan
             continue
+        R = rot[k]
         rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
         ex, ey, ez = R[0, 1], R[1, 1], R[2, 1]        # axle direction (body y) in the track frame
         roll = math.asin(min(max(ez, -1.0), 1.0))
@@ -128,16 +188,26 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
         pz = p_ref[k, 2] + q[o + 2]
         s = s_start + px + (speed * t if moving_frame else 0.0)
         y_irr, _, _, z_irr, _, _ = irregularity_at(irr_rows, irr_knots, irr_coefs, s)
-        s_ws[k] = s
-        rolls[k] = roll
-        yaws[k] = yaw
-        on = deck_state_under(s, speed, deck, q_m, q_m_t, rail_delta[k], phi_ws[k], work_ds, st, deck_state[k])
+        wk = wsd[k]
+        wk[WS_S] = s
+        wk[WS_ROLL] = roll
+        wk[WS_YAW] = yaw
+        wk[WS_COS_ROLL] = math.cos(roll)
+        wk[WS_SIN_ROLL] = math.sin(roll)
+        wk[WS_COS_YAW] = math.cos(yaw)
+        wk[WS_SIN_YAW] = math.sin(yaw)
+        on = deck_state_under(s, speed, deck, q_m, q_m_t, rail_delta[k], phi_ws[k], work_ds, deck_work,
+                              deck_state[k])
         stats[STAT_ON_DECK if on else STAT_OFF_DECK] += 1
         # the pose relative to the rail pair (irregularity, ground motion and deck; without a bridge: p - p_irr)
         y_r, z_r, th = rails_under(y_irr, z_irr, y_g, deck_state[k])
-        rails[k, 0] = y_r
-        rails[k, 1] = z_r
-        y_rel, z_rel, roll_rel = pose_relative_to_rails(py, pz, roll, y_r, z_r, th)
+        c_th = math.cos(th)
+        s_th = math.sin(th)
+        wk[WS_Y_RAIL] = y_r
+        wk[WS_Z_RAIL] = z_r
+        wk[WS_COS_TH] = c_th
+        wk[WS_SIN_TH] = s_th
+        y_rel, z_rel, roll_rel = pose_relative_to_rails(py, pz, roll, y_r, z_r, th, c_th, s_th)
         side_poses[2 * k, 0] = y_rel
         side_poses[2 * k, 1] = z_rel
         side_poses[2 * k, 2] = roll_rel
@@ -149,20 +219,43 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
             if not (math.isfinite(q_m[i]) and math.isfinite(q_m_t[i])):
                 if bad < 0:
                     bad = n_ws
-    for i in range(f_out.shape[0]):
-        f_out[i] = 0.0
-    for k in range(n_ws):
-        rail_f[k, 0] = 0.0
-        rail_f[k, 1] = 0.0
-        rail_f[k, 2] = 0.0
-    res[:, :, :] = 0.0
-    if bad >= 0:
-        return bad
-    GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, side_poses, warm, params,
-                                 out, stats)
+    return bad
+
+
+@njit(cache=True)
+def wheel_forces(q, q_t, model, state, work, f_out, res):
+    """Stage 3, after :func:`wheelset_poses` and the geometry (``out``): per contact the point in 3-D (yaw lead),
+    the creepages, the creep law and the force on the wheelset; the results ``res``, the forces ``f_out``, the
+    force on the rails and its projection on the deck.  ``f_out``, ``rail_f`` and ``res`` must be zero on entry."""
+    vehicle, track, geometry, creep, deck = model
+    p_ref, frame_par = vehicle
+    law, cp, t_nodes, coef, tab = creep
+    warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
+    work_ds, deck_work, rot, wsd, vec, frame = work
+    n_ws = p_ref.shape[0]
+    n_w6 = 6 * n_ws
+    f_m = f_out[n_w6:]
+    y_g = deck[0][DECK_GROUND_Y]
+    v_g = deck[0][DECK_GROUND_VY]
+    v_min = cp[CP_V_MIN]
+    pc = vec[V_P_CONTACT]
+    nr = vec[V_N_RAIL]
+    e_axle = vec[V_E_AXLE]
+    p_centre = vec[V_P_CENTRE]
+    v_centre = vec[V_V_CENTRE]
+    omega = vec[V_OMEGA]
+    v_rail = vec[V_V_RAIL]
+    omega_rail = vec[V_OMEGA_RAIL]
+    # the rail material moves with -V in a moving model frame; the rails' angular velocity is the deck's roll rate
+    v_rail[0] = -frame_par[FRAME_SPEED] if frame_par[FRAME_MOVING] != 0.0 else 0.0
+    v_rail[1] = 0.0
+    v_rail[2] = 0.0
+    omega_rail[1] = 0.0
+    omega_rail[2] = 0.0
     for k in range(n_ws):
         o = 6 * k
-        rotation_from_vector(q[o + 3], q[o + 4], q[o + 5], R)
+        R = rot[k]
+        wk = wsd[k]
         for i in range(3):
             e_axle[i] = R[i, 1]
             p_centre[i] = p_ref[k, i] + q[o + i]
@@ -176,12 +269,12 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
         tz = 0.0
         # the rails under this wheelset: centre line y_r, z_r (irregularity, ground, deck), roll th; the deck state
         # (relative to the supports) and its roll rate, the rails' angular velocity
-        y_r = rails[k, 0]
-        z_r = rails[k, 1]
+        y_r = wk[WS_Y_RAIL]
+        z_r = wk[WS_Z_RAIL]
         ds = deck_state[k]
         th = ds[2]
-        c_th = math.cos(th)
-        s_th = math.sin(th)
+        c_th = wk[WS_COS_TH]
+        s_th = wk[WS_SIN_TH]
         omega_rail[0] = ds[5]
         rfy = 0.0
         rfz = 0.0
@@ -194,7 +287,7 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
                 r = res[w, reg]
                 r[RES_STATUS] = ow[F_STATUS]
                 r[RES_FLAGS] = ow[F_FLAGS]
-                r[RES_S_TRACK] = s_ws[k]
+                r[RES_S_TRACK] = wk[WS_S]
                 r[RES_DECK_Y] = ds[0]
                 r[RES_DECK_Z] = ds[1]
                 r[RES_DECK_ROLL] = th
@@ -207,8 +300,9 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
                 # contact point and rail normal from the rail pair's frame (side frame mirrored) to the track frame
                 y_t, z_t, ny, nz = rail_pair_to_track(mirror * ow[F_PW_Y], ow[F_PW_Z], mirror * ow[F_NR_Y],
                                                       ow[F_NR_Z], y_r, z_r, c_th, s_th)
-                x_c, y_c, z_c, _, ok = yawed_contact_point_core(y_t, z_t, ny, nz, p_centre[0], p_centre[1],
-                                                                 p_centre[2], rolls[k], yaws[k])
+                x_c, y_c, z_c, _, ok = yawed_contact_point_cs(y_t, z_t, ny, nz, p_centre[0], p_centre[1],
+                                                               p_centre[2], wk[WS_COS_ROLL], wk[WS_SIN_ROLL],
+                                                               wk[WS_COS_YAW], wk[WS_SIN_YAW])
                 if not ok:
                     x_c, y_c, z_c = p_centre[0], y_t, z_t
                 pc[0] = x_c
@@ -219,7 +313,7 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
                 nr[2] = nz
                 rail_material_velocity(y_c, z_c, y_g, v_g, ds, v_rail)
                 xi, eta, phi, V, cstat = creepages_core(pc, nr, e_axle, p_centre, v_centre, omega, v_rail,
-                                                         omega_rail, cp[CP_V_MIN], frame)
+                                                         omega_rail, v_min, frame)
                 Fx = 0.0
                 Fy = 0.0
                 Mz = 0.0
@@ -280,14 +374,38 @@ def contact_forces_core(q, q_t, t, model, state, f_out, res):
         rail_f[k, 2] = rmx
         if ds[6] > 0.5:
             # generalized modal forces Φ(s)^T (Fy, Fz, Mx) of the force on the rails
-            project_on_deck(s_ws[k], rfy, rfz, rmx, deck, work_ds, f_m)
+            project_on_deck(wk[WS_S], rfy, rfz, rmx, deck, work_ds, f_m)
+
+
+@njit(cache=True)
+def contact_forces_core(q, q_t, t, data, f_out, res):
+    """All wheelsets in one call (module docstring: the arguments).  Fills ``f_out`` and ``res`` and the state;
+    returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
+    model = data.model
+    state = data.state
+    work = data.work
+    bad = wheelset_poses(q, q_t, t, model, state, work)
+    rail_f = state[6]
+    for i in range(f_out.shape[0]):
+        f_out[i] = 0.0
+    for k in range(rail_f.shape[0]):
+        rail_f[k, 0] = 0.0
+        rail_f[k, 1] = 0.0
+        rail_f[k, 2] = 0.0
+    res[:, :, :] = 0.0
+    if bad >= 0:
+        return bad
+    nodes, meta, mono, curve_ids, params, gtab = model[2]
+    GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0], params,
+                                 state[1], state[3])
+    wheel_forces(q, q_t, model, state, work, f_out, res)
     return -1
 
 
 @njit(cache=True)
-def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
+def contact_jacobian_core(q, q_t, t, data, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core` (same
-    ``model`` and ``state``; ``f0`` receives the unperturbed forces), steps ``h_pos`` [m], ``h_rot`` [rad],
+    ``data``; ``f0`` receives the unperturbed forces), steps ``h_pos`` [m], ``h_rot`` [rad],
     ``h_vel`` [m/s, rad/s]; rotations perturbed by body-frame increments (R exp(h e_i)), matching the Lie-group
     update.  Structured: a wheelset's contact forces depend on its own coordinates (and the deck under it) only,
     so the same coordinate of all wheelsets is perturbed in one call — 12 calls whatever the number of wheelsets;
@@ -297,13 +415,13 @@ def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac,
     and three rates of every wheelset on the deck are perturbed together (``rail_delta``: 6 calls for any number of
     modes and wheelsets): ``∂f_k/∂q_m = (∂f_k/∂u_k) Φ(s_k)``, ``∂Q/∂q_m = Σ_k Φ(s_k)^T (∂F_rail,k/∂u_k) Φ(s_k)``.
     The warm-start state is restored after every perturbed call."""
-    warm, _, _, _, rail_delta, phi_ws, rail_f, deck_state = state
+    warm, _, _, _, rail_delta, phi_ws, rail_f, deck_state = data.state
     n = q.shape[0]
-    n_ws = model[0][0].shape[0]
+    n_ws = data.model[0][0].shape[0]
     n_w6 = 6 * n_ws
     n_m = n - n_w6
     warm0 = warm.copy()
-    contact_forces_core(q, q_t, t, model, state, f0, res)
+    contact_forces_core(q, q_t, t, data, f0, res)
     warm[:] = warm0
     phi0 = phi_ws.copy()
     rf0 = rail_f.copy()
@@ -338,7 +456,7 @@ def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac,
                     for b in range(3):
                         Rn[a, b] = R[a, 0] * Rd[0, b] + R[a, 1] * Rd[1, b] + R[a, 2] * Rd[2, b]
                 rotation_vector_from_matrix(Rn, qp, o + 3)
-        contact_forces_core(qp, q_t, t, model, state, f1, res)
+        contact_forces_core(qp, q_t, t, data, f1, res)
         warm[:] = warm0
         for k in range(n_ws):
             o = 6 * k
@@ -355,7 +473,7 @@ def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac,
         # ---- velocities
         for k in range(n_ws):
             vp[6 * k + i] = q_t[6 * k + i] + h_vel
-        contact_forces_core(q, vp, t, model, state, f1, res)
+        contact_forces_core(q, vp, t, data, f1, res)
         warm[:] = warm0
         for k in range(n_ws):
             o = 6 * k
@@ -381,7 +499,7 @@ def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac,
             row = a % 3                                  # the row of Φ the perturbed quantity belongs to
             for k in range(n_ws):
                 rail_delta[k, a] = h
-            contact_forces_core(q, q_t, t, model, state, f1, res)
+            contact_forces_core(q, q_t, t, data, f1, res)
             warm[:] = warm0
             for k in range(n_ws):
                 rail_delta[k, a] = 0.0
@@ -402,5 +520,5 @@ def contact_jacobian_core(q, q_t, t, model, state, f0, res, f_odeq, f_odev, jac,
                     for j in range(n_m):
                         jac[n_w6 + i2, n_w6 + j] -= g[i2] * phi0[k, row, j]
     # leave res/out describing the unperturbed state
-    contact_forces_core(q, q_t, t, model, state, f0, res)
+    contact_forces_core(q, q_t, t, data, f0, res)
     warm[:] = warm0

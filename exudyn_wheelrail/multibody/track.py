@@ -147,8 +147,9 @@ def irregularity_at(rows, knots, coefs, s):
     """Sum of the packed irregularity components at track distance s.
 
     Returns ``(y, dy/ds, d2y/ds2, z, dz/ds, d2z/ds2)`` (m, -, 1/m).  ``rows`` (n, 8) float: ``[kind, direction,
-    p0..p5]``; ``knots`` (m,) and ``coefs`` (m', 4) hold the sampled tables (may be empty)."""
-    out = np.zeros(6)
+    p0..p5]``; ``knots`` (m,) and ``coefs`` (m', 4) hold the sampled tables (may be empty).  Allocates nothing
+    (the contact evaluates it per wheelset at every call)."""
+    y = y1 = y2 = z = z1 = z2 = 0.0
     for r in range(rows.shape[0]):
         kind = int(rows[r, 0])
         direction = int(rows[r, 1])
@@ -163,11 +164,15 @@ def irregularity_at(rows, knots, coefs, s):
             v, d1, d2 = _table_at(knots, coefs, int(rows[r, 2]), int(rows[r, 3]), int(rows[r, 4]), s)
         else:
             v, d1, d2 = 0.0, 0.0, 0.0
-        j = 3 * direction
-        out[j] += v
-        out[j + 1] += d1
-        out[j + 2] += d2
-    return out[0], out[1], out[2], out[3], out[4], out[5]
+        if direction == LATERAL:
+            y += v
+            y1 += d1
+            y2 += d2
+        else:
+            z += v
+            z1 += d1
+            z2 += d2
+    return y, y1, y2, z, z1, z2
 
 
 @njit(cache=True)

@@ -38,8 +38,6 @@ The deck arrays of the compiled call (:func:`deck_arrays`): ``(par, elem_x0, ele
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -102,11 +100,10 @@ def rails_under(y_irr_m, z_irr_m, y_ground_m, state):
 
 
 @njit(cache=True)
-def pose_relative_to_rails(p_y, p_z, roll, y_r, z_r, th):
+def pose_relative_to_rails(p_y, p_z, roll, y_r, z_r, th, c_th, s_th):
     """Pose ``(y_rel, z_rel, roll_rel)`` of the axle centre ``(p_y, p_z)`` [m] with roll [rad] relative to the rail
-    pair at ``(y_r, z_r)`` rolled by ``th``: ``R_x(-θ) (p - p_rail)``, ``roll - θ`` (the rail pair's frame)."""
-    c_th = math.cos(th)
-    s_th = math.sin(th)
+    pair at ``(y_r, z_r)`` rolled by ``th`` (``c_th``, ``s_th`` its cosine and sine): ``R_x(-θ) (p - p_rail)``,
+    ``roll - θ`` (the rail pair's frame)."""
     dy = p_y - y_r
     dz = p_z - z_r
     return c_th * dy + s_th * dz, -s_th * dy + c_th * dz, roll - th
