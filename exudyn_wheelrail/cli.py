@@ -334,6 +334,12 @@ def _duration(text):
         raise argparse.ArgumentTypeError(f"expected a time in s or {DURATION_AUTO!r}, got {text!r}") from None
 
 
+def _steps(text):
+    """argparse type of ``--steps``: a positive number of steps or ``auto``."""
+    from .simulation.settings import DURATION_AUTO
+    return text if text == DURATION_AUTO else _positive_int("--steps")(text)
+
+
 #: the command line's option of each run/contact setting (errors name the option)
 SETTING_OPTIONS = {"solver": "--solver", "dt_s": "--dt", "duration_s": "--duration", "creep_law": "--creep-law",
                    "geometry": "--geometry"}
@@ -396,12 +402,17 @@ def _rtri_settings(args):
     from .simulation.settings import DURATION_AUTO, SettingsError
     case = RtriCase()
     run = case.run if args.command == "rtri" else dataclasses.replace(case.run, duration_s=DURATION_AUTO)
+    duration = DURATION_AUTO if args.steps == DURATION_AUTO else args.duration
     try:
-        return apply_preset(args.preset, run, case.contact,
-                            run_options=dict(solver=args.solver, dt_s=args.dt, duration_s=args.duration),
-                            contact_options=dict(creep_law=args.creep_law, geometry=args.geometry))
+        run, contact, preset = apply_preset(args.preset, run, case.contact,
+                                            run_options=dict(solver=args.solver, dt_s=args.dt, duration_s=duration),
+                                            contact_options=dict(creep_law=args.creep_law, geometry=args.geometry))
+        if isinstance(args.steps, int):         # --steps N: N steps of the resolved dt
+            run = dataclasses.replace(run, duration_s=args.steps * run.dt_s)
     except SettingsError as exc:
-        raise _settings_error(exc) from None
+        raise _settings_error(exc if not isinstance(args.steps, int) or exc.field != "duration_s" else
+                              SettingsError("--steps", exc.problem)) from None
+    return run, contact, preset
 
 
 def cmd_rtri(args):
@@ -453,9 +464,13 @@ def _add_rtri_common(p: argparse.ArgumentParser, duration_default: str):
                         "rk44: explicit; others: see exudyn_wheelrail.simulation.settings")
     p.add_argument("--dt", type=float, default=None,
                    help="time step [s] (default 0.001, the paper's, or the preset's); never changes the duration")
-    p.add_argument("--duration", type=_duration, default=None,
-                   help=f"simulated time [s] or 'auto' (at least the paper's 2.5 s and until the whole car is 10 m "
-                        f"past the span); steps = ceil(duration / dt); default {duration_default}")
+    span = p.add_mutually_exclusive_group()
+    span.add_argument("--duration", type=_duration, default=None,
+                      help=f"simulated time [s] or 'auto' (at least the paper's 2.5 s and until the whole car is "
+                           f"10 m past the span); steps = ceil(duration / dt); default {duration_default}")
+    span.add_argument("--steps", type=_steps, default=None,
+                      help="the simulated time as a number of steps of the run's dt (duration = steps x dt), or "
+                           "'auto' (as --duration auto); instead of --duration")
     p.add_argument("--creep-law", default=None, help="creep law of the connector: table (default: Kalker's exact "
                                                      "theory, tabulated), fastsim, shen_hedrick_elkins, polach")
     p.add_argument("--geometry", default=None, choices=("online", "table"),

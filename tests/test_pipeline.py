@@ -237,3 +237,27 @@ def test_recorder_refuses_a_contact_with_another_number_of_wheelsets():
 
     with pytest.raises(ValueError, match="expects 2 wheelsets but the contact couples 4"):
         _Wheels(FourWheelsets(), 2)
+
+
+@pytest.mark.parametrize("argv, dt_s, steps", [
+    (["--steps", "500"], 1e-3, 500),                       # the paper's dt: 500 steps = 0.5 s
+    (["--steps", "300", "--dt", "0.002"], 2e-3, 300),       # steps of the given dt: 0.6 s
+    (["--preset", "fast", "--steps", "100"], 1e-3, 100),    # the preset's dt
+    (["--dt", "0.01"], 1e-2, 250),                          # without --steps the duration stays the paper's 2.5 s
+])
+def test_cli_steps_is_a_duration_in_steps_of_the_runs_dt(tmp_path, argv, dt_s, steps):
+    """``--steps N`` (the older way of giving the length of an RTRI run) sets duration = N dt of the resolved time
+    step; ``--dt`` alone never changes the duration."""
+    from exudyn_wheelrail.cli import build_parser
+    args = build_parser().parse_args(["rtri", "--out", str(tmp_path), *argv])
+    args.check(args)
+    run = args.settings[0]
+    assert run.dt_s == pytest.approx(dt_s, rel=1e-15) and run.steps == steps
+    assert run.duration_s == pytest.approx(steps * dt_s, rel=1e-15)
+
+
+def test_cli_steps_and_duration_exclude_each_other(tmp_path):
+    from exudyn_wheelrail.cli import main
+    with pytest.raises(SystemExit) as e:
+        main(["rtri", "--out", str(tmp_path), "--steps", "5", "--duration", "1"])
+    assert e.value.code == 2

@@ -287,8 +287,8 @@ def test_cli_reports_bad_input(capsys, tmp_path):
     assert "--duration" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         cli_main(["rtri", "--duration", "long", "--out", str(tmp_path)])
-    with pytest.raises(SystemExit):
-        cli_main(["rtri", "--steps", "30", "--out", str(tmp_path)])     # the duration is the option
+    with pytest.raises(SystemExit):      # one length of the run: a duration or a number of steps, not both
+        cli_main(["rtri", "--steps", "30", "--duration", "1", "--out", str(tmp_path)])
     with pytest.raises(SystemExit):
         cli_main(["rtri", "--solver", "euler", "--out", str(tmp_path)])
 
