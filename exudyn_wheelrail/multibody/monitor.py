@@ -12,8 +12,10 @@ How it runs
 function already given).  Exudyn calls it before every step with the time at the *end* of the coming step while
 the coordinates are still those at its start, so the monitor evaluates the contact at the time *of the state*: the
 previous call's time (the start time at the first call) — one contact call as
-:meth:`.connector.WheelRailContact.evaluate` (the warm start is kept), with the coordinates taken from the system
-vectors.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
+:meth:`.connector.WheelRailContact.evaluate_state` (the warm start is kept), with the coordinates taken from the
+system vectors.  An explicit step's first stage evaluates the contact at that same state: the connector hands it
+the monitor's evaluation instead of computing it again (bit-identical; ``tests/test_watching.py``), so watching
+costs no contact call of its own with an explicit solver.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
 checked in ``tests/stress``) then still completes the step it was about to take and stops, so the solve ends one
 step after the detected state, at ``mbs.systemData.GetTime()``.  :func:`run_monitored` wraps ``SolveDynamic``: it
 catches :class:`~.connector.ContactStateError` (non-finite coordinates; Exudyn re-raises a user function's exception
@@ -474,8 +476,8 @@ class RunMonitor:
 
     def _evaluate(self, mbs, t: float):
         """The contact at the model's current state, time ``t`` of that state (as
-        :meth:`~.connector.WheelRailContact.evaluate`: the warm start is kept); returns the connector's coordinates
-        and velocities.  The coordinates come from the system vectors (two Exudyn calls for any number of nodes)."""
+        :meth:`~.connector.WheelRailContact.evaluate_state`: the warm start is kept, and an explicit step's first stage,
+        at this same state, reuses the evaluation); returns the connector's coordinates and velocities.  The coordinates come from the system vectors (two Exudyn calls for any number of nodes)."""
         c = self.contact
         if self._system is None or self._system[0] is not mbs:
             import exudyn as exu
@@ -485,11 +487,7 @@ class RunMonitor:
         _, coordinates, velocities, current, ltg = self._system
         q = coordinates(current, False)[ltg]           # (configuration, copy): a view of the system vector, indexed
         v = velocities(current, False)[ltg]
-        warm = c.save_warm_start()
-        try:
-            c.forces(q, v, t)
-        finally:
-            c.restore_warm_start(warm)
+        c.evaluate_state(q, v, t)       # kept for the solver's next force call if it is at this very state
         return q, v
 
     def check(self, mbs, t: float) -> Status | None:
