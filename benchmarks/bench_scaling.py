@@ -3,12 +3,10 @@
 Models (public API only):
 
 * 1 wheelset: ``vehicles/single_wheelset.toml`` (the Manchester wheelset under its static axle load);
-* 4, 16, 32 wheelsets: 1, 4, 8 Manchester vehicles (``vehicles/manchester_vehicle1.toml``), each made by
-  :func:`~exudyn_wheelrail.multibody.build_vehicle` in the same ``mbs``, one behind the other at a spacing of
-  :data:`SPACING_M`.  ``build_vehicle`` gives its items fixed names, which Exudyn refuses twice in one ``mbs``:
-  the items of each vehicle are renamed after it is built (:func:`rename_items`).  ``build_vehicle`` has no
-  longitudinal offset: every vehicle sits at the centre of the model frame, and its place on the track is its
-  ``s_start_m`` (vehicle k: ``S_START_M - k * SPACING_M``).
+* 4, 16, 32 wheelsets: a train of 1, 4, 8 Manchester vehicles (``vehicles/manchester_vehicle1.toml``): the first
+  n cars of the consist ``vehicles/trains/manchester_x8.toml`` (car length :data:`SPACING_M`, end to end, its
+  couplers), built by :func:`~exudyn_wheelrail.multibody.train.build_train` — every car at its own place in the
+  model frame (car k's centre at ``x = -(k - 1) SPACING_M``), one frame ``s_start_m = S_START_M`` for all.
 
 Track: straight, rigid, a lateral harmonic (:data:`LATERAL_AMPLITUDE_M`, wavelength = the spacing) plus a vertical
 one (:data:`VERTICAL_AMPLITUDE_M`, half the spacing), so every wheel's contact moves (creepages, lateral creep
@@ -17,18 +15,16 @@ equilibrium on the displaced track (``place_on_rails``, ``scenarios.build.start_
 
 Wheel–rail coupling, three ways:
 
-* ``contact`` — **one** ``add_wheel_rail_contact`` for all wheelsets of the model (what the pipeline supports:
-  :func:`~exudyn_wheelrail.simulation.runner.run` watches one connector, so every wheelset is watched by the run
-  monitor and recorded).  One connector has one ``s_start_m``, so every vehicle's wheelsets are at the track
-  distances of vehicle 1's (the vehicles are built with ``s_start_m = S_START_M``); on this track, periodic with
-  the spacing, that is exactly the train one behind the other.  Recording
-  (``RunSettings.record``): the probes of ``simulation.recorder.vehicle_probes`` for all wheels, the irregularity
-  under every wheelset and two car-body points (above the bogies, floor height) of every vehicle;
-* ``per_vehicle`` — one connector per vehicle with the vehicle's own ``s_start_m`` (what a track that is not
-  periodic needs); the runner watches the first vehicle's connector only, the others run unwatched (their
-  results are not evaluated at the recorded states, so this variant is measured without recording); 16 and 32
-  wheelsets (at 4 it is the same model as ``contact``);
-* ``springs`` — ``build_vehicle(..., wheel_rail="springs")``: linear springs instead of the contact, nothing
+* ``contact`` — **one** wheel–rail connector for all wheelsets of the train (``build_train``'s default; what the
+  pipeline supports: :func:`~exudyn_wheelrail.simulation.runner.run` watches one connector, so every wheelset is
+  watched by the run monitor and recorded).  Recording (``RunSettings.record``): the train's probes
+  (:func:`exudyn_wheelrail.scenarios.build.train_probes`): all wheels, the irregularity under every wheelset and
+  two car-body points (above the bogies, floor height) of every car;
+* ``per_vehicle`` — one connector per car (``build_train(..., wheel_rail="none")`` and a connector for each car's
+  wheelsets); the runner watches the first car's connector only, the others run unwatched (their results are not
+  evaluated at the recorded states, so this variant is measured without recording); 16 and 32 wheelsets (at 4 it
+  is the same model as ``contact``);
+* ``springs`` — ``build_train(..., wheel_rail="springs")``: linear springs instead of the contact, nothing
   watched or recorded (``run(..., contact=None)``): the cost of the multibody model itself.
 
 Integrators RK44 and Newmark (trapezoidal rule, modified Newton, the connector's forward-difference Jacobian), both
@@ -78,8 +74,8 @@ RESULTS = Path(__file__).resolve().parent / "results" / "scaling.json"
 ROOT = Path(__file__).resolve().parents[1]
 
 SPEED_KM_H = 250.0
-SPACING_M = 26.0                 #: distance between the vehicles' centres [m] (wheelset extent of one car 21.56 m)
-S_START_M = 0.0                  #: track distance of vehicle 1's centre at t = 0
+SPACING_M = 26.0                 #: distance between the cars' centres [m]: the car length of manchester_x8.toml
+S_START_M = 0.0                  #: track distance of car 1's centre at t = 0
 LATERAL_AMPLITUDE_M = 2e-3
 VERTICAL_AMPLITUDE_M = 1e-3
 DT_S = 1e-3
@@ -97,83 +93,74 @@ def track():
         Harmonic(amplitude_m=VERTICAL_AMPLITUDE_M, wavelength_m=SPACING_M / 2, direction="vertical")]))
 
 
-def rename_items(mbs, first_node: int, first_object: int, suffix: str) -> None:
-    """Append ``suffix`` to the names of the nodes and objects from the given numbers on: ``build_vehicle`` gives its
-    items fixed names ("car_body", "bogie0", ...), which Exudyn refuses a second time in the same ``mbs``."""
-    for i in range(first_node, mbs.systemData.NumberOfNodes()):
-        mbs.SetNodeParameter(i, "name", mbs.GetNode(i)["name"] + suffix)
-    for i in range(first_object, mbs.systemData.NumberOfObjects()):
-        mbs.SetObjectParameter(i, "name", mbs.GetObject(i)["name"] + suffix)
-
-
 def build(n_wheelsets: int, coupling: str, record: bool):
-    """Assembled model: ``(mbs, system container, contacts, recorder, models)`` (module docstring)."""
+    """Assembled model: ``(mbs, system container, contacts, recorder, train)`` (module docstring)."""
     import exudyn as exu
 
     from exudyn_wheelrail.contact import WheelRailPair
     from exudyn_wheelrail.multibody import add_wheel_rail_contact, build_vehicle, load_vehicle, place_on_rails
-    from exudyn_wheelrail.scenarios.build import start_on_track
+    from exudyn_wheelrail.multibody.train import build_train, load_consist, place_train_on_track
+    from exudyn_wheelrail.scenarios.build import start_on_track, train_probes
     from exudyn_wheelrail.scenarios.spec import DEFAULT_FLOOR_HEIGHT_M
     from exudyn_wheelrail.simulation.recorder import Recorder, vehicle_probes
 
-    data = load_vehicle("single_wheelset" if n_wheelsets == 1 else "manchester_vehicle1")
-    n_vehicles = max(1, n_wheelsets // data.n_wheelsets)
-    if n_vehicles * data.n_wheelsets != n_wheelsets:
-        raise ValueError(f"{n_wheelsets} wheelsets: expected 1 or a multiple of {data.n_wheelsets}")
     V = SPEED_KM_H / 3.6
-    geo = data.geometry
-    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
-                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     trk = track()
     cs = ContactSettings()
+    contact_options = dict(creep_law=cs.creep_law, mu=cs.friction, fastsim_grid=cs.fastsim_grid,
+                           geometry=cs.geometry)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    springs = coupling == "springs"
-    models = []
-    for k in range(n_vehicles):
-        s_k = S_START_M - (k * SPACING_M if coupling != "contact" else 0.0)
-        n0, o0 = mbs.systemData.NumberOfNodes(), mbs.systemData.NumberOfObjects()
-        models.append(build_vehicle(mbs, data, speed_m_s=V, s_start_m=s_k,
-                                    wheel_rail="springs" if springs else "none"))
-        rename_items(mbs, n0, o0, f"_v{k + 1}")
-    contact_options = dict(speed_m_s=V, track=trk, creep_law=cs.creep_law, mu=cs.friction,
-                           fastsim_grid=cs.fastsim_grid, geometry=cs.geometry)
-    contacts = []
-    if coupling == "contact":
-        nodes = [n for m in models for n in m.wheelset_nodes]
-        contacts.append(add_wheel_rail_contact(mbs, nodes, pair, s_start_m=S_START_M, **contact_options))
-    elif coupling == "per_vehicle":
-        contacts = [add_wheel_rail_contact(mbs, m.wheelset_nodes, pair, s_start_m=m.s_start_m,
-                                           name=f"wheel_rail_contact_v{k + 1}", **contact_options)
-                    for k, m in enumerate(models)]
-    if not springs:
-        for m in models:
-            place_on_rails(mbs, m, pair)
-            start_on_track(mbs, m, trk)
+    if n_wheelsets == 1:                                     # the single wheelset: no train
+        data = load_vehicle("single_wheelset")
+        geo = data.geometry
+        pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                             inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+        springs = coupling == "springs"
+        model = build_vehicle(mbs, data, speed_m_s=V, s_start_m=S_START_M, wheel_rail="springs" if springs else "none")
+        contacts, recorder = [], None
+        if not springs:
+            contacts = [add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=trk,
+                                               s_start_m=S_START_M, **contact_options)]
+            place_on_rails(mbs, model, pair)
+            start_on_track(mbs, model, trk)
+            if record:
+                recorder = Recorder(vehicle_probes(model=model, contact=contacts[0], track=trk, speed_m_s=V,
+                                                   s_leading0_m=S_START_M), n_rows_hint=STEPS + 2)
+        mbs.Assemble()
+        for c in contacts:
+            c.warm_up(mbs)
+        return mbs, sc, contacts, recorder, model
+    consist = load_consist("manchester_x8")
+    n_cars = n_wheelsets // consist.cars[0].vehicle.n_wheelsets
+    if n_cars * consist.cars[0].vehicle.n_wheelsets != n_wheelsets or not 1 <= n_cars <= consist.n_cars:
+        raise ValueError(f"{n_wheelsets} wheelsets: expected 1 or 4, 8, ... {4 * consist.n_cars}")
+    consist = dataclasses.replace(consist, cars=consist.cars[:n_cars])
+    geo = consist.cars[0].vehicle.geometry
+    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    kind = {"contact": "contact", "per_vehicle": "none", "springs": "springs"}[coupling]
+    train = build_train(mbs, consist, speed_m_s=V, s_start_m=S_START_M, wheel_rail=kind, pair=pair, track=trk,
+                        contact_options=contact_options)
+    contacts = [train.contact] if train.contact is not None else []
+    if coupling == "per_vehicle":
+        contacts = [add_wheel_rail_contact(mbs, car.wheelset_nodes, pair, speed_m_s=V, track=trk, s_start_m=S_START_M,
+                                           name=f"wheel_rail_contact_c{k + 1}", **contact_options)
+                    for k, car in enumerate(train.cars)]
+        place_train_on_track(mbs, train, pair, trk)
     recorder = None
     if record:
         if coupling != "contact":
             raise ValueError("recording is measured with one connector for all wheelsets only")
-        # vehicle_probes reads the wheels from the connector, which spans every vehicle: the model handed to it must
-        # list all wheelsets of that connector (the wheel columns are sized from it); its car body gives the points
-        wheelsets = [w for m in models for w in m.wheelsets]
-        points = []
-        if data.layout == "car":
-            points = [(name, [x, 0.0, -DEFAULT_FLOOR_HEIGHT_M])
-                      for name, x in (("rear", min(data.bogie_x_m())), ("front", max(data.bogie_x_m())))]
-        probes = vehicle_probes(model=dataclasses.replace(models[0], wheelsets=wheelsets), contact=contacts[0],
-                                track=trk, speed_m_s=V, s_leading0_m=S_START_M + max(data.wheelset_x_m()))
-        for k, m in enumerate(models):      # the car-body points of every vehicle (the last probe of the list)
-            if points:
-                car = vehicle_probes(model=dataclasses.replace(m, wheelsets=wheelsets), contact=contacts[0],
-                                     track=trk, speed_m_s=V, s_leading0_m=0.0,
-                                     carbody_points=[(f"{name}_v{k + 1}", p) for name, p in points])[-1]
-                probes.append(car)
-        recorder = Recorder(probes, n_rows_hint=STEPS + 2)
+        lead = max(consist.cars[0].vehicle.wheelset_x_m())
+        points = [{"name": name, "x_m": x, "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}
+                  for name, x in (("rear", "rear_bogie"), ("front", "front_bogie"))]
+        recorder = Recorder(train_probes(train, contacts[0], trk, V, S_START_M + lead, points),
+                            n_rows_hint=STEPS + 2)
     mbs.Assemble()
     for c in contacts:
         c.warm_up(mbs)
-    return mbs, sc, contacts, recorder, models
+    return mbs, sc, contacts, recorder, train
 
 
 def run_once(n_wheelsets: int, coupling: str, solver: str, record: bool, steps: int) -> dict:
@@ -351,7 +338,8 @@ def main(argv=None):
         model=dict(speed_km_h=SPEED_KM_H, spacing_m=SPACING_M, lateral_amplitude_m=LATERAL_AMPLITUDE_M,
                    lateral_wavelength_m=SPACING_M, vertical_amplitude_m=VERTICAL_AMPLITUDE_M,
                    vertical_wavelength_m=SPACING_M / 2, dt_s=DT_S, steps=args.steps, simulated_time_s=sim_time,
-                   vehicles={"1": "single_wheelset", "4, 16, 32": "manchester_vehicle1 x n/4"},
+                   vehicles={"1": "single_wheelset",
+                             "4, 16, 32": "the first n/4 cars of vehicles/trains/manchester_x8.toml (build_train)"},
                    contact=dict(creep_law=ContactSettings().creep_law, geometry=ContactSettings().geometry)),
         repeats=args.repeats, statistic="median of repeats, configurations alternating", rows=rows, split=splits,
         target=dict(**TARGET, measured_real_time_factor=tgt["real_time_factor"] if tgt else None,

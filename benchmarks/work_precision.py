@@ -36,7 +36,9 @@ Measured per run:
   5-step warm-up run of every (integrator, creep law, geometry) combination.  Recording costs one extra contact
   evaluation per step (the recorder's pre-step function evaluates the contact at the state's time) and the Python
   work of filling one row: it is included in the wall time of every run alike (``contact_calls_per_step`` counts
-  it);
+  it).  ``contact_calls_per_step`` counts the force evaluations (``WheelRailContact.n_calls``); an implicit
+  solver's Jacobian makes contact calls of its own (one per semi-analytic update, 14 per forward-difference one):
+  ``benchmarks/bench_implicit.py`` counts both, per Newton configuration;
 * errors against the reference, for the lateral contact force of the right wheel of the leading wheelset
   (``lateral_contact_force_w1_right_N``, the rail on the wheel, track y) and the car-body lateral acceleration above
   the rear bogie (``carbody_lateral_acceleration_rear_m_s2``):

@@ -11,13 +11,16 @@ run        a scenario file (TOML: vehicle, track, optional bridge, run, outputs)
 sweep      a scenario over the cartesian product of parameter values (--param KEY=V1,V2,...) in parallel
 validation-report  re-run the validations (Kalker E.3, creep table, Klingel, Frýba, RTRI) -> report.md + PNGs
 explore    the RTRI explorer: sliders (speed, span, deviation, friction, suspension) re-run the case and redraw
+bridge-crossing  a train (axle loads, HSLM-A, or vehicles) over a simply supported span: deck response, EN 1990
+bridge-crossing-sweep  the crossing over many speeds in parallel: peak deck response against speed, resonances
+curving    steady curving through an entry transition into a canted curve: sum Y, Y/Q, shift, attack angle
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 
 Bad input (a malformed or implausible option, a profile that is not what it is given as, an output location that
 cannot be written) is reported before any work as one line ``error: <option or file>: <problem>`` with exit code 2;
 an unusual but plausible value as one line ``warning: ...``, and the run goes on.  A simulation (``rtri``,
-``rtri-sweep``, ``run``, ``sweep``) exits with the code of its status (:mod:`exudyn_wheelrail.simulation.status`):
+``rtri-sweep``, ``run``, ``sweep``, ``bridge-crossing``, ``curving``) exits with the code of its status (:mod:`exudyn_wheelrail.simulation.status`):
 0 ok, 3 derailed, 4 diverged, 5 step_rejected; 1 any other error.
 """
 from __future__ import annotations
@@ -415,12 +418,50 @@ def _rtri_settings(args):
     return run, contact, preset
 
 
+def _car_body_choices():
+    from .scenarios.rtri_case import CAR_BODY_MODELS
+    return CAR_BODY_MODELS + ("both",)
+
+
+def _cmd_rtri_car_bodies(args, run, contact, delta, lt):
+    """``rtri --car-body both``: the rigid and the flexible car body with the same settings and the same measurement
+    points, each into its own directory, and the comparison figure."""
+    from pathlib import Path
+
+    from .scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
+    from .scenarios.rtri_case import CAR_BODY_MODELS, CARBODY_POINTS
+    from .scenarios.rtri_figures import plot_carbody_comparison
+    from .simulation.status import exit_code
+    results = {}
+    for cb in CAR_BODY_MODELS:
+        case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, run=run, contact=contact,
+                        deviation_amplitude_m=delta, transition_length_m=lt, car_body=cb,
+                        carbody_points=tuple(CARBODY_POINTS))
+        results[cb] = run_rtri(case, progress=print)
+        paths = write_rtri_outputs(results[cb], Path(args.out) / cb, plots=not args.no_plots)
+        print(f"car body {cb}:")
+        _print_status(results[cb].summary)
+        print("wrote " + ", ".join(str(p) for p in paths.values()))
+    for cb, r in results.items():
+        for point, dirs in r.summary["comfort"].items():
+            print(f"comfort, {cb} car body, {point}: " + ", ".join(
+                f"{d} Sperling Wz {v['sperling_Wz']:.2f}, EN 14363 peak {v['en14363_peak_m_s2']:.3f} m/s^2"
+                for d, v in dirs.items() if "sperling_Wz" in v))
+    if not args.no_plots:
+        fig = Path(args.out) / "fig5_carbody_rigid_vs_flexible.png"
+        plot_carbody_comparison(results, fig)
+        print(f"wrote {fig}")
+    return exit_code(r.summary["status"] for r in results.values())
+
+
 def cmd_rtri(args):
     from .scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
     delta, lt = _rtri_deviation(args)
     run, contact, preset = args.settings
+    if args.car_body == "both":
+        return _cmd_rtri_car_bodies(args, run, contact, delta, lt)
     case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, run=run, contact=contact,
-                    deviation_amplitude_m=delta, transition_length_m=lt)
+                    deviation_amplitude_m=delta, transition_length_m=lt, car_body=args.car_body)
     if preset:
         print(f"preset {preset['name']}: {preset['purpose']}; set {preset['set']}"
               + (f"; overridden {preset['overridden_by_options']}" if preset["overridden_by_options"] else ""))
@@ -533,7 +574,8 @@ def _overrides(pairs, option: str) -> dict:
 def cmd_run_scenario(args):
     from .scenarios.scenario import run_scenario
     scn = args.scenario_spec
-    print(f"scenario {scn['scenario']['name']}: {scn['vehicle'].get('name') or scn['vehicle']['file']}, "
+    veh = scn['vehicle']
+    print(f"scenario {scn['scenario']['name']}: {veh.get('name') or veh.get('file') or veh.get('consist')}, "
           f"{scn['vehicle']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
           f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")
     result = run_scenario(scn, args.out, progress=not args.no_progress)
@@ -618,6 +660,136 @@ def cmd_explore(args):
     return 0
 
 
+#: the command line's option of each field of a bridge crossing (errors name the option)
+BRIDGE_CROSSING_OPTIONS = {"span_m": "--span-m", "mass_kg_m": "--bridge-mass-kg-per-m",
+                           "f1_Hz": "--bridge-frequency-hz",
+                           "damping_ratio": "--damping-ratio", "n_modes": "--modes", "speed_m_s": "--speed-kmh",
+                           "model": "--model", "free_vibration_s": "--free-vibration-s", "dt_s": "--dt",
+                           "solver": "--solver", "track_form": "--track-form"}
+
+
+def _check_bridge_crossing(args) -> None:
+    """Every option of ``bridge-crossing`` (the axle file read, the load model resolved) before any work; the
+    :class:`~.scenarios.bridge_crossing.BridgeCrossing` goes to ``args.crossing``."""
+    from pathlib import Path
+
+    from .scenarios.bridge_crossing import (F1_HZ, FREE_VIBRATION_S, MASS_KG_M, SPAN_M, BridgeCrossing,
+                                            resolve_load_model, resolve_train_axles)
+    from .simulation.settings import DT_S
+    from .structures.load_models import hslm_a, read_axle_file
+    output_dir("--out", args.out)
+    if args.command == "bridge-crossing-sweep":
+        args.speeds = _sweep_speeds_kmh(args)
+        args.speed_kmh = args.speeds[0]
+    SPAN_M.check("--span-m", args.span_m)
+    MASS_KG_M.check("--bridge-mass-kg-per-m", args.bridge_mass_kg_per_m)
+    F1_HZ.check("--bridge-frequency-hz", args.bridge_frequency_hz)
+    SPEED_KM_H.check("--speed-kmh", args.speed_kmh)
+    FREE_VIBRATION_S.check("--free-vibration-s", args.free_vibration_s)
+    if args.dt is not None:
+        DT_S.check("--dt", args.dt)
+    z = args.damping_ratio
+    if not (np.isfinite(z) and 0.0 <= z < 1.0):
+        raise ValueError(f"--damping-ratio: {z:g} must be in [0, 1) (a ratio, not a percentage: 2 % is 0.02)")
+    axles = None
+    if args.axles is not None:
+        axles = read_axle_file(args.axles)
+    elif args.hslm is not None:
+        try:
+            axles = hslm_a(args.hslm)
+        except ValueError as exc:
+            raise ValueError(f"--hslm: {exc}") from None
+    elif args.model == "moving-loads":
+        if not Path(args.train).is_file():
+            raise ValueError(f"--train: {args.train}: no such consist file")
+        axles = resolve_train_axles(args.train)
+    try:
+        case = BridgeCrossing(span_m=args.span_m, mass_kg_m=args.bridge_mass_kg_per_m, f1_Hz=args.bridge_frequency_hz,
+                              damping_ratio=z, n_modes=args.modes, axles=axles, speed_m_s=args.speed_kmh / 3.6,
+                              model=args.model, free_vibration_s=args.free_vibration_s, dt_s=args.dt,
+                              solver=args.solver, track_form=args.track_form, train_file=args.train)
+    except ValueError as exc:
+        name, _, problem = str(exc).partition(": ")
+        raise ValueError(f"{BRIDGE_CROSSING_OPTIONS.get(name, name)}: {problem}") from None
+    resolve_load_model(case.model).check(case)
+    args.crossing = case
+
+
+#: most speeds of one bridge-crossing sweep
+MAX_SWEEP_SPEEDS = 10_000
+
+
+def _sweep_speeds_kmh(args) -> list[float]:
+    """The speeds of ``bridge-crossing-sweep`` [km/h], each checked (``--speeds-kmh`` or ``--speed-range-kmh``)."""
+    if args.speeds_kmh is not None:
+        option, speeds = "--speeds-kmh", list(args.speeds_kmh)
+    else:
+        option = "--speed-range-kmh"
+        first, last, step = args.speed_range_kmh
+        for v in (first, last, step):
+            if not np.isfinite(v):
+                raise ValueError(f"{option}: {v!r} is not a finite number")
+        if not step > 0 or last < first:
+            raise ValueError(f"{option}: expected FIRST <= LAST and STEP > 0, got {first:g} {last:g} {step:g}")
+        n = int(np.floor((last - first) / step + 1e-9)) + 1
+        if n > MAX_SWEEP_SPEEDS:
+            raise ValueError(f"{option}: {n} speeds, more than {MAX_SWEEP_SPEEDS}")
+        speeds = [first + k * step for k in range(n)]
+    for v in speeds:
+        SPEED_KM_H.check(option, v)
+    return speeds
+
+
+def cmd_bridge_crossing_sweep(args):
+    from .scenarios.bridge_crossing import speed_sweep
+    from .simulation.status import exit_code
+    case = args.crossing
+    src = case.axles.name if case.axles is not None else case.train_file
+    print(f"bridge-crossing sweep: {case.model}, {src}, L = {case.span_m:g} m, f1 = {case.f1_Hz:g} Hz, "
+          f"{case.n_modes} modes, {len(args.speeds)} speeds {min(args.speeds):g} ... {max(args.speeds):g} km/h, "
+          f"{args.workers or 'all'} worker processes")
+    result = speed_sweep(case, [v / 3.6 for v in args.speeds], out_dir=args.out, workers=args.workers,
+                         write_cases=args.case_outputs)
+    if result.resonance_speeds:
+        print("resonance speeds f1 d/i: " + ", ".join(f"{r['speed_km_h']:.4g}" for r in result.resonance_speeds)
+              + " km/h")
+    print(f"{len(args.speeds)} speeds in {result.wall_seconds:.1f} s; wrote " + ", ".join(result.paths.values()))
+    return exit_code(result.table["status"])
+
+
+def cmd_bridge_crossing(args):
+    from .scenarios.bridge_crossing import default_dt_s, run_bridge_crossing
+    case = args.crossing
+    src = case.axles.name if case.axles is not None else case.train_file
+    print(f"bridge crossing: {case.model}, {src}, L = {case.span_m:g} m, f1 = {case.f1_Hz:g} Hz, "
+          f"{case.n_modes} modes, zeta = {case.damping_ratio:g}, {case.speed_m_s * 3.6:g} km/h, {case.solver}, dt "
+          f"{case.dt_s if case.dt_s is not None else default_dt_s(case):g} s")
+    result = run_bridge_crossing(case, out_dir=args.out, progress=args.progress)
+    s = result.summary
+    st = s["status_detail"]
+    print(f"status: {s['status']}" + (f": {st['detail']}" if st["kind"] != "ok" and st["detail"] else ""))
+    if st["hint"]:
+        print(f"hint: {st['hint']}")
+    if s["max_abs_deck_midspan_displacement_m"] is not None:
+        en = s["EN1990_A2_deck_acceleration"]
+        qs = s["quasi_static"]
+        print(f"max |w| mid-span {s['max_abs_deck_midspan_displacement_m'] * 1e3:.4g} mm (quasi-static "
+              f"{qs['max_midspan_displacement_m'] * 1e3:.4g} mm, dynamic amplification "
+              f"{qs['dynamic_amplification']:.3g}), max |a| mid-span "
+              f"{s['max_abs_deck_midspan_acceleration_m_s2']:.4g} m/s^2; EN 1990 deck acceleration "
+              f"{en['peak_acceleration_m_s2']:.4g} m/s^2 (limit {en['limit_m_s2']:g}, {en['track_form']}): "
+              f"{'passed' if en['passed'] else 'NOT passed'}")
+    if s["resonance_speeds"]:
+        print("resonance speeds f1 d/i (d = %.4g m): %s km/h" % (
+            s["characteristic_spacing_m"], ", ".join(f"{r['speed_km_h']:.4g}" for r in s["resonance_speeds"])))
+    print(f"{s['steps']} steps of {s['dt_s']:g} s, solve {s['solve_seconds']:.2f} s for {s['simulated_seconds']:.4g} s "
+          f"simulated, exit code {st['exit_code']}")
+    for note in s["notes"]:
+        print("note:", note)
+    print("wrote " + ", ".join(result.paths.values()))
+    return st["exit_code"]
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m exudyn_wheelrail", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -658,6 +830,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--speed-kmh", type=float, default=250.0, help="running speed [km/h] (default 250)")
     _add_rtri_common(r, "2.5 s (the paper's 2500 steps of 1 ms)")
     r.add_argument("--no-plots", action="store_true", help="do not write the PNG figures")
+    r.add_argument("--car-body", default="rigid", choices=_car_body_choices(),
+                   help="car-body model: rigid (the vehicle file's; default), flexible (its variant with a "
+                        "free-free beam car body: RtriAssumptions.flexible_vehicle), or both "
+                        "(the two runs into OUT/rigid and OUT/flexible, their car-body accelerations side by side in "
+                        "OUT/fig5_carbody_rigid_vs_flexible.png and the comfort indices of both printed)")
     r.add_argument("--view", action="store_true",
                    help="show the run in Exudyn's 3-D renderer (wheels, rails, contact points, force arrows); the "
                         "window stays open after the solve until closed (Q/Escape); solve_seconds then include it")
@@ -733,7 +910,145 @@ def build_parser() -> argparse.ArgumentParser:
                     help="passage: until the whole car has left the span + run-out (default); published: 2.5 s")
     ex.add_argument("--out", default=None, help="headless: run once with the --set values and save the window here")
     ex.set_defaults(func=cmd_explore, check=_check_explore)
+    _add_bridge_crossing_parser(sub)
+    _add_curving_parser(sub)
     return parser
+
+
+def _add_bridge_crossing_parser(sub) -> None:
+    bc = sub.add_parser("bridge-crossing", help="a train over a simply supported span: moving loads (or vehicles) on "
+                                                "the modal deck in Exudyn",
+                        description="A train crosses a simply supported Euler-Bernoulli span (EI from f1, m, L; N "
+                                    "vertical modes, modal damping) built in Exudyn; t = 0 when the first axle "
+                                    "enters, the run ends when the last axle leaves (+ --free-vibration-s). Writes "
+                                    "DIR/timeseries.csv and DIR/summary.json (deck values positive downward). Model: "
+                                    "exudyn_wheelrail/scenarios/bridge_crossing.py.")
+    _add_bridge_crossing_arguments(bc, sweep=False)
+    bc.set_defaults(func=cmd_bridge_crossing, check=_check_bridge_crossing)
+    sw = sub.add_parser("bridge-crossing-sweep", help="bridge-crossing over a range of speeds in parallel: peaks vs "
+                                                      "speed, resonance speeds marked",
+                        description="Runs bridge-crossing at every speed in parallel processes; writes sweep.csv "
+                                    "(one row per speed), sweep.json and sweep_plot.png (max mid-span displacement "
+                                    "and acceleration vs speed, resonance speeds f1 d/i marked, EN 1990 limit).")
+    _add_bridge_crossing_arguments(sw, sweep=True)
+    sw.set_defaults(func=cmd_bridge_crossing_sweep, check=_check_bridge_crossing)
+
+
+def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
+    from .scenarios.bridge_crossing import DEFAULT_SOLVER, MAX_MODES, MODEL_NAMES, STEPS_PER_PERIOD, TRACK_FORMS
+    from .simulation.settings import SOLVERS
+    from .structures.load_models import HSLM_NAMES
+    bc.add_argument("--span-m", type=float, required=True, help="span length L [m]")
+    bc.add_argument("--bridge-mass-kg-per-m", type=float, required=True, help="deck mass per length m [kg/m]")
+    bc.add_argument("--bridge-frequency-hz", type=float, required=True,
+                    help="first bending frequency f1 [Hz]; EI = m (2 L^2 f1 / pi)^2")
+    bc.add_argument("--damping-ratio", type=float, required=True, help="modal damping ratio of every mode, 0 <= z < 1")
+    bc.add_argument("--modes", type=_positive_int("--modes"), required=True,
+                    help=f"vertical bending modes kept (1 to {MAX_MODES})")
+    src = bc.add_mutually_exclusive_group(required=True)
+    src.add_argument("--axles", default=None, metavar="FILE.csv",
+                     help="axle file: CSV with columns x_m (distance behind the first axle, >= 0) and load_N "
+                          "(downward force)")
+    src.add_argument("--hslm", default=None, metavar="A1..A10",
+                     help=f"a universal train of EN 1991-2 (Table 6.3, Fig. 6.12): {', '.join(HSLM_NAMES)}")
+    src.add_argument("--train", default=None, metavar="FILE.toml", help="a consist file (vehicles under vehicles/)")
+    bc.add_argument("--model", default=MODEL_NAMES[0], choices=MODEL_NAMES,
+                    help="moving-loads: constant axle loads (default); vehicles: the full vehicle-bridge interaction")
+    if sweep:
+        sp = bc.add_mutually_exclusive_group(required=True)
+        sp.add_argument("--speeds-kmh", type=float, nargs="+", default=None, help="the speeds [km/h]")
+        sp.add_argument("--speed-range-kmh", type=float, nargs=3, default=None, metavar=("FIRST", "LAST", "STEP"),
+                        help="the speeds FIRST, FIRST + STEP, ... up to LAST [km/h] (e.g. 100 420 10)")
+        bc.add_argument("--workers", type=_positive_int("--workers"), default=None,
+                        help="worker processes (default: all cores)")
+        bc.add_argument("--case-outputs", action="store_true", help="write each speed's files under cases/")
+    else:
+        bc.add_argument("--speed-kmh", type=float, required=True, help="running speed [km/h]")
+    bc.add_argument("--out", required=True, help="output directory")
+    bc.add_argument("--free-vibration-s", type=float, default=0.0,
+                    help="time simulated after the last axle has left the span [s] (default 0)")
+    bc.add_argument("--dt", type=float, default=None,
+                    help=f"time step [s] (default: min(1/({STEPS_PER_PERIOD} f_N), 2L/({STEPS_PER_PERIOD} N V), "
+                         "0.01 s), f_N = N^2 f1)")
+    bc.add_argument("--solver", default=DEFAULT_SOLVER, choices=SOLVERS,
+                    help=f"integrator (default {DEFAULT_SOLVER})")
+    bc.add_argument("--track-form", default=TRACK_FORMS[0], choices=TRACK_FORMS,
+                    help="the EN 1990 A2 deck-acceleration limit: ballasted 3.5 m/s^2 (default), direct_fastening "
+                         "5 m/s^2")
+    if not sweep:
+        bc.add_argument("--progress", action="store_true", help="a progress bar on stderr")
+
+
+#: the command line's option of each field of a curving case (errors name the option)
+CURVING_OPTIONS = {"radius_m": "--radius-m", "cant_m": "--cant-m", "speed_km_h": "--speed-kmh",
+                   "transition_m": "--transition-m", "direction": "--direction", "vehicle": "--vehicle"}
+
+
+def _add_curving_parser(sub) -> None:
+    from .scenarios.curving import DEFAULT_RAMP, LEAD_IN_M
+    cv = sub.add_parser("curving", help="steady curving: a vehicle through an entry transition into a circular "
+                                        "curve; per wheelset sum Y, Y/Q, lateral shift, angle of attack",
+                        description="Runs the vehicle from straight track through a clothoid transition with a linear "
+                                    "cant ramp into a circular curve until it is steady, in track-following frames "
+                                    "(exudyn_wheelrail/scenarios/curving.py, multibody/track_following.py). Writes "
+                                    "DIR/summary.json (status, vehicle_mass_kg, unbalanced_lateral_acceleration_m_s2 "
+                                    "in the track plane, positive outwards, sum_Y_N per wheelset: the steady lateral "
+                                    "force between both rails and the wheelset, positive outwards on the track, so "
+                                    "that its sum is m a_nc) and DIR/timeseries.csv.")
+    cv.add_argument("--vehicle", required=True, metavar="NAME|FILE",
+                    help="a shipped vehicle (vehicles/*.toml: manchester_vehicle1, single_bogie, single_wheelset) or a "
+                         "vehicle file")
+    cv.add_argument("--radius-m", type=float, required=True, help="radius of the circular curve [m]")
+    cv.add_argument("--cant-m", type=float, required=True,
+                    help="cant (superelevation of the outer rail) [m], 0 ... 0.2 (sin phi = cant / 1.5 m)")
+    cv.add_argument("--speed-kmh", type=float, required=True, help="running speed [km/h]")
+    cv.add_argument("--transition-m", type=float, default=None,
+                    help=f"length of the entry transition (clothoid, linear cant ramp) [m] (default: the cant ramp "
+                         f"1:{DEFAULT_RAMP:g}, at least 20 m; the leading wheelset starts {LEAD_IN_M:g} m before it)")
+    cv.add_argument("--direction", default="right", choices=("right", "left"),
+                    help="direction of the curve, looking in the running direction (default right)")
+    cv.add_argument("--out", required=True, help="output directory")
+    cv.add_argument("--progress", action="store_true", help="a progress bar on stderr")
+    cv.set_defaults(func=cmd_curving, check=_check_curving)
+
+
+def _check_curving(args) -> None:
+    """Every option of ``curving`` before any work (the vehicle read, the radius against its wheelbase); the
+    :class:`~.scenarios.curving.CurvingCase` goes to ``args.curving``."""
+    from .scenarios.curving import CurvingCase, CurvingInputError, check_curving_case
+    output_dir("--out", args.out)
+    case = CurvingCase(args.vehicle, radius_m=args.radius_m, cant_m=args.cant_m, speed_km_h=args.speed_kmh,
+                       transition_m=args.transition_m, direction=args.direction)
+    try:
+        args.curving_vehicle = check_curving_case(case)
+    except CurvingInputError as exc:
+        raise ValueError(f"{CURVING_OPTIONS.get(exc.option, exc.option)}: {exc.problem}") from None
+    args.curving = case
+
+
+def cmd_curving(args):
+    from .scenarios.curving import run_curving
+    from .simulation.recorder import ProgressBar
+    case = args.curving
+    v = args.curving_vehicle
+    print(f"curving: {v.name}, R = {case.radius_m:g} m {case.direction}, cant {case.cant_m * 1000:g} mm, "
+          f"{case.speed_km_h:g} km/h, transition {case.transition_length_m:g} m")
+    progress = None
+    if args.progress:
+        from .scenarios.curving import curving_distances
+        progress = ProgressBar(curving_distances(case, v)["duration_s"], label="curving")
+    result = run_curving(case, out_dir=args.out, progress=progress)
+    s = result.summary
+    if progress is not None:
+        progress.close(s["status"])
+    print(f"status: {s['status_text']}")
+    print(f"a_nc = {s['unbalanced_lateral_acceleration_m_s2']:.3f} m/s^2, m a_nc = "
+          f"{s['vehicle_mass_kg'] * s['unbalanced_lateral_acceleration_m_s2']:.0f} N")
+    if s.get("sum_Y_N") is not None:
+        print("sum Y per wheelset [N]: " + ", ".join(f"{y:.0f}" for y in s["sum_Y_N"])
+              + f"; total {sum(s['sum_Y_N']):.0f} N; steady: {'yes' if s['steady'] else 'NO'}")
+    print(f"wrote {args.out}/summary.json, {args.out}/timeseries.csv")
+    return s["exit_code"]
 
 
 def main(argv=None) -> int:

@@ -62,6 +62,37 @@ side frame, positive when the normal leans towards the track centre (flange cont
 ``n_r = (-sin gamma, -cos gamma)`` in side-frame (y, z) components.  The **rolling radius** is the distance of the
 wheel contact point from the axle axis.
 
+Track irregularities (per rail)
+-------------------------------
+Four channels as functions of the track distance s (m), each the displacement of the rails from the ideal track:
+
+* **alignment** ``y`` — lateral position of the rails' centre line (mean of both rails), track-frame y (+ right);
+* **vertical level** ``z`` — vertical position of the centre line at rail top (mean of both rails), track-frame z
+  (+ **down**: a positive level is a dip);
+* **cross level** ``c`` — height of the left rail minus height of the right rail, ``c = z_right - z_left``
+  (+ = the right rail lower).  It rolls the rail pair about its centre line by ``θ = asin(c / b)`` with the
+  rail-centre distance ``b`` = :data:`RAIL_CENTRE_DISTANCE_M` = 1.5 m (standard gauge, as EN 13803 uses for
+  cant); positive cross level is a positive roll (right-hand about x, lowers the right rail), like a wheelset's;
+* **gauge deviation** ``g`` — lateral distance between the rails minus nominal, ``g = y_right - y_left``
+  (+ = **wider**); the right rail moves by ``+g/2`` (to the right), the left rail by ``-g/2`` (to the left).
+
+Per rail: ``y_right = y + g/2``, ``y_left = y - g/2``, ``z_right = z + c/2``, ``z_left = z - c/2`` (the rolled rail pair
+puts the rail centres at these heights exactly, laterally to second order in θ).  In each side frame the rail is moved outwards by ``g/2``.
+
+Curves, cant and gradient
+-------------------------
+The track layout (:mod:`exudyn_wheelrail.track.layout`) is a function of the track distance ``s`` measured along
+the centre line.  Its **curvature** ``kappa(s) = dpsi/ds`` (heading ``psi`` about the global vertical, z down:
+positive turns the running direction to the right) is **positive for a right-hand curve** (centre of the curve on
+the +y side) and negative for a left-hand curve.  The **cant angle** ``phi`` is the roll of the track frame about
+its x axis (right-hand rule, as the wheelset roll): positive lowers the right rail.  In a curve the outer rail is
+raised, so a canted curve has ``phi`` of the sign of ``kappa``; the cant (superelevation) ``h`` carries the same
+sign and ``sin phi = h / RAIL_CENTRE_DISTANCE_M`` (1.5 m, EN 13803).  The **gradient** is the rise per unit horizontal length, positive uphill;
+the track frame pitches by ``theta = atan(gradient)`` (nose up).  Global frame: the track frame at ``s = 0``;
+track frame = ``R_z(psi) R_y(theta) R_x(phi)`` applied to the global axes.  *Outwards* (away from the centre of
+the curve) is ``-sign(kappa) y``.  The unbalanced (cant-deficiency) lateral acceleration in the track plane,
+positive outwards, is ``a_nc = V^2 |kappa| cos(phi) - g sin|phi|``.
+
 Creepages
 ---------
 Contact frame (``z_c`` from the wheel into the rail, ``x_c`` the rolling direction, ``y_c = z_c × x_c``, to the right
@@ -75,8 +106,21 @@ GAUGE_MEASURING_DEPTH_M = 0.014
 #: Standard gauge [m].
 STANDARD_GAUGE_M = 1.435
 
+#: Distance between the rail centres of standard gauge [m] (EN 13803): turns cross level into a roll angle.
+RAIL_CENTRE_DISTANCE_M = 1.5
+
 #: Default wheel flange back-to-back distance [m] (UIC 510-2 nominal).
 DEFAULT_BACK_TO_BACK_M = 1.360
+
+#: Sign of the curvature of a right-hand / left-hand curve (see "Curves, cant and gradient").
+CURVE_DIRECTION_SIGN = {"right": 1.0, "left": -1.0}
+
+
+def outward_sign(curvature_1_m) -> float:
+    """+1/-1: the sign that turns a track-frame y component into 'positive outwards' in a curve of this curvature
+    (-sign(kappa); +1 on straight track is arbitrary and never used there)."""
+    return -1.0 if curvature_1_m > 0.0 else 1.0
+
 
 #: Rail inclinations accepted by name (tan of the cant angle).
 RAIL_INCLINATIONS = {"1/40": 1.0 / 40.0, "1/20": 1.0 / 20.0, "none": 0.0, "0": 0.0}

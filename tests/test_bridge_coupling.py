@@ -307,6 +307,7 @@ def test_structured_jacobian_with_bridge_equals_column_by_column_differences():
     a, b = 1.0, 0.5
     contact.forces(q, v, 0.0)                               # a warm start for the state
     state = contact.save_warm_start()
+    contact.jacobian_method = "forward_difference"         # the structured differences (not the default)
     J = contact._jacobian_uf(mbs, 0.0, 0, q, v, a, b).copy()
 
     def f(qq, vv):                                          # every evaluation from the Jacobian's warm start

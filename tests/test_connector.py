@@ -273,6 +273,7 @@ def test_structured_jacobian_equals_column_by_column_differences():
     for k in range(4):
         q[6 * k + 1], q[6 * k + 2] = 1e-3 * (k - 1.5), 2.5e-4
         v[6 * k + 1], v[6 * k + 4] = 0.01, -30 / 0.46 * (1 + 1e-4 * k)
+    contact.jacobian_method = "forward_difference"         # the structured differences (not the default)
     J = contact._jacobian_uf(mbs, 0.0, 0, q, v, 1.0, 0.5).copy()
     f0 = contact.forces(q, v, 0.0).copy()
     state = contact.save_warm_start()

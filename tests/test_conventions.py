@@ -83,3 +83,55 @@ def test_parse_inclination():
     assert parse_inclination("1:20") == pytest.approx(0.05)
     assert parse_inclination("none") == 0.0
     assert parse_inclination(0.03) == 0.03
+
+
+def test_cross_level_and_gauge_per_rail(pair):
+    """Track irregularities (per rail): the rail-centre distance that turns cross level into a roll is that of the
+    placed rail heads; cross level = z_right - z_left (+ right rail lower) is a positive roll; gauge = y_right -
+    y_left (+ wider)."""
+    from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M
+    from exudyn_wheelrail.multibody.track import Harmonic
+    from exudyn_wheelrail.track.irregularities import IsolatedDefect, channel_values, rail_values
+    # the head's centre at the gauge depth: midway between its gauge face (at gauge/2) and its field face; UIC60's
+    # 72 mm head on a 1435 mm gauge puts the centres 1.507 m apart: 1.5 m within 1 %
+    s = np.linspace(pair.rail_side.s_min, pair.rail_side.s_max, 200001)
+    p = pair.rail_side.position(s)
+    band = np.abs(p[:, 1] - GAUGE_MEASURING_DEPTH_M) < 2e-6
+    centre = 0.5 * (np.min(p[band, 0]) + np.max(p[band, 0]))
+    assert 2 * centre == pytest.approx(RAIL_CENTRE_DISTANCE_M, rel=0.01)
+    # a dip of the right rail only is a positive cross level; rolling the rail pair by asin(c/b) lowers the right
+    # rail centre (y = b/2) by b/2 sin θ = c/2 and lifts the left one by as much
+    d = 3e-3
+    dip = IsolatedDefect("bump", 0.0, 2.0, d, rail="right")
+    r = rail_values(dip, [1.0])
+    c = channel_values(dip, [1.0]).cross_level_m[0]
+    assert (r["z_right_m"][0], r["z_left_m"][0], c) == pytest.approx((d, 0.0, d), abs=1e-15)
+    theta = np.arcsin(c / RAIL_CENTRE_DISTANCE_M)
+    assert theta > 0 and 0.5 * RAIL_CENTRE_DISTANCE_M * np.sin(theta) == pytest.approx(c / 2, rel=1e-12)
+    # a positive gauge deviation moves the right rail right and the left rail left by half of it each
+    wide = rail_values(Harmonic(2e-3, 40.0, phase_rad=np.pi / 2, direction="gauge"), [0.0])
+    assert (wide["y_right_m"][0], wide["y_left_m"][0]) == pytest.approx((1e-3, -1e-3), abs=1e-15)
+
+
+def test_curve_sign_right_hand_curve_positive_outer_rail_raised():
+    """conventions.py, "Curves, cant and gradient": kappa > 0 turns right (the centre on +y), the cant raises the
+    outer (left) rail, outwards is -sign(kappa) y, a_nc = V^2 |kappa| cos(phi) - g sin|phi|."""
+    from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M, CURVE_DIRECTION_SIGN, outward_sign
+    from exudyn_wheelrail.track.layout import Curve, TrackLayout
+
+    R, h = 500.0, 0.12
+    lay = TrackLayout([Curve(200.0, R, h, "right")])
+    s = 100.0
+    kappa, _, phi, _ = lay.evaluate([s])[0]
+    assert kappa == pytest.approx(1 / R) and CURVE_DIRECTION_SIGN["right"] == 1.0
+    assert phi == pytest.approx(np.arcsin(h / RAIL_CENTRE_DISTANCE_M))
+    p = lay.position([s])[0]
+    centre = np.array([0.0, R, 0.0])                       # right-hand curve from the origin along +x
+    assert np.linalg.norm(p - centre) == pytest.approx(R, rel=1e-9)
+    Rot = lay.rotation([s])[0]
+    left_rail, right_rail = Rot @ [0.0, -0.75, 0.0], Rot @ [0.0, 0.75, 0.0]
+    assert left_rail[2] - right_rail[2] == pytest.approx(-2 * 0.75 * h / RAIL_CENTRE_DISTANCE_M, rel=1e-12)   # left higher
+    assert outward_sign(kappa) == -1.0 and outward_sign(-kappa) == 1.0
+    V, g = 25.0, 9.81
+    assert lay.unbalanced_lateral_acceleration([s], V, g)[0] == pytest.approx(
+        V ** 2 / R * np.cos(phi) - g * np.sin(phi), rel=1e-14)

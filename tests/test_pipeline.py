@@ -203,6 +203,49 @@ def test_rk44_below_its_stability_limit_runs_ok(rk44_stable_step_s):
     assert r.summary["steps"] == math.ceil(0.3 / dt - 1e-9)
 
 
+def test_rk44_past_the_creep_damping_limit_at_low_speed_is_flagged():
+    """At small creepage a contact acts as a damper G a b C11 / V along x (Kalker's linear theory): on the spin of
+    a wheelset (lever r_z: the contact point below the axle) the decay rate is at least the Rayleigh quotient
+    Σ c11 r_z² / I_yy, ∝ 1/V.  Hand reference: that quotient from the patches of the initial state and Kalker's C11
+    (Table E.3).  The monitor's rate (the largest eigenvalue of the wheelset's 6x6 creep damping) must be at least
+    it, and RK44 at 1 ms must be flagged where σ h > 2.785 (36 km/h) and not at 250 km/h."""
+    from exudyn_wheelrail.contact import layout as L
+    from exudyn_wheelrail.creep.linear import kalker_coefficients
+    from exudyn_wheelrail.multibody.monitor import RK44_REAL_LIMIT
+    from exudyn_wheelrail.scenarios.scenario import build_scenario
+    from exudyn_wheelrail.simulation import runner as R
+
+    rates = {}
+    for v_kmh in (36.0, 250.0):
+        h = build_scenario(RtriCase(speed_km_h=v_kmh, solver="rk44", dt_s=1e-3, duration_s=0.02).scenario())
+        c = h.contact
+        q0, v0 = c.coordinates(h.mbs)
+        c.forces(q0, v0, 0.0)                                    # the initial state's patches
+        G, nu = float(c.cp[L.CP_G]), float(c.cp[L.CP_NU])
+        body = [h.mbs.GetObject(i) for i in range(h.mbs.systemData.NumberOfObjects())
+                if h.mbs.GetObject(i).get("objectType") == "RigidBody"
+                and int(h.mbs.GetObject(i)["nodeNumber"]) == int(c.nodes_exu[0])][0]
+        i_yy = float(body["inertia"][1])
+        bound = 0.0
+        for w in (0, 1):
+            for r in c.results[w]:
+                if r[L.RES_N] > 0:
+                    c11 = kalker_coefficients(r[L.RES_A] / r[L.RES_B], nu)[0]
+                    r_z = r[L.RES_P_Z] - (c.p_ref[0][2] + q0[2])
+                    bound += G * r[L.RES_A] * r[L.RES_B] * c11 / abs(r[L.RES_V]) * r_z ** 2 / i_yy
+        out = R.run(h.mbs, h.run, c, speed_m_s=h.speed_m_s, recorder=None, exu_settings=(h.settings, h.solver_type))
+        sigma = out.creep_rate_1_s
+        assert len(sigma) == 4 and bound > 0.0
+        assert bound * (1 - 1e-9) <= sigma[0] < 10 * bound
+        rates[v_kmh] = (sigma[0], out)
+    (slow, out_slow), (fast, out_fast) = rates[36.0], rates[250.0]
+    assert slow * 1e-3 > RK44_REAL_LIMIT > fast * 1e-3
+    assert slow / fast == pytest.approx(250.0 / 36.0, rel=0.05)      # ∝ 1/V (the same patches at rest)
+    warn = " ".join(out_slow.warnings)
+    assert "creep damping" in warn and "stability limit" in warn
+    assert not any("creep damping" in w for w in out_fast.warnings)
+
+
 # --------------------------------------------------------------------------------------- held-out: Newmark 10 ms
 def test_rtri_dt_10ms_simulates_2_5_s_and_is_never_ok(tmp_path):
     out = tmp_path / "dt10"

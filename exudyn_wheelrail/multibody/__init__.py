@@ -1,4 +1,4 @@
-"""Exudyn coupling: vehicles from data files, the vehicle builder, and the track irregularities.
+"""Exudyn coupling: vehicles from data files, the vehicle builder, trains (consists), and the track irregularities.
 
 ::
 
@@ -18,6 +18,7 @@ from .track import (
     irregularity_at,
     irregularity_many,
 )
+from .train import Consist, ConsistError, TrainModel, build_train, load_consist, shipped_trains
 from .vehicle_builder import (
     LongitudinalRestraint,
     RailSprings,
@@ -38,4 +39,5 @@ __all__ = [
     "RigidStraightTrack", "irregularity_at", "irregularity_many",
     "add_wheel_rail_contact", "WheelRailContact", "ContactStateError", "place_on_rails", "static_axle_offset_m",
     "RunMonitor", "Status", "run_monitored",
+    "load_consist", "shipped_trains", "build_train", "Consist", "ConsistError", "TrainModel",
 ]

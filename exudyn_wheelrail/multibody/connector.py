@@ -28,10 +28,14 @@ wheel,
 
 Separation gives no force; re-contact is found by the kernel's separation bound and warm/global search.
 
-Implicit solvers: a Jacobian user function returns ``-∂f/∂q fODE2 - ∂f/∂q_t fODE2_t`` by forward differences of
-the same compiled call (position and velocity perturbations; rotations perturbed by body-frame increments, the
-Lie-group tangent), with the warm-start state saved and restored; block diagonal per wheelset, so 12 calls
-whatever the number of wheelsets (plus 6 with a bridge, below).
+Implicit solvers: a Jacobian user function returns ``-∂f/∂q fODE2 - ∂f/∂q_t fODE2_t``, by default semi-analytic
+(:mod:`.contact_jacobian`: one evaluation of the compiled call and the derivatives of its results — Hertz along
+the normal, the creep law's tangent with the creepages' velocity derivatives, the deck coupling — forward
+differences where a contact's normal turns fast, e.g. in the flange root); :attr:`WheelRailContact.jacobian_method`
+``"forward_difference"`` gives the structured forward differences of the same compiled call (position and
+velocity perturbations; rotations perturbed by body-frame increments, the Lie-group tangent), with the warm-start
+state saved and restored; block diagonal per wheelset, so 12 calls whatever the number of wheelsets (plus 6 with a
+bridge, below).
 
 Flexible bridge (``bridge=``)
 -----------------------------
@@ -80,8 +84,10 @@ from ..creep.registry import CREEP_AB_CLAMPED, CREEP_LAWS, combined_elastic_cons
 from ..creep.registry import creep_forces as _creep  # noqa: F401  (the compiled creep dispatch, importable here)
 from ..structures.deck_kinematics import DECK_GROUND_VY, DECK_GROUND_Y, N_DECK_STATE, deck_arrays
 from ..validation import finite, poisson_ratio, youngs_modulus
-from .connector_core import (FRAME_MOVING, FRAME_S_START, FRAME_SPEED, N_FRAME, compiled_for, contact_data,
-                             contact_forces_core, contact_jacobian_core, work_arrays)
+from .connector_core import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, N_FRAME,
+                             WS_HALF_GAUGE, compiled_for, contact_data, contact_forces_core, contact_jacobian_core,
+                             work_arrays)
+from .contact_jacobian import JACOBIAN_METHODS, N_BLOCK, needs_differences, semi_analytic_jacobian
 from .placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
 from .rotations import rotation_from_vector  # noqa: F401  (importable from here)
 from .rotations import rotation_vector_from_matrix as _rotation_vector_from_matrix  # noqa: F401
@@ -135,8 +141,8 @@ class WheelRailContact:
         quasi-identical combination).
     fastsim_grid : ``(n_x, n_y)`` of FASTSIM.
     global_search : run the kernel's global scan at every evaluation (slower; follows jumps without warm start).
-    jacobian : ``"numerical"`` — a compiled forward-difference Jacobian user function for implicit solvers
-        (default); ``None`` — none (Exudyn's own handling).
+    jacobian : ``"numerical"`` — the connector's own Jacobian user function for implicit solvers (default; how it
+        differentiates: :attr:`jacobian_method`); ``None`` — none (Exudyn's own handling).
     bridge : an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` (:func:`~exudyn_wheelrail.structures.
         bridge.add_bridge` in the same ``mbs``) or ``None`` (rigid track).  The object then also spans the bridge's
         modal node: wheels on the deck see the deck's rail displacement and velocity, and the forces on the rails
@@ -144,6 +150,11 @@ class WheelRailContact:
         of the track (``BridgeModel.start_m``), the same s as the irregularity.  A support motion of the bridge
         (``bridge.add_support_motion``, before or after this call) moves the rails of every wheelset laterally
         by the ground displacement and velocity as well.
+    layout : a :class:`~exudyn_wheelrail.track.layout.TrackLayout` (curves, cant, gradient) or ``None`` (straight
+        track).  Each wheelset's coordinates are then relative to the local track frame at its own s, and the
+        creepages get the terms of the turning frame (:mod:`.connector_core`, "Curved track"); the bodies' inertia
+        terms and the suspension geometry of the curve are
+        :class:`~exudyn_wheelrail.multibody.track_following.TrackFollowingFrame`'s.  Needs ``frame="moving"``.
     """
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
@@ -152,7 +163,7 @@ class WheelRailContact:
                  E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28, fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
                  v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", bridge=None,
-                 geometry: str = "online", geometry_grid=None):
+                 geometry: str = "online", geometry_grid=None, layout=None):
         import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 
@@ -163,6 +174,12 @@ class WheelRailContact:
             raise TypeError(f"bridge={bridge!r}: expected an ExudynBridge (structures.bridge.add_bridge) or None")
         if frame not in ("moving", "track"):
             raise ValueError(f"frame={frame!r}: expected 'moving' or 'track'")
+        if layout is not None:
+            from ..track.layout import TrackLayout
+            if not isinstance(layout, TrackLayout):
+                raise TypeError(f"layout={layout!r}: expected a TrackLayout (exudyn_wheelrail.track.layout) or None")
+            if frame != "moving":
+                raise ValueError("layout: a curved track needs frame='moving' (the track-following frames)")
         if creep_law not in CREEP_LAWS:
             raise ValueError(f"creep_law={creep_law!r}: expected one of {sorted(CREEP_LAWS)}")
         if geometry not in GEOMETRY_MODES:
@@ -217,6 +234,14 @@ class WheelRailContact:
         self._frame[FRAME_SPEED] = speed_m_s
         self._frame[FRAME_MOVING] = 1.0 if frame == "moving" else 0.0
         self._frame[FRAME_S_START] = s_start_m
+        self.layout = layout
+        if layout is not None:
+            packed = layout.packed()
+            self._frame[FRAME_CURVED] = 1.0
+            self._frame[FRAME_PITCH] = layout.theta_rad
+            lay = (np.ascontiguousarray(packed.pieces, dtype=float), np.ascontiguousarray(packed.par, dtype=float))
+        else:
+            lay = (np.zeros((1, 6)), np.ones(1))
         self._kc = WheelsetContact(pair, n_ws, E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail, global_search=global_search)
         self.geometry = geometry
         self.geometry_table = None
@@ -250,7 +275,7 @@ class WheelRailContact:
         self._side_poses = np.zeros((2 * n_ws, 3))
         kc = self._kc
         # the compiled call's packed arguments (connector_core): model data, updated arrays, scratch: one object
-        self._model = ((self.p_ref, self._frame), irr, (kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params,
+        self._model = ((self.p_ref, self._frame) + lay, irr, (kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params,
                                                       (par, cz_ref, data)), creep.core, self._deck)
         self._state = (kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws, self._rail_f,
                        self._deck_state)
@@ -388,13 +413,45 @@ class WheelRailContact:
     def _force_uf(self, mbs, t, itemIndex, q, q_t):
         return self.forces(q, q_t, t)
 
+    #: how :meth:`_jacobian_uf` differentiates the contact, one of :data:`~.contact_jacobian.JACOBIAN_METHODS`:
+    #: ``"semi_analytic"`` (one contact call, :mod:`.contact_jacobian`) or ``"forward_difference"`` (the structured
+    #: differences of :func:`~.connector_core.contact_jacobian_core`: 14 calls, 20 with wheelsets on a deck)
+    jacobian_method = JACOBIAN_METHODS[0]
+    #: Jacobian evaluations since construction and the contact calls they made (not in :attr:`n_calls`)
+    n_jacobian_calls = 0
+    n_jacobian_contact_calls = 0
+    #: of these, the evaluations by forward differences (``"forward_difference"``, or a fast-turning normal)
+    n_jacobian_differenced = 0
+
     def _jacobian_uf(self, mbs, t, itemIndex, q, q_t, fODE2, fODE2_t):
         self._held = None
+        if self.jacobian_method not in JACOBIAN_METHODS:
+            raise ValueError(f"jacobian_method = {self.jacobian_method!r}: expected one of {JACOBIAN_METHODS}")
         q = np.ascontiguousarray(q, dtype=float)
         q_t = np.ascontiguousarray(q_t, dtype=float)
-        self._set_ground(float(t))
-        contact_jacobian_core(*self._args(q, q_t, float(t)), self._f, self.results, float(fODE2), float(fODE2_t),
+        t = float(t)
+        self._set_ground(t)
+        self.n_jacobian_calls += 1
+        if self.jacobian_method == "semi_analytic":
+            # one contact call at the state, then its derivatives (no contact call) unless a normal turns fast
+            bad = self._forces_core(q, q_t, t, self._data, self._f, self.results)
+            self.n_jacobian_contact_calls += 1
+            if bad >= 0:
+                self._raise_bad(bad, t)
+            if not needs_differences(self.results, self._kc.out):
+                blocks = self.__dict__.get("_tangent_blocks")
+                if blocks is None:
+                    shape = (len(self.nodes_exu), N_BLOCK, N_BLOCK)
+                    blocks = self._tangent_blocks = (np.zeros(shape), np.zeros(shape))
+                semi_analytic_jacobian(q, q_t, self._data, self._f, self.results, float(fODE2), float(fODE2_t),
+                                       self._jac, blocks[0], blocks[1])
+                return self._jac
+        contact_jacobian_core(*self._args(q, q_t, t), self._f, self.results, float(fODE2), float(fODE2_t),
                               self._jac, 1e-7, 1e-7, 1e-5)
+        # the differences (also the semi-analytic one's answer to a fast-turning normal, contact_jacobian): the
+        # unperturbed call, 12 perturbed ones, the final one at the state; 6 more for the deck under any wheelset
+        self.n_jacobian_differenced += 1
+        self.n_jacobian_contact_calls += 14 + (6 if self.n_modes and np.any(self._deck_state[:, 6] > 0.5) else 0)
         return self._jac
 
     # -- state of the model ----------------------------------------------------------------------------------------
@@ -432,6 +489,7 @@ class WheelRailContact:
         finally:
             self._kc.warm[:] = warm
             self.n_calls = 0
+            self.n_jacobian_calls = self.n_jacobian_contact_calls = self.n_jacobian_differenced = 0
 
     def save_warm_start(self) -> np.ndarray:
         """A copy of the contact search's warm-start state (restore with :meth:`restore_warm_start`)."""
@@ -480,8 +538,12 @@ class WheelRailContact:
         """Per wheelset the pose relative to its rail pair that the contact search used (last evaluation): rows
         ``(y_rel, z_rel, roll_rel)`` — lateral and vertical displacement of the axle centre from the rails' centre
         line at rail top (irregularity, ground motion and deck included; in the rail pair's frame, rolled with the
-        deck) [m] and roll relative to the rails [rad].  ``y_rel`` is the lateral wheelset–rail displacement."""
-        return self._side_poses[0::2].copy()
+        deck and the cross level) [m] and roll relative to the rails
+        [rad].  ``y_rel`` is the lateral wheelset–rail displacement from the rails' centre line (a gauge deviation
+        moves the rails, not their centre line)."""
+        pose = self._side_poses[0::2].copy()
+        pose[:, 0] += self._work[3][:, WS_HALF_GAUGE]
+        return pose
 
     def geometry_statistics(self) -> dict:
         """Wheel evaluations answered by the geometry table and by the online search since the start (both count

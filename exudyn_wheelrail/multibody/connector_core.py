@@ -13,10 +13,13 @@ in one call, and their Jacobian by structured forward differences.
   (about 0.1 µs each);
 * ``model`` — constant data, ``(vehicle, track, geometry, creep, deck)``:
 
-  - ``vehicle = (p_ref, frame)``: reference positions (n, 3) [m] of the wheelset nodes (track/model frame) and
-    ``frame[FRAME_*]`` (running speed V [m/s], 1.0 for a model frame moving with V, track distance s_start [m] of
-    the frame's origin at t = 0);
-  - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)`` (:func:`~.track.irregularity_at`);
+  - ``vehicle = (p_ref, frame, layout, layout_par)``: reference positions (n, 3) [m] of the wheelset nodes
+    (track/model frame), ``frame[FRAME_*]`` (running speed V [m/s], 1.0 for a model frame moving with V, track
+    distance s_start [m] of the frame's origin at t = 0, 1.0 on a curved layout, the gradient's pitch [rad]) and
+    the track layout's packed pieces and parameters (:func:`~exudyn_wheelrail.track.layout.layout_at`; read only
+    when ``frame[FRAME_CURVED]`` is set);
+  - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)`` (:func:`~.track.irregularity_channels_at`:
+    alignment, vertical level, cross level and gauge deviation);
   - ``geometry = (nodes, meta, mono, curve_ids, params, table)``: the profiles and kernel parameters of a
     :class:`~exudyn_wheelrail.contact.WheelsetContact` and the geometry table's ``(par, cz_ref, data)``
     (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`);
@@ -30,9 +33,9 @@ in one call, and their Jacobian by structured forward differences.
   Jacobian perturbs it), and per wheelset ``Φ(s)`` (n, 3, n_m), the force on the rails ``(F_y, F_z, M_x)`` that is
   projected (n, 3) and the deck state (n, ``N_DECK_STATE``);
 * ``work`` — scratch the call overwrites, allocated once (:func:`work_arrays`; nothing is allocated per call):
-  ``(work_ds, deck_work, rot, wheelset, vec, frame)``: the deck's shape scratch (3, n_m) and rail state (9,), per
-  wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of its pose (n, ``N_WS``), the vectors
-  ``V_*`` of a contact (``N_VEC``, 3) and the contact frame (3, 3);
+  ``(work_ds, deck_work, rot, wheelset, vec, frame, lay)``: the deck's shape scratch (3, n_m) and rail state (9,),
+  per wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of its pose (n, ``N_WS``), the vectors
+  ``V_*`` of a contact (``N_VEC``, 3), the contact frame (3, 3) and the layout values at a wheelset (4,);
 * ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
   ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
 
@@ -41,11 +44,22 @@ The call runs in three stages (:func:`wheelset_poses`, the geometry of
 of a wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
 
 Per wheel it takes the wheelset pose from the node coordinates, subtracts the rails' position (irregularity, ground
-motion, deck: :mod:`~exudyn_wheelrail.structures.deck_kinematics`), solves the contact geometry and Hertz
+motion, deck: :mod:`~exudyn_wheelrail.structures.deck_kinematics`; the cross level rolls the rail pair on top of the
+deck roll, the gauge deviation moves each rail outwards by half of it in its side frame:
+:mod:`exudyn_wheelrail.conventions`), solves the contact geometry and Hertz
 (:mod:`exudyn_wheelrail.contact.kernel` or the geometry table), places each contact point in 3-D (yaw lead),
 computes the creepages and the creep law (:mod:`exudyn_wheelrail.creep.registry`) and applies
 ``N n_rail + Fx x_c + Fy y_c`` at the contact point and ``Mz z_c`` to the wheelset; the equal and opposite force
 goes to the rails and, on the deck, to the modal coordinates.
+
+Curved track (``frame[FRAME_CURVED]`` set): each wheelset's coordinates are relative to the local track frame at
+its own s (:mod:`~exudyn_wheelrail.multibody.track_following`), which turns with
+``Ω = V (φ' − κ sin θ, κ cos θ sin φ, κ cos θ cos φ)`` (:mod:`exudyn_wheelrail.track.layout`).  Seen from it the
+rail material at the contact point ``r`` (from the wheelset frame's origin on the centre line at rail top) moves
+with ``−V e_x − Ω × r`` and turns with ``−Ω``: the longitudinal creepage of a wheel at ``y = ±b`` gains ``∓ κ b``
+(the inner rail is shorter) and the spin ``−Ω·z_c/V`` — the kinematic yaw rate of the wheelset in the curve
+(Knothe & Stichel, *Rail Vehicle Dynamics*, 2017, §8.2; Shabana et al., *Railroad Vehicle Dynamics*, 2008, §6.3).
+On straight track nothing of this is evaluated.
 """
 from __future__ import annotations
 
@@ -57,6 +71,7 @@ from numba import njit, types
 from numba.experimental import structref
 
 from ..contact import geometry_table as GT
+from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..contact.creepage import creepages_core, yawed_contact_point_cs
 from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z, F_PENETRATION,
                               F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, RES_A, RES_B, RES_CREEP_STATUS,
@@ -68,17 +83,21 @@ from ..creep.registry import creep_forces
 from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, deck_state_under, pose_relative_to_rails,
                                           project_on_deck, rail_material_velocity, rail_moment_about_deck_line,
                                           rail_pair_to_track, rails_under)
+from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, N_LAYOUT, layout_at
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
-from .track import irregularity_at
+from .track import irregularity_channels_at
 
 __all__ = ["contact_forces_core", "contact_jacobian_core", "contact_data", "ContactData", "work_arrays", "compiled_for",
-           "wheelset_poses", "wheel_forces", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "N_FRAME"]
+           "wheelset_poses", "wheel_forces", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED",
+           "FRAME_PITCH", "N_FRAME"]
 
 # ---- model frame: frame[FRAME_*] ---------------------------------------------------------------------------------
 FRAME_SPEED = 0       # running speed V [m/s]
 FRAME_MOVING = 1      # 1.0: the model frame translates with V (rail material velocity -V); 0.0: fixed to the track
 FRAME_S_START = 2     # track distance of the frame's origin at t = 0 [m]
-N_FRAME = 3
+FRAME_CURVED = 3      # 1.0: the wheelsets follow a track layout (creepage terms of the turning frame)
+FRAME_PITCH = 4       # the layout's gradient as a pitch angle θ [rad]
+N_FRAME = 5
 
 # ---- per wheelset quantities of the call: work[3][k, WS_*] ----------------------------------------------------------
 WS_S = 0              # track distance s of the axle centre [m]
@@ -90,9 +109,10 @@ WS_COS_YAW = 5
 WS_SIN_YAW = 6
 WS_Y_RAIL = 7         # the rails' centre line under the wheelset (irregularity, ground, deck) [m]
 WS_Z_RAIL = 8
-WS_COS_TH = 9         # cosine and sine of the rail pair's roll θ (deck)
+WS_COS_TH = 9         # cosine and sine of the rail pair's roll θ (deck roll + cross level)
 WS_SIN_TH = 10
-N_WS = 11
+WS_HALF_GAUGE = 11    # half the gauge deviation: each rail's outward shift in its side frame [m]
+N_WS = 12
 
 # ---- vectors of one contact (track frame): work[4][V_*] -----------------------------------------------------------
 V_P_CONTACT = 0       # contact point [m]
@@ -109,7 +129,7 @@ N_VEC = 8
 def work_arrays(n_wheelsets: int, n_modes: int) -> tuple:
     """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets`` and ``n_modes``."""
     return (np.zeros((3, n_modes)), np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
-            np.zeros((N_VEC, 3)), np.zeros((3, 3)))
+            np.zeros((N_VEC, 3)), np.zeros((3, 3)), np.zeros(N_LAYOUT))
 
 
 @structref.register
@@ -153,10 +173,11 @@ def wheelset_poses(q, q_t, t, model, state, work):
     (irregularity, ground motion, deck state) and the pose of each wheel relative to its rail (``side_poses``).
     Returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
     vehicle, track, geometry, creep, deck = model
-    p_ref, frame_par = vehicle
+    p_ref = vehicle[0]
+    frame_par = vehicle[1]
     irr_rows, irr_knots, irr_coefs = track
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
-    work_ds, deck_work, rot, wsd, vec, frame = work
+    work_ds, deck_work, rot, wsd, vec, frame = work[0], work[1], work[2], work[3], work[4], work[5]
     speed = frame_par[FRAME_SPEED]
     moving_frame = frame_par[FRAME_MOVING] != 0.0
     s_start = frame_par[FRAME_S_START]
@@ -187,7 +208,8 @@ def wheelset_poses(q, q_t, t, model, state, work):
         py = p_ref[k, 1] + q[o + 1]
         pz = p_ref[k, 2] + q[o + 2]
         s = s_start + px + (speed * t if moving_frame else 0.0)
-        y_irr, _, _, z_irr, _, _ = irregularity_at(irr_rows, irr_knots, irr_coefs, s)
+        y_irr, _, _, z_irr, _, _, c_irr, _, _, g_irr, _, _ = irregularity_channels_at(irr_rows, irr_knots,
+                                                                                     irr_coefs, s)
         wk = wsd[k]
         wk[WS_S] = s
         wk[WS_ROLL] = roll
@@ -199,19 +221,25 @@ def wheelset_poses(q, q_t, t, model, state, work):
         on = deck_state_under(s, speed, deck, q_m, q_m_t, rail_delta[k], phi_ws[k], work_ds, deck_work,
                               deck_state[k])
         stats[STAT_ON_DECK if on else STAT_OFF_DECK] += 1
-        # the pose relative to the rail pair (irregularity, ground motion and deck; without a bridge: p - p_irr)
+        # the pose relative to the rail pair (irregularity, ground motion and deck; without a bridge: p - p_irr),
+        # rolled by the deck and the cross level
         y_r, z_r, th = rails_under(y_irr, z_irr, y_g, deck_state[k])
+        if c_irr != 0.0:
+            th += math.asin(c_irr / RAIL_CENTRE_DISTANCE_M)
+        h_g = 0.5 * g_irr
         c_th = math.cos(th)
         s_th = math.sin(th)
         wk[WS_Y_RAIL] = y_r
         wk[WS_Z_RAIL] = z_r
         wk[WS_COS_TH] = c_th
         wk[WS_SIN_TH] = s_th
+        wk[WS_HALF_GAUGE] = h_g
         y_rel, z_rel, roll_rel = pose_relative_to_rails(py, pz, roll, y_r, z_r, th, c_th, s_th)
-        side_poses[2 * k, 0] = y_rel
+        # each side frame's rail moved outwards by half the gauge deviation
+        side_poses[2 * k, 0] = y_rel - h_g
         side_poses[2 * k, 1] = z_rel
         side_poses[2 * k, 2] = roll_rel
-        side_poses[2 * k + 1, 0] = -y_rel
+        side_poses[2 * k + 1, 0] = -y_rel - h_g
         side_poses[2 * k + 1, 1] = z_rel
         side_poses[2 * k + 1, 2] = -roll_rel
     if n_m > 0:
@@ -223,18 +251,35 @@ def wheelset_poses(q, q_t, t, model, state, work):
 
 
 @njit(cache=True)
+def _frame_rate(pieces, par, s, speed, pitch, lay):
+    """Angular velocity (track-frame components) of the local track frame at s moving with ``speed`` (module
+    docstring, curved track)."""
+    layout_at(pieces, par, s, lay)
+    k = lay[LAYOUT_KAPPA]
+    phi = lay[LAYOUT_PHI]
+    c_th = math.cos(pitch)
+    return (speed * (lay[LAYOUT_DPHI] - k * math.sin(pitch)), speed * k * c_th * math.sin(phi),
+            speed * k * c_th * math.cos(phi))
+
+
+@njit(cache=True)
 def wheel_forces(q, q_t, model, state, work, f_out, res):
     """Stage 3, after :func:`wheelset_poses` and the geometry (``out``): per contact the point in 3-D (yaw lead),
     the creepages, the creep law and the force on the wheelset; the results ``res``, the forces ``f_out``, the
     force on the rails and its projection on the deck.  ``f_out``, ``rail_f`` and ``res`` must be zero on entry."""
     vehicle, track, geometry, creep, deck = model
-    p_ref, frame_par = vehicle
+    p_ref = vehicle[0]
+    frame_par = vehicle[1]
     law, cp, t_nodes, coef, tab = creep
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
-    work_ds, deck_work, rot, wsd, vec, frame = work
+    work_ds, deck_work, rot, wsd, vec, frame = work[0], work[1], work[2], work[3], work[4], work[5]
     n_ws = p_ref.shape[0]
     n_w6 = 6 * n_ws
     f_m = f_out[n_w6:]
+    curved = frame_par[FRAME_CURVED] != 0.0
+    om_x = 0.0               # the local track frame's angular velocity (curved layout)
+    om_y = 0.0
+    om_z = 0.0
     y_g = deck[0][DECK_GROUND_Y]
     v_g = deck[0][DECK_GROUND_VY]
     v_min = cp[CP_V_MIN]
@@ -267,15 +312,23 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
         tx = 0.0
         ty = 0.0
         tz = 0.0
-        # the rails under this wheelset: centre line y_r, z_r (irregularity, ground, deck), roll th; the deck state
-        # (relative to the supports) and its roll rate, the rails' angular velocity
+        # the rails under this wheelset: centre line y_r, z_r (irregularity, ground, deck), roll (deck roll th and
+        # cross level: c_th, s_th), half the gauge deviation; the deck state (relative to the supports) and its
+        # roll rate, the rails' angular velocity
         y_r = wk[WS_Y_RAIL]
         z_r = wk[WS_Z_RAIL]
         ds = deck_state[k]
         th = ds[2]
         c_th = wk[WS_COS_TH]
         s_th = wk[WS_SIN_TH]
+        h_g = wk[WS_HALF_GAUGE]
         omega_rail[0] = ds[5]
+        if curved:
+            om_x, om_y, om_z = _frame_rate(vehicle[2], vehicle[3], wk[WS_S], frame_par[FRAME_SPEED],
+                                           frame_par[FRAME_PITCH], work[6])
+            omega_rail[0] = ds[5] - om_x
+            omega_rail[1] = -om_y
+            omega_rail[2] = -om_z
         rfy = 0.0
         rfz = 0.0
         rmx = 0.0
@@ -297,8 +350,9 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
                 if ow[F_STATUS] <= 0:
                     continue
                 N = ow[F_NORMAL_FORCE]
-                # contact point and rail normal from the rail pair's frame (side frame mirrored) to the track frame
-                y_t, z_t, ny, nz = rail_pair_to_track(mirror * ow[F_PW_Y], ow[F_PW_Z], mirror * ow[F_NR_Y],
+                # contact point and rail normal from the side frame (its rail moved outwards by h_g) to the rail
+                # pair's frame (mirrored for the left side) and on to the track frame
+                y_t, z_t, ny, nz = rail_pair_to_track(mirror * (ow[F_PW_Y] + h_g), ow[F_PW_Z], mirror * ow[F_NR_Y],
                                                       ow[F_NR_Z], y_r, z_r, c_th, s_th)
                 x_c, y_c, z_c, _, ok = yawed_contact_point_cs(y_t, z_t, ny, nz, p_centre[0], p_centre[1],
                                                                p_centre[2], wk[WS_COS_ROLL], wk[WS_SIN_ROLL],
@@ -312,6 +366,12 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
                 nr[1] = ny
                 nr[2] = nz
                 rail_material_velocity(y_c, z_c, y_g, v_g, ds, v_rail)
+                if curved:
+                    # minus Ω × r, r from the wheelset frame's origin (axle's nominal x, centre line, rail top)
+                    rx = x_c - p_ref[k, 0]
+                    v_rail[0] = -frame_par[FRAME_SPEED] - (om_y * z_c - om_z * y_c)
+                    v_rail[1] -= om_z * rx - om_x * z_c
+                    v_rail[2] -= om_x * y_c - om_y * rx
                 xi, eta, phi, V, cstat = creepages_core(pc, nr, e_axle, p_centre, v_centre, omega, v_rail,
                                                          omega_rail, v_min, frame)
                 Fx = 0.0

@@ -98,8 +98,11 @@ Invalid states (stop the run)
   RK44's limit ω h <= 2√2 (per state the largest eigenvalue by Jacobi's method; within
   :data:`STABILITY_SCREEN_MARGIN` of the limit LAPACK's eigenvalue decides).  This alone is recorded as a
   ``step_size`` event (a short excursion may pass); every stopping status after it becomes ``invalid_state`` naming
-  both ("the integration is not trustworthy; then: …"), so a diverged run is never reported as a derailment.  Creep
-  damping is not in the estimate.
+  both ("the integration is not trustworthy; then: …"), so a diverged run is never reported as a derailment.  The
+  creep damping (:meth:`RunMonitor.creep_decay_rate_1_s`: Kalker's linear theory on the loaded contacts, decay
+  rates growing as 1/V) is checked at the first state against RK44's real-axis limit σ h <= 2.785: beyond it the
+  run stops with the same ``step_size`` event (a low-speed run at 1 ms integrates a limit cycle of the creep forces,
+  not rolling).
 
 ``time_limit``: the wall-clock limit ``time_limit_s`` was reached.  ``solver_failure``: ``SolveDynamic`` failed for
 another reason (returned False, raised, or stopped early).  Completed runs end with ``completed`` — or ``hunting``
@@ -223,6 +226,9 @@ def _status_from_state_error(err: C.ContactStateError, fallback_t: float | None)
 FLANK_ANGLE_DROP_RAD = 0.05
 #: RK44's stability limit on the imaginary axis, |omega h| <= 2 sqrt(2)
 RK44_LIMIT = 2.0 * math.sqrt(2.0)
+#: RK44's stability limit on the negative real axis: |1 + z + z²/2 + z³/6 + z⁴/24| = 1 at z = -2.7853 (a decay rate
+#: sigma needs sigma h <= this)
+RK44_REAL_LIMIT = 2.785293563405282
 #: relative margin below RK44_LIMIT above which the compiled value of the stability estimate (Jacobi's method,
 #: :func:`.monitor_core.largest_eigenvalue_psd`, relative error near 1e-15) is replaced by LAPACK's eigenvalue before
 #: anything is decided
@@ -323,6 +329,9 @@ class RunMonitor:
         self._Mh = np.zeros((6, 6))
         #: the first ``step_size`` event (the RK44 stability limit exceeded), or None
         self.stability_exceeded: Status | None = None
+        #: per wheelset the fastest decay rate of its creep damping at the first checked state [1/s]
+        #: (:meth:`creep_decay_rate_1_s`; with the stability estimate only, else empty)
+        self.creep_rate_1_s: list[float] = []
         #: Nadal's limit Y/Q at the flank (the contact's friction coefficient), for reference
         self.nadal_limit = (nadal_limit(self.flank_angle_rad, float(contact.cp[L.CP_MU]))
                             if math.isfinite(self.flank_angle_rad) else float("nan"))
@@ -521,7 +530,61 @@ class RunMonitor:
                                 self._work, self._hist, row)
         if code:
             self._events_of_state(t, q, v)
+        if self.n_checks == 1 and self._inertia is not None and self.status is None:
+            self._creep_stability(t, q)
         return self.status
+
+    def creep_decay_rate_1_s(self, k: int, q) -> float:
+        """The fastest decay rate σ [1/s] of wheelset k's creep damping at the evaluated state: at small creepage
+        every contact acts on the rolling wheelset like two dampers, ``c_x = G a b C11 / V`` along the track's x and
+        ``c_y = G a b C22 / V`` across it (Kalker's linear theory, :func:`~exudyn_wheelrail.creep.linear.
+        kalker_coefficients` at the patch's a/b; G, ν the connector's), acting at the contact point; σ is the
+        largest eigenvalue of ``M^-1/2 D M^-1/2`` with ``D = Σ c g gᵀ``, ``g = (t, r × t)`` (r the lever from the
+        axle centre) and the wheelset's mass and inertia M.  It grows as 1/V: an explicit step needs σ h <= 2.785
+        (:data:`RK44_REAL_LIMIT`) or it integrates a limit cycle of the creep forces instead of rolling.  0 without
+        a loaded contact or with the creep law ``none``."""
+        from ..creep.linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients
+        c = self.contact
+        inertia = self._inertia[k] if self._inertia is not None else None
+        if inertia is None or c.creep_law == "none":
+            return 0.0
+        G_mod, nu = float(c.cp[L.CP_G]), min(max(float(c.cp[L.CP_NU]), 0.0), 0.5)
+        res = c.results
+        centre = np.asarray(c.p_ref[k], dtype=float) + np.asarray(q[6 * k:6 * k + 3], dtype=float)
+        D = np.zeros((6, 6))
+        for w in (2 * k, 2 * k + 1):
+            for r in res[w]:
+                N, a, b, V = r[L.RES_N], r[L.RES_A], r[L.RES_B], abs(r[L.RES_V])
+                if not (N > 0.0 and a > 0.0 and b > 0.0 and V > 0.0):
+                    continue
+                c11, c22, _ = kalker_coefficients(min(max(a / b, A_OVER_B_MIN), A_OVER_B_MAX), nu)
+                lever = np.array([r[L.RES_P_X], r[L.RES_P_Y], r[L.RES_P_Z]]) - centre
+                for coefficient, t_dir in ((c11, (1.0, 0.0, 0.0)), (c22, (0.0, 1.0, 0.0))):
+                    g = np.concatenate([t_dir, np.cross(lever, t_dir)])
+                    D += (G_mod * a * b * coefficient / V) * np.outer(g, g)
+        if not D.any():
+            return 0.0
+        mass, I_inv_sqrt = inertia
+        R, Mh = self._R, self._Mh
+        rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
+        Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
+        Mh[3:, 3:] = R @ I_inv_sqrt @ R.T
+        return float(np.linalg.eigvalsh(Mh @ D @ Mh)[-1])
+
+    def _creep_stability(self, t, q):
+        """At the first checked state of an RK44 run: the creep damping's decay rates against the step
+        (:meth:`creep_decay_rate_1_s`; the speed is constant, the rates change with the patch size only, as
+        N^(2/3)); beyond RK44's real-axis limit a ``step_size`` event stops the run."""
+        h = self.rk44_step_s
+        self.creep_rate_1_s = [self.creep_decay_rate_1_s(k, q) for k in range(self.n_wheelsets)]
+        k = int(np.argmax(self.creep_rate_1_s))
+        sh = self.creep_rate_1_s[k] * h
+        if sh > RK44_REAL_LIMIT and self.stability_exceeded is None:
+            st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the creep "
+                        f"damping (sigma h = {sh:.3g} > {RK44_REAL_LIMIT:.3f}, sigma = {sh / h:.4g} 1/s, growing as "
+                        f"1/V at low speed: stable below {RK44_REAL_LIMIT / (sh / h):.3g} s)")
+            self.stability_exceeded = st
+            self._stop(st)
 
     def _events_of_state(self, t, q, v):
         """What the compiled call reported for this state, in the order of the checks: implausible velocities, the

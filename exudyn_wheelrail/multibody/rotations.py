@@ -36,38 +36,42 @@ def rotation_from_vector(rx, ry, rz, R):
 
 @njit(cache=True)
 def rotation_vector_from_matrix(R, v, o):
-    """Rotation vector [rad] of R into ``v[o:o+3]`` (angle in [0, π])."""
+    """Rotation vector [rad] of R into ``v[o:o+3]`` (angle in [0, π]).
+
+    The angle from ``atan2(sin θ, cos θ)`` with ``2 sin θ e = (R₃₂ - R₂₃, R₁₃ - R₃₁, R₂₁ - R₁₂)`` and ``2 cos θ = tr R
+    - 1`` — accurate at every angle (``acos`` of the trace alone loses half the digits at small angles).  Below
+    about 154° (cos θ > -0.9) the vector is ``θ/(2 sin θ)`` times that skew part; closer to π the axis comes from the
+    symmetric part, ``R + Rᵀ = 2 cos θ I + 2 (1 - cos θ) e eᵀ``, its sign from the skew part."""
     tr = R[0, 0] + R[1, 1] + R[2, 2]
-    c = min(max(0.5 * (tr - 1.0), -1.0), 1.0)
-    th = math.acos(c)
     wx = R[2, 1] - R[1, 2]
     wy = R[0, 2] - R[2, 0]
     wz = R[1, 0] - R[0, 1]
-    if th < 1e-8:
-        v[o] = 0.5 * wx
-        v[o + 1] = 0.5 * wy
-        v[o + 2] = 0.5 * wz
-        return
-    s = math.sin(th)
-    if s > 1e-6:
-        f = th / (2.0 * s)
+    sn = 0.5 * math.sqrt(wx * wx + wy * wy + wz * wz)
+    cs = 0.5 * (tr - 1.0)
+    th = math.atan2(sn, cs)
+    if cs > -0.9:
+        f = 0.5 if sn < 1e-300 else th / (2.0 * sn)    # θ/(2 sin θ) -> 1/2 at θ -> 0
         v[o] = f * wx
         v[o + 1] = f * wy
         v[o + 2] = f * wz
         return
-    # near π: axis from the diagonal
-    ax = math.sqrt(max(0.5 * (R[0, 0] + 1.0), 0.0))
-    ay = math.sqrt(max(0.5 * (R[1, 1] + 1.0), 0.0))
-    az = math.sqrt(max(0.5 * (R[2, 2] + 1.0), 0.0))
+    k = 1.0 - cs                                        # 1 - cos θ in [1.9, 2]
+    ax = math.sqrt(max((R[0, 0] - cs) / k, 0.0))
+    ay = math.sqrt(max((R[1, 1] - cs) / k, 0.0))
+    az = math.sqrt(max((R[2, 2] - cs) / k, 0.0))
     if ax >= ay and ax >= az:
-        ay = math.copysign(ay, R[0, 1] + R[1, 0])
-        az = math.copysign(az, R[0, 2] + R[2, 0])
+        ax = math.copysign(ax, wx) if wx != 0.0 else ax
+        ay = (R[0, 1] + R[1, 0]) / (2.0 * k * ax)
+        az = (R[0, 2] + R[2, 0]) / (2.0 * k * ax)
     elif ay >= az:
-        ax = math.copysign(ax, R[0, 1] + R[1, 0])
-        az = math.copysign(az, R[1, 2] + R[2, 1])
+        ay = math.copysign(ay, wy) if wy != 0.0 else ay
+        ax = (R[0, 1] + R[1, 0]) / (2.0 * k * ay)
+        az = (R[1, 2] + R[2, 1]) / (2.0 * k * ay)
     else:
-        ax = math.copysign(ax, R[0, 2] + R[2, 0])
-        ay = math.copysign(ay, R[1, 2] + R[2, 1])
-    v[o] = th * ax
-    v[o + 1] = th * ay
-    v[o + 2] = th * az
+        az = math.copysign(az, wz) if wz != 0.0 else az
+        ax = (R[0, 2] + R[2, 0]) / (2.0 * k * az)
+        ay = (R[1, 2] + R[2, 1]) / (2.0 * k * az)
+    n = math.sqrt(ax * ax + ay * ay + az * az)
+    v[o] = th * ax / n
+    v[o + 1] = th * ay / n
+    v[o + 2] = th * az / n

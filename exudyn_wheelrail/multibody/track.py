@@ -1,11 +1,16 @@
-r"""Rigid straight track with lateral and vertical irregularities as functions of the track distance s.
+r"""Rigid straight track with irregularities as functions of the track distance s: the packed components and the
+compiled evaluation of all four irregularity channels.
 
-An irregularity displaces the whole track (both rails, rigidly) at distance ``s`` by ``y(s)`` (track-frame y,
-positive to the right) and ``z(s)`` (positive downwards), see :mod:`exudyn_wheelrail.conventions`.  For the
-contact kernel every irregularity is *packed* into plain arrays and evaluated by one numba function,
-:func:`irregularity_at` (scalar s, returns ``y, y', y'', z, z', z''`` with ' = d/ds) or
-:func:`irregularity_many` (array of s); the Python classes (:class:`SpanDeflection`, :class:`Harmonic`,
-:class:`SampledIrregularity`, sums with ``+``) build and evaluate those arrays.
+The channels (:mod:`exudyn_wheelrail.conventions`, "Track irregularities (per rail)") are the alignment ``y(s)``
+and vertical level ``z(s)`` of the rails' centre line (track-frame y positive to the right, z positive downwards),
+the cross level ``c(s)`` and the gauge deviation ``g(s)``.  For the contact kernel every irregularity is *packed*
+into plain arrays (one row per component: its kind, its channel and its parameters) and evaluated by one numba
+function, :func:`irregularity_channels_at` (scalar s, returns value, d/ds and d²/ds² of the four channels) —
+:func:`irregularity_at` returns the alignment and level alone (``y, y', y'', z, z', z''``), :func:`irregularity_many`
+and :func:`irregularity_channels_many` evaluate arrays of s.  The Python classes here (:class:`SpanDeflection`,
+:class:`Harmonic`, :class:`SampledIrregularity`, sums with ``+``) and those of :mod:`exudyn_wheelrail.track`
+(per-rail tables, measured files, isolated defects, generated spectra) build those arrays; ``direction`` of a span
+deflection or a harmonic names its channel (:data:`CHANNEL_NAMES`).
 
 Span deflection with smooth end transitions (RTRI case)
 -------------------------------------------------------
@@ -33,7 +38,7 @@ end itself by about ``3 k l_t / 32``, the short-transition value).  ``l_t = 0`` 
 
 Other irregularities
 --------------------
-* :class:`Harmonic`: ``a sin(2π s/λ + φ)`` along the whole track (lateral or vertical).
+* :class:`Harmonic`: ``a sin(2π s/λ + φ)`` along the whole track (any channel).
 * :class:`SampledIrregularity`: measured data (CSV columns ``s_m, y_m, z_m``), interpolated by a cubic spline
   with zero end slopes (C2 inside the table, C1 at its ends) and held constant outside it.
 * Sums: ``a + b`` (any number of components, evaluated in one call).
@@ -55,6 +60,9 @@ from scipy.interpolate import CubicSpline
 __all__ = [
     "LATERAL",
     "VERTICAL",
+    "CROSS_LEVEL",
+    "GAUGE",
+    "CHANNEL_NAMES",
     "IrregularityValues",
     "PackedIrregularity",
     "Irregularity",
@@ -66,16 +74,24 @@ __all__ = [
     "RigidStraightTrack",
     "irregularity_at",
     "irregularity_many",
+    "irregularity_channels_at",
+    "irregularity_channels_many",
     "span_deflection_at",
 ]
 
-LATERAL = 0   #: direction code: track y
-VERTICAL = 1  #: direction code: track z
+LATERAL = 0      #: channel code: alignment, track y of the rails' centre line
+VERTICAL = 1     #: channel code: vertical level, track z of the rails' centre line
+CROSS_LEVEL = 2  #: channel code: cross level (conventions.py)
+GAUGE = 3        #: channel code: gauge deviation (conventions.py)
+N_CHANNEL_VALUES = 12  # value, d/ds, d2/ds2 of the four channels (irregularity_channels_at)
 
 _KIND_SPAN = 1
 _KIND_HARMONIC = 2
 _KIND_TABLE = 3
-ROW_COLUMNS = 8  # [kind, direction, p0 ... p5]
+_KIND_COSINE_BUMP = 4  # p0 start, p1 length, p2 depth
+_KIND_CUSP = 5         # p0 centre, p1 length, p2 depth
+_KIND_V = 6            # p0 centre, p1 length, p2 depth
+ROW_COLUMNS = 8  # [kind, channel, p0 ... p5]
 
 
 # ------------------------------------------------------------------------------------------ compiled kernels
@@ -143,36 +159,89 @@ def _table_at(knots, coefs, k0, n, c0, s):
 
 
 @njit(cache=True)
-def irregularity_at(rows, knots, coefs, s):
-    """Sum of the packed irregularity components at track distance s.
+def _component_at(rows, r, knots, coefs, s):
+    """Value, d/ds and d2/ds2 of the packed component ``rows[r]`` at s."""
+    kind = int(rows[r, 0])
+    if kind == _KIND_SPAN:
+        return span_deflection_at(s, rows[r, 2], rows[r, 3], rows[r, 4], rows[r, 5])
+    if kind == _KIND_HARMONIC:
+        w = 2.0 * math.pi / rows[r, 3]
+        arg = w * s + rows[r, 4]
+        a = rows[r, 2]
+        return a * math.sin(arg), a * w * math.cos(arg), -a * w * w * math.sin(arg)
+    if kind == _KIND_TABLE:
+        return _table_at(knots, coefs, int(rows[r, 2]), int(rows[r, 3]), int(rows[r, 4]), s)
+    if kind == _KIND_COSINE_BUMP:
+        # depth (1 - cos(2π u/L))/2 on u = s - start in [0, L]
+        u = s - rows[r, 2]
+        length = rows[r, 3]
+        if u <= 0.0 or u >= length:
+            return 0.0, 0.0, 0.0
+        w = 2.0 * math.pi / length
+        a = 0.5 * rows[r, 4]
+        return a * (1.0 - math.cos(w * u)), a * w * math.sin(w * u), a * w * w * math.cos(w * u)
+    if kind == _KIND_CUSP:
+        # depth (1 - |x|)^2, x = 2 (s - centre)/L in [-1, 1]
+        length = rows[r, 3]
+        x = 2.0 * (s - rows[r, 2]) / length
+        ax = abs(x)
+        if ax >= 1.0:
+            return 0.0, 0.0, 0.0
+        d = rows[r, 4]
+        sign = 1.0 if x >= 0.0 else -1.0
+        k = 2.0 / length
+        return d * (1.0 - ax) * (1.0 - ax), -2.0 * d * (1.0 - ax) * sign * k, 2.0 * d * k * k
+    if kind == _KIND_V:
+        # depth (1 - |x|), x = 2 (s - centre)/L in [-1, 1]
+        length = rows[r, 3]
+        x = 2.0 * (s - rows[r, 2]) / length
+        ax = abs(x)
+        if ax >= 1.0:
+            return 0.0, 0.0, 0.0
+        d = rows[r, 4]
+        sign = 1.0 if x >= 0.0 else -1.0
+        return d * (1.0 - ax), -d * sign * 2.0 / length, 0.0
+    return 0.0, 0.0, 0.0
 
-    Returns ``(y, dy/ds, d2y/ds2, z, dz/ds, d2z/ds2)`` (m, -, 1/m).  ``rows`` (n, 8) float: ``[kind, direction,
-    p0..p5]``; ``knots`` (m,) and ``coefs`` (m', 4) hold the sampled tables (may be empty).  Allocates nothing
-    (the contact evaluates it per wheelset at every call)."""
-    y = y1 = y2 = z = z1 = z2 = 0.0
+
+@njit(cache=True)
+def irregularity_channels_at(rows, knots, coefs, s):
+    """The four irregularity channels of the packed components at track distance s, each with d/ds and d2/ds2.
+
+    Returns ``(y, y', y'', z, z', z'', c, c', c'', g, g', g'')``: alignment y and vertical level z of the rails'
+    centre line (track frame, m), cross level c and gauge deviation g (m; signs in
+    :mod:`exudyn_wheelrail.conventions`).  ``rows`` (n, 8) float: ``[kind, channel, p0..p5]``; ``knots`` (m,) and
+    ``coefs`` (m', 4) hold the sampled tables (may be empty).  Allocates nothing (the contact evaluates it per
+    wheelset at every call)."""
+    y = y1 = y2 = z = z1 = z2 = c = c1 = c2 = g = g1 = g2 = 0.0
     for r in range(rows.shape[0]):
-        kind = int(rows[r, 0])
-        direction = int(rows[r, 1])
-        if kind == _KIND_SPAN:
-            v, d1, d2 = span_deflection_at(s, rows[r, 2], rows[r, 3], rows[r, 4], rows[r, 5])
-        elif kind == _KIND_HARMONIC:
-            w = 2.0 * math.pi / rows[r, 3]
-            arg = w * s + rows[r, 4]
-            a = rows[r, 2]
-            v, d1, d2 = a * math.sin(arg), a * w * math.cos(arg), -a * w * w * math.sin(arg)
-        elif kind == _KIND_TABLE:
-            v, d1, d2 = _table_at(knots, coefs, int(rows[r, 2]), int(rows[r, 3]), int(rows[r, 4]), s)
-        else:
-            v, d1, d2 = 0.0, 0.0, 0.0
-        if direction == LATERAL:
+        channel = int(rows[r, 1])
+        v, d1, d2 = _component_at(rows, r, knots, coefs, s)
+        if channel == LATERAL:
             y += v
             y1 += d1
             y2 += d2
-        else:
+        elif channel == VERTICAL:
             z += v
             z1 += d1
             z2 += d2
-    return y, y1, y2, z, z1, z2
+        elif channel == CROSS_LEVEL:
+            c += v
+            c1 += d1
+            c2 += d2
+        else:
+            g += v
+            g1 += d1
+            g2 += d2
+    return y, y1, y2, z, z1, z2, c, c1, c2, g, g1, g2
+
+
+@njit(cache=True)
+def irregularity_at(rows, knots, coefs, s):
+    """Alignment and vertical level of the packed components at track distance s: ``(y, dy/ds, d2y/ds2, z, dz/ds,
+    d2z/ds2)`` (m, -, 1/m), the first six entries of :func:`irregularity_channels_at`."""
+    v = irregularity_channels_at(rows, knots, coefs, s)
+    return v[0], v[1], v[2], v[3], v[4], v[5]
 
 
 @njit(cache=True)
@@ -182,6 +251,17 @@ def irregularity_many(rows, knots, coefs, s_values):
     for i in range(s_values.shape[0]):
         y, y1, y2, z, z1, z2 = irregularity_at(rows, knots, coefs, s_values[i])
         out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4], out[i, 5] = y, y1, y2, z, z1, z2
+    return out
+
+
+@njit(cache=True)
+def irregularity_channels_many(rows, knots, coefs, s_values):
+    """:func:`irregularity_channels_at` for every entry of ``s_values``: array (n, 12)."""
+    out = np.empty((s_values.shape[0], N_CHANNEL_VALUES))
+    for i in range(s_values.shape[0]):
+        v = irregularity_channels_at(rows, knots, coefs, s_values[i])
+        for j in range(N_CHANNEL_VALUES):
+            out[i, j] = v[j]
     return out
 
 
@@ -207,12 +287,18 @@ class PackedIrregularity:
     coefs: np.ndarray
 
 
+#: channel names accepted for a component's ``direction`` (the code of each), the first of each code its name
+CHANNEL_NAMES = {"lateral": LATERAL, "alignment": LATERAL, "y": LATERAL,
+                 "vertical": VERTICAL, "level": VERTICAL, "z": VERTICAL,
+                 "cross_level": CROSS_LEVEL, "gauge": GAUGE}
+
+
 def _direction(direction) -> int:
-    if direction in (LATERAL, "lateral", "y"):
-        return LATERAL
-    if direction in (VERTICAL, "vertical", "z"):
-        return VERTICAL
-    raise ValueError(f"direction {direction!r}: expected 'lateral' or 'vertical'")
+    if isinstance(direction, str) and direction in CHANNEL_NAMES:
+        return CHANNEL_NAMES[direction]
+    if direction in (LATERAL, VERTICAL, CROSS_LEVEL, GAUGE) and not isinstance(direction, bool):
+        return int(direction)
+    raise ValueError(f"direction {direction!r}: expected one of {', '.join(repr(k) for k in CHANNEL_NAMES)}")
 
 
 def _finite(name: str, value, positive=False, non_negative=False) -> float:
@@ -407,10 +493,12 @@ class SampledIrregularity(Irregularity):
 
 @dataclass
 class RigidStraightTrack:
-    """A rigid straight track whose centre line is displaced by ``irregularity`` (y right, z down) at distance s.
+    """A rigid straight track displaced by ``irregularity`` at distance s: its centre line (y right, z down) and, per
+    rail, the cross level and gauge deviation (:mod:`exudyn_wheelrail.conventions`).
 
-    ``rail_offset(s)`` gives the displacement and its derivatives; ``packed()`` the arrays for the compiled
-    kernel (:func:`irregularity_at`)."""
+    ``rail_offset(s)`` gives the centre line's displacement and its derivatives (all four channels:
+    :func:`exudyn_wheelrail.track.irregularities.channel_values`); ``packed()`` the arrays for the compiled kernel
+    (:func:`irregularity_channels_at`)."""
 
     irregularity: Irregularity = None
 

@@ -403,8 +403,7 @@ def solver_settings(solver: str, step_s: float, steps: int, newton_tolerance: fl
     """Settings and solver type for ``mbs.SolveDynamic``, fixed step ``step_s`` [s] for ``steps`` steps:
 
     * ``"newmark"`` — generalized-α as Newmark (β, γ; the paper's β = 1/4, γ = 1/2 is the trapezoidal rule),
-      index-2 constraints, modified Newton (the contact's Jacobian is a forward difference: recomputed only when
-      Newton slows down);
+      index-2 constraints, modified Newton (below);
     * ``"generalized_alpha"`` — Exudyn's generalized-α (Chung–Hulbert) with ``spectral_radius`` ρ∞ (default 0.8),
       modified Newton as for ``"newmark"``; index-3 constraints (Exudyn 1.13.6 accepts index 2 only with
       ``useNewmark``; only ``longitudinal="rigid"`` adds a constraint to the vehicle in dynamics);
@@ -414,7 +413,17 @@ def solver_settings(solver: str, step_s: float, steps: int, newton_tolerance: fl
 
     Exudyn's error-controlled explicit solvers (DOPRI5, ODE23) are not offered: they adapt the step even with
     ``automaticStepSize = False`` and stop after the first step with ``adaptiveStep = False`` (Exudyn 1.13.6).
-    Returns ``(settings, exu.DynamicSolverType)``."""
+
+    Newton (implicit solvers): Exudyn's modified Newton, the Jacobian kept across steps and updated only when
+    Newton slows down (more than ``maxModifiedNewtonIterations`` = 8 iterations, or a contraction worse than 0.5
+    from the third).  The wheel–rail connector's Jacobian costs one contact evaluation
+    (:mod:`~exudyn_wheelrail.multibody.contact_jacobian`).  Measured on the RTRI case (20 m, 250 km/h, tolerance
+    1e-4, Newmark; ``benchmarks/bench_implicit.py``, docs/performance.md): with the Jacobian kept, 3.0 / 4.8 / 6.9
+    iterations per step at 0.5 / 1 / 2 ms; updated every step (``modifiedNewtonJacUpdatePerStep``) 1.9 / 2.0 / 3.3
+    — the first iteration reaches ~1e-3 of the initial residual, the second ~1e-7, as with full Newton (1.9
+    iterations, one Jacobian each) — but each update also costs Exudyn's Jacobian of the other items and its
+    factorization (~0.2 ms, more than the connector's ~0.15 ms): CPU time per run +70–85 % at 0.5 ms, +30–40 % at
+    1 ms, −1 … −4 % at 2 ms, so the Jacobian is kept.  Returns ``(settings, exu.DynamicSolverType)``."""
     if solver not in SOLVER_TYPES:
         raise ValueError(f"solver={solver!r}: expected one of {', '.join(repr(k) for k in SOLVER_TYPES)}")
     s = simulation_settings(steps * step_s, step_s, newton_tolerance=newton_tolerance)
@@ -457,7 +466,8 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
                   rail_springs: RailSprings | None = None,
                   longitudinal: LongitudinalRestraint | str | None = None, bump_stop: str = "symbolic",
                   preload: bool = True, gravity_m_s2: float = GRAVITY_M_S2, s_start_m: float = 0.0,
-                  lock_spin: bool = False, show: bool = False) -> VehicleModel:
+                  lock_spin: bool = False, show: bool = False, name_suffix: str = "",
+                  x_offset_m: float = 0.0) -> VehicleModel:
     """Create the Exudyn model of ``vehicle`` in ``mbs`` (not assembled) and return its handle.
 
     Parameters
@@ -475,6 +485,10 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
     lock_spin : fix every wheelset's spin coordinate by a coordinate constraint — for ``mbs.SolveStatic`` only
         (the spin has no stiffness, so the static Jacobian is singular without it); never for dynamics.
     show : draw the connectors in Exudyn's renderer.
+    name_suffix : appended to the name of every named Exudyn item (bodies, nodes, connectors), so several vehicles
+        can share one ``mbs`` (a train: :func:`~exudyn_wheelrail.multibody.train.build_train`).
+    x_offset_m : simulation-frame x of the vehicle centre (default 0: the frame origin); every body and suspension
+        point is shifted by it, so the vehicle sits at track distance ``s_start + V t + x_offset`` at time t.
     """
     if not isinstance(vehicle, VehicleData):
         vehicle = load_vehicle(vehicle)
@@ -489,6 +503,8 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
     if longitudinal.kind not in ("spring", "rigid", "none"):
         raise ValueError(f"longitudinal kind {longitudinal.kind!r}: expected 'spring', 'rigid' or 'none'")
     rail_springs = rail_springs or RailSprings()
+    if not math.isfinite(x_offset_m):
+        raise ValueError(f"x_offset_m = {x_offset_m!r}: expected a finite distance")
 
     g = float(gravity_m_s2)
     geo = vehicle.geometry
@@ -500,6 +516,8 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
     node_type = exu.NodeType.RotationRotationVector
 
     def rigid_body(name, data, p_cg, omega=(0.0, 0.0, 0.0)):
+        name = name + name_suffix
+        p_cg = (p_cg[0] + x_offset_m, p_cg[1], p_cg[2])
         inertia = RigidBodyInertia(mass=data.mass_kg, inertiaTensor=data.inertia_kg_m2)
         d = mbs.CreateRigidBody(name=name, inertia=inertia, referencePosition=list(map(float, p_cg)),
                                 initialAngularVelocity=list(map(float, omega)), gravity=gravity,
@@ -512,6 +530,8 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
 
     def point(handle, p_in_frame):
         local = np.asarray(p_in_frame, dtype=float) - handle.p_cg_in_frame
+        if hasattr(handle, "position_marker"):          # the flexible car body: a marker on its mesh point
+            return handle.position_marker(mbs, local)
         return mbs.AddMarker(MarkerBodyPosition(bodyNumber=handle.body, localPosition=list(map(float, local))))
 
     def ground_point(p_in_frame):
@@ -519,6 +539,7 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
 
     def cartesian(name, m_upper, m_lower, k, c, force_on_lower_z=0.0, user_function=0):
         """Spring–damper upper -> lower; at the nominal pose it pushes the lower body down with the given force."""
+        name = name + name_suffix
         k = [float(v) for v in k]
         offset = [0.0, 0.0, 0.0]
         if force_on_lower_z:
@@ -539,7 +560,13 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
     car = None
     if vehicle.layout == "car":
         cb = vehicle.car_body
-        car = BodyHandle(**rigid_body("car_body", cb, (cb.cg_x_m, cb.cg_y_m, -cb.cg_height_m)))
+        if cb.flexible is None:
+            car = BodyHandle(**rigid_body("car_body", cb, (cb.cg_x_m, cb.cg_y_m, -cb.cg_height_m)))
+        else:                                           # floating frame of reference body (flexible_body.py)
+            from .flexible_body import add_vehicle_car_body
+            car = add_vehicle_car_body(mbs, vehicle, (cb.cg_x_m + x_offset_m, cb.cg_y_m, -cb.cg_height_m),
+                                       gravity=gravity, name="car_body" + name_suffix,
+                                       preload_N=path.secondary if path is not None else None)
     bogies = []
     for i, xb in enumerate(vehicle.bogie_x_m()):
         bogies.append(BodyHandle(**rigid_body(f"bogie{i}", vehicle.bogie_frame,
@@ -599,7 +626,9 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
             p_centre = (xb, 0.0, -hs)
             local_bogie = list(map(float, np.asarray(p_centre) - bg.p_cg_in_frame))
             m_bogie_rigid = mbs.AddMarker(MarkerBodyRigid(bodyNumber=bg.body, localPosition=local_bogie))
-            if car is not None:
+            if car is not None and hasattr(car, "rigid_marker"):    # the flexible car body's section there
+                m_upper = car.rigid_marker(np.asarray(p_centre) - car.p_cg_in_frame)
+            elif car is not None:
                 m_upper = mbs.AddMarker(MarkerBodyRigid(bodyNumber=car.body, localPosition=list(map(
                     float, np.asarray(p_centre) - car.p_cg_in_frame))))
             else:
@@ -607,7 +636,7 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
             k_roll = sec.anti_roll_stiffness_N_m_per_rad if car is not None else 0.0
             if k_roll or sec.yaw_stiffness_N_m_per_rad:
                 connectors["secondary_rotational"].append(mbs.AddObject(ObjectConnectorRigidBodySpringDamper(
-                    name=f"secondary_rot{i}", markerNumbers=[m_upper, m_bogie_rigid],
+                    name=f"secondary_rot{i}{name_suffix}", markerNumbers=[m_upper, m_bogie_rigid],
                     stiffness=_rotation_stiffness(k_roll, sec.yaw_stiffness_N_m_per_rad).tolist(),
                     damping=np.zeros((6, 6)).tolist(), useIntrinsicFormulation=True,
                     visualization={"show": show, "drawSize": -1.0, "color": [-1.0, -1.0, -1.0, -1.0]})))
@@ -651,9 +680,9 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
                                                     (c_long, 0.0, 0.0)))
     elif longitudinal.kind == "rigid":
         connectors["longitudinal"].append(mbs.CreateCoordinateConstraint(
-            name="longitudinal", itemNumbers=[None, top.node], coordinates=[None, 0], show=show))
+            name="longitudinal" + name_suffix, itemNumbers=[None, top.node], coordinates=[None, 0], show=show))
     if lock_spin:
-        connectors["spin_lock"] = [mbs.CreateCoordinateConstraint(name=f"spin_lock{ws.index}",
+        connectors["spin_lock"] = [mbs.CreateCoordinateConstraint(name=f"spin_lock{ws.index}{name_suffix}",
                                                                   itemNumbers=[None, ws.node], coordinates=[None, 4],
                                                                   show=show) for ws in wheelsets]
     return model

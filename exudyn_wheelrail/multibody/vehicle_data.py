@@ -28,6 +28,20 @@ Tables and keys (all required unless marked optional; unknown keys are errors)
                    centre in x and y).  Layouts car, bogie.
 ``[car_body]``     as the bogie frame, plus optional ``cg_x_m``, ``cg_y_m`` (offset of the CG from the vehicle
                    centre = mid-point between the bogie centres; default 0).  Layout car.
+``[car_body.flexible]`` optional (layout car; without it the car body is rigid): the car body as a free–free
+                   beam (:mod:`~exudyn_wheelrail.multibody.flexible_body`) centred on the CG, whose mass and inertia
+                   are the ``[car_body]`` data: ``length_m``, ``EI_vertical_N_m2``, ``EI_lateral_N_m2``,
+                   ``GJ_N_m2``, ``EA_N`` (all > 0), ``n_modes`` (elastic modes kept, >= 1), ``damping_ratio``
+                   (modal damping: one ratio for all modes or an array of ``n_modes``, each in [0, 1)), optional
+                   ``elements`` (beam elements, default :data:`~.flexible_body.DEFAULT_ELEMENTS`).  Or, instead of
+                   the five beam keys, ``fe_model`` (an FE model of the car body: an ``.npz`` file or one of
+                   Exudyn's ``FEMinterface.SaveToFile``, layouts in :func:`~.flexible_body.modes_from_fe_file`,
+                   path relative to the TOML file; its mass must be ``[car_body]``'s within 1 %).  Every suspension
+                   point on the car body must lie on it (within ``length_m``; an FE model: on a mesh node), and the
+                   data's Iyy, Izz must not be below ``M L²/12`` (a uniform beam's).
+``base_vehicle``   optional (top level): another vehicle file (a shipped name or a path relative to this file) whose
+                   tables this file completes or overrides key by key — e.g. a flexible variant of a vehicle holds
+                   only ``base_vehicle`` and ``[car_body.flexible]``.
 ``[primary]``      **per axlebox** (one element at each axle end): ``kx_N_per_m``, ``ky_N_per_m``, ``kz_N_per_m``,
                    ``cx_N_s_per_m``, ``cy_N_s_per_m``, ``cz_N_s_per_m`` (layout wheelset: x and y only).
 ``[secondary]``    **per bogie side**: the same six keys, plus **per bogie** ``yaw_stiffness_N_m_per_rad`` (bogie
@@ -54,7 +68,9 @@ Validation raises :class:`VehicleDataError` (a ``ValueError``) naming the key (`
 missing or unknown keys, wrong types, non-finite numbers, non-positive masses/inertias/lengths, negative
 stiffness or damping, inertias violating the triangle inequality, a non-monotonic bump-stop table, and
 inconsistent geometry (CG heights or the secondary springs at or below the axle, r0 <= 0, overlapping wheels,
-back-to-back not below the gauge, a car-body CG outside its supports, a profile file that does not exist), and
+back-to-back not below the gauge, a car-body CG outside its supports, a profile file that does not exist; a flexible
+car body with a non-positive stiffness, no modes, damping ratios outside [0, 1), a suspension point off the body or
+off the FE mesh, a length whose uniform-beam inertia exceeds the data's, an FE model of another mass), and
 implausible lengths (:data:`QUANTITIES`, a value in millimetres is named as such).  Masses and loads far from the
 usual ones give an :class:`~exudyn_wheelrail.validation.InputWarning` naming the file and the key.
 """
@@ -74,6 +90,7 @@ from ..validation import Quantity
 
 __all__ = [
     "SCHEMA_VERSION",
+    "FlexibleBodyData",
     "LAYOUTS",
     "VEHICLES_DIR",
     "VehicleDataError",
@@ -104,6 +121,7 @@ QUANTITIES = {
     "geometry.secondary_spring_height_m": Quantity("secondary spring height above the rail", "m", 0.1, 3.0),
     "bogie_frame.cg_height_m": Quantity("bogie-frame CG height above the rail", "m", 0.1, 2.0),
     "car_body.cg_height_m": Quantity("car-body CG height above the rail", "m", 0.1, 4.5),
+    "car_body.flexible.length_m": Quantity("length of the flexible car body", "m", 3.0, 40.0),
     "bump_stop.clearance_m": Quantity("bump-stop clearance", "m", 0.0, 0.3),
     "bump_stop.displacement_m": Quantity("bump-stop displacement", "m", 0.0, 0.5),
     "wheelset.mass_kg": Quantity("wheelset mass", "kg", typical=(300.0, 5000.0)),
@@ -122,11 +140,28 @@ class VehicleDataError(ValueError):
 
 # ------------------------------------------------------------------------------------------------ dataclasses
 @dataclass(frozen=True)
+class FlexibleBodyData:
+    """``[car_body.flexible]``: the car body as a free–free beam (or an FE model), its kept modes and their damping
+    (see the module docstring; the model is :mod:`~exudyn_wheelrail.multibody.flexible_body`)."""
+
+    n_modes: int
+    damping_ratio: tuple[float, ...]
+    length_m: float | None = None
+    EI_vertical_N_m2: float | None = None
+    EI_lateral_N_m2: float | None = None
+    GJ_N_m2: float | None = None
+    EA_N: float | None = None
+    elements: int | None = None
+    fe_model: str | None = None
+
+
+@dataclass(frozen=True)
 class BodyData:
     """A rigid body: mass, principal inertias about its CG (axes parallel to the track frame), CG position.
 
     ``cg_height_m`` is measured upwards from the top of rail; ``cg_x_m``/``cg_y_m`` are the CG offsets from the
-    body's nominal centre (only the car body may have them)."""
+    body's nominal centre (only the car body may have them).  ``flexible``: the car body's flexible model
+    (``[car_body.flexible]``), ``None`` for a rigid body."""
 
     mass_kg: float
     Ixx_kg_m2: float
@@ -135,6 +170,7 @@ class BodyData:
     cg_height_m: float
     cg_x_m: float = 0.0
     cg_y_m: float = 0.0
+    flexible: FlexibleBodyData | None = None
 
     @property
     def inertia_kg_m2(self) -> np.ndarray:
@@ -269,6 +305,18 @@ class VehicleData:
         from ..profiles.profiles import resolve_wheel
         return float(resolve_wheel(self.geometry.wheel_profile).flange_back_y_m)
 
+    def car_body_attachment_points_m(self) -> np.ndarray:
+        """Points where the suspension acts on the car body, relative to its CG (body axes parallel to the track
+        frame, z down) [m], shape (n, 3): per bogie (front first) the left and right secondary springs and the
+        bogie centre at secondary height (bump stop; the yaw and anti-roll springs act on the body section there)."""
+        if self.layout != "car":
+            return np.zeros((0, 3))
+        cb, geo = self.car_body, self.geometry
+        b2, hs = geo.secondary_lateral_semi_spacing_m, geo.secondary_spring_height_m
+        p_cg = np.array([cb.cg_x_m, cb.cg_y_m, -cb.cg_height_m])
+        pts = [(xb, y, -hs) for xb in self.bogie_x_m() for y in (-b2, b2, 0.0)]
+        return np.array(pts, dtype=float) - p_cg[None, :]
+
     def tape_circle_semi_spacing_m(self) -> float:
         """Lateral distance of each wheel's tape circle from the track centre line (0.75 m for S1002 at
         back-to-back 1.360 m): back_to_back/2 - (flange-back position in the wheel profile frame)."""
@@ -315,7 +363,7 @@ _REQUIRED = {
 }
 _OPTIONAL = {
     "vehicle": ("description",),
-    "car_body": ("cg_x_m", "cg_y_m"),
+    "car_body": ("cg_x_m", "cg_y_m", "flexible"),
     "bump_stop": ("clearance_m", "displacement_m", "force_N"),
 }
 _BUMP_STOP_LAYOUTS = ("car", "bogie")
@@ -435,6 +483,96 @@ def _body(r: _Reader, table: str, cg_height_m: float | None = None) -> BodyData:
          r.plausible(table, "cg_height_m", r.number(table, "cg_height_m", positive=True)))
     return BodyData(m, ixx, iyy, izz, h, r.number(table, "cg_x_m", default=0.0),
                     r.number(table, "cg_y_m", default=0.0))
+
+
+_FLEXIBLE_BEAM_KEYS = ("length_m", "EI_vertical_N_m2", "EI_lateral_N_m2", "GJ_N_m2", "EA_N")
+_FLEXIBLE_KEYS = _FLEXIBLE_BEAM_KEYS + ("n_modes", "damping_ratio", "elements", "fe_model")
+
+
+def _flexible(r: _Reader, car: BodyData, base: Path | None) -> FlexibleBodyData:
+    """``[car_body.flexible]``: keys, signs, the modes, and the body's consistency with ``[car_body]``."""
+    t = "car_body.flexible"
+    tab = r.data["car_body"]["flexible"]
+    if not isinstance(tab, dict):
+        raise r.error(t, f"expected a table [{t}], got {type(tab).__name__}")
+    for key in tab:
+        if key not in _FLEXIBLE_KEYS:
+            raise r.error(f"{t}.{key}", f"unknown key; allowed: {', '.join(_FLEXIBLE_KEYS)}")
+    sub = _Reader({t: tab}, r.where)
+    if "n_modes" not in tab:
+        raise r.error(f"{t}.n_modes", "missing key (the number of elastic modes kept, >= 1)")
+    n = tab.get("n_modes")
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise r.error(f"{t}.n_modes", f"expected an integer >= 1 (the elastic modes kept), got {n!r}")
+    raw = tab.get("damping_ratio")
+    if raw is None:
+        raise r.error(f"{t}.damping_ratio", "missing key (one modal damping ratio for all modes or one per mode)")
+    zeta = sub.numbers(t, "damping_ratio") if isinstance(raw, list) else (sub.number(t, "damping_ratio"),) * n
+    if len(zeta) != n:
+        raise r.error(f"{t}.damping_ratio", f"{len(zeta)} ratios for n_modes = {n} (give one or {n})")
+    if any(not 0.0 <= z < 1.0 for z in zeta):
+        raise r.error(f"{t}.damping_ratio", f"ratios must lie in [0, 1) (not percentages), got {list(zeta)}")
+    elements = tab.get("elements")
+    if elements is not None and (isinstance(elements, bool) or not isinstance(elements, int) or elements < 2):
+        raise r.error(f"{t}.elements", f"expected an integer >= 2, got {elements!r}")
+    if "fe_model" not in tab:
+        from .flexible_body import DEFAULT_ELEMENTS
+        n_max = 6 * (elements or DEFAULT_ELEMENTS)           # 6 DOFs per node, n_e + 1 nodes, 6 rigid modes
+        if n > n_max:
+            raise r.error(f"{t}.n_modes", f"{n} modes but a beam of {elements or DEFAULT_ELEMENTS} elements has "
+                                          f"{n_max} elastic modes")
+    if "fe_model" in tab:
+        given = [k for k in _FLEXIBLE_BEAM_KEYS + ("elements",) if k in tab]
+        if given:
+            raise r.error(f"{t}.fe_model", f"give either fe_model or the beam keys, not both ({', '.join(given)})")
+        path = Path(sub.string(t, "fe_model"))
+        if not path.is_absolute() and base is not None:
+            path = base / path
+        if not path.is_file():
+            raise r.error(f"{t}.fe_model", f"FE model file not found ({path})")
+        return FlexibleBodyData(n, tuple(zeta), fe_model=str(path))
+    beam = {k: sub.number(t, k) for k in _FLEXIBLE_BEAM_KEYS}
+    for k, v in beam.items():
+        if not v > 0.0:
+            raise r.error(f"{t}.{k}", f"must be positive, got {v!r}")
+    L = sub.plausible(t, "length_m", beam["length_m"], QUANTITIES["car_body.flexible.length_m"])
+    for key, inertia in (("Iyy_kg_m2", car.Iyy_kg_m2), ("Izz_kg_m2", car.Izz_kg_m2)):
+        uniform = car.mass_kg * L * L / 12.0
+        if inertia < uniform * (1.0 - 1e-9):
+            raise r.error(f"{t}.length_m", f"{L} m: a uniform beam of the car body's mass has the inertia M L²/12 = "
+                                           f"{uniform:.4g} kg m², above car_body.{key} = {inertia:.4g} (the body "
+                                           f"may be at most {math.sqrt(12.0 * inertia / car.mass_kg):.3f} m long)")
+    return FlexibleBodyData(n, tuple(zeta), elements=elements, **beam)
+
+
+def _check_flexible_points(r: _Reader, vehicle: "VehicleData") -> None:
+    """Every suspension point of the car body on the flexible body."""
+    fx = vehicle.car_body.flexible
+    pts = vehicle.car_body_attachment_points_m()
+    t = "car_body.flexible"
+    if fx.fe_model is None:
+        half = 0.5 * fx.length_m
+        for p in pts:
+            if abs(p[0]) > half:
+                raise r.error(f"{t}.length_m", f"{fx.length_m} m: the secondary suspension point at x = {p[0]:g} m "
+                                               f"from the car-body CG is off the body (x within ±{half:g} m)")
+        return
+    from .flexible_body import read_fe_file
+    try:
+        nodes, mass, _ = read_fe_file(fx.fe_model)
+    except ValueError as exc:
+        raise r.error(f"{t}.fe_model", str(exc)) from None
+    ones = np.zeros(mass.shape[0])
+    ones[0::3] = 1.0
+    m_fe = float(ones @ (mass @ ones))
+    if abs(m_fe / vehicle.car_body.mass_kg - 1.0) > 0.01:
+        raise r.error(f"{t}.fe_model", f"the FE model's mass {m_fe:.6g} kg differs from car_body.mass_kg = "
+                                       f"{vehicle.car_body.mass_kg:.6g} kg by more than 1 %")
+    for p in pts:
+        d = float(np.min(np.linalg.norm(nodes - p[None, :], axis=1)))
+        if d > 1e-6:
+            raise r.error(f"{t}.fe_model", f"the suspension point {np.round(p, 4).tolist()} m (from the CG) is not a "
+                                           f"node of the FE mesh (nearest node {d:.3g} m away)")
 
 
 def _suspension(r: _Reader, table: str, layout: str) -> SuspensionData:
@@ -558,16 +696,21 @@ def vehicle_from_dict(data: dict, source: str | Path = "<dict>", base_dir: Path 
         for table in ("primary", "secondary"):
             if not r.number(table, "kz_N_per_m") > 0.0:
                 raise r.error(f"{table}.kz_N_per_m", "must be positive in layout 'car' (it carries the weight)")
+        if "flexible" in r.data["car_body"]:
+            car = BodyData(**{**car.__dict__, "flexible": _flexible(r, car, base_dir)})
     primary = _suspension(r, "primary", layout)
     bump = _bump_stop(r) if "bump_stop" in data else None
     load = (r.plausible("load", "vertical_force_per_side_N", r.number("load", "vertical_force_per_side_N",
                                                                       non_negative=True))
             if "load" in data else 0.0)
-    return VehicleData(
+    vehicle = VehicleData(
         name=r.string("vehicle", "name"), layout=layout, source=r.string("vehicle", "source"), wheelset=wheelset,
         primary=primary, geometry=geometry, bogie_frame=bogie, car_body=car, secondary=secondary, bump_stop=bump,
         vertical_force_per_side_N=load, description=r.string("vehicle", "description", default=""),
         path=Path(source) if isinstance(source, Path) else None)
+    if car is not None and car.flexible is not None:
+        _check_flexible_points(r, vehicle)
+    return vehicle
 
 
 def load_vehicle(source: str | Path) -> VehicleData:
@@ -579,12 +722,47 @@ def load_vehicle(source: str | Path) -> VehicleData:
     if not path.is_file():
         raise VehicleDataError(f"{source}: vehicle file not found (shipped vehicles: "
                                f"{', '.join(shipped_vehicles()) or 'none'})")
+    data = _read_toml(path)
+    return vehicle_from_dict(data, path.resolve(), base_dir=path.resolve().parent)
+
+
+def _read_toml(path: Path, _seen: tuple = ()) -> dict:
+    """The parsed file with its ``base_vehicle`` (module docstring) merged in: the base's tables completed or
+    overridden key by key (sub-tables likewise); base profile paths are made absolute."""
+    path = Path(path).resolve()
+    if path in _seen:
+        raise VehicleDataError(f"{path}: base_vehicle: circular reference ({' -> '.join(map(str, _seen + (path,)))})")
     try:
         with open(path, "rb") as fh:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise VehicleDataError(f"{path}: not valid TOML: {exc}") from None
-    return vehicle_from_dict(data, path.resolve(), base_dir=path.resolve().parent)
+    base = data.pop("base_vehicle", None)
+    if base is None:
+        return data
+    if not isinstance(base, str) or not base.strip():
+        raise VehicleDataError(f"{path}: base_vehicle: expected a vehicle name or file, got {base!r}")
+    base_path = Path(base) if Path(base).suffix else VEHICLES_DIR / f"{base}.toml"
+    if not base_path.is_absolute() and Path(base).suffix:
+        base_path = path.parent / base_path
+    if not base_path.is_file():
+        raise VehicleDataError(f"{path}: base_vehicle: {base!r} not found (looked for {base_path})")
+    merged = _read_toml(base_path, _seen + (path,))
+    geo = merged.get("geometry", {})
+    for key in ("wheel_profile", "rail_profile"):          # relative profile files of the base stay the base's
+        v = geo.get(key)
+        if isinstance(v, str) and (Path(v).suffix and not Path(v).is_absolute()):
+            geo[key] = str(base_path.resolve().parent / v)
+
+    def merge(into: dict, new: dict):
+        for k, v in new.items():
+            if isinstance(v, dict) and isinstance(into.get(k), dict):
+                merge(into[k], v)
+            else:
+                into[k] = v
+
+    merge(merged, data)
+    return merged
 
 
 def shipped_vehicles() -> list[str]:
@@ -601,8 +779,7 @@ def load_vehicle_with_overrides(source: str | Path, overrides: dict | None = Non
     base = load_vehicle(source)
     if not overrides:
         return base
-    with open(base.path, "rb") as fh:
-        data = tomllib.load(fh)
+    data = _read_toml(base.path)
     where = f"{base.path} (with overrides)"
     for dotted, value in overrides.items():
         table, _, key = str(dotted).partition(".")

@@ -7,7 +7,10 @@ optionally a modally reduced bridge deck (:func:`build_bridge_modes`, coupled th
 ``bridge=``) with its support motion (:func:`.deck.support_motion`, for the resolved duration), puts the vehicle in
 static equilibrium on the rails at t = 0 and on the displaced track (:func:`start_on_track`; the starting state of
 :mod:`exudyn_wheelrail.scenarios.scenario`), and the recorder (the recorder's probes and the deck's,
-:func:`.deck.deck_probes`); it returns handles, not strings.
+:func:`.deck.deck_probes`); it returns handles, not strings.  A train (``vehicle.consist``) is built by
+:func:`~exudyn_wheelrail.multibody.train.build_train` (every car at its place in the model frame, the couplers), its
+wheelsets in the one connector, every car put on the rails and the track, the recorder's wheel columns numbering
+the train's wheelsets car after car and every car's car-body points suffixed ``_c<k>`` (:func:`train_probes`).
 """
 from __future__ import annotations
 
@@ -22,7 +25,7 @@ from .deck import deck_probes, en1990_cutoff_Hz, support_motion
 from .spec import ScenarioError, as_scenario, features_end_m
 
 __all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "vehicle_data", "scenario_run_settings",
-           "build_scenario", "start_on_track", "MODES_CUTOFF_MARGIN"]
+           "build_scenario", "start_on_track", "train_probes", "MODES_CUTOFF_MARGIN"]
 
 #: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
 #: Euler–Bernoulli values the cut-off is computed from)
@@ -41,6 +44,18 @@ def build_track(scn: dict):
         elif comp["type"] == "harmonic":
             parts.append(Harmonic(amplitude_m=comp["amplitude_m"], wavelength_m=comp["wavelength_m"],
                                   phase_rad=comp["phase_rad"], direction=comp["direction"]))
+        elif comp["type"] == "measured":
+            from ..track.measured import read_irregularity_csv
+            parts.append(read_irregularity_csv(comp["file"]))
+        elif comp["type"] == "spectrum":
+            from ..track.spectra import SpectralIrregularity
+            parts.append(SpectralIrregularity(comp["spectrum"], comp["length_m"], comp["seed"], band_m=comp["band_m"],
+                                              step_m=comp["step_m"], channels=comp["channels"],
+                                              start_m=comp["start_m"], scale=comp["scale"]))
+        elif comp["type"] == "defect":
+            from ..track.irregularities import IsolatedDefect
+            parts.append(IsolatedDefect(comp["shape"], comp["position_m"], comp["length_m"], comp["depth_m"],
+                                        rail=comp["rail"], direction=comp["direction"]))
         else:
             parts.append(SampledIrregularity.from_csv(comp["file"]))
     if not parts:
@@ -65,8 +80,13 @@ def build_bridge_modes(structure: dict):
 
 
 def vehicle_data(scn: dict):
+    """The scenario's :class:`~..multibody.vehicle_data.VehicleData`, or its :class:`~..multibody.train.Consist` for
+    a train (``vehicle.consist``; both have ``name`` and ``wheelset_x_m()``, the leading wheelset's x the largest)."""
     from ..multibody.vehicle_data import load_vehicle_with_overrides
     v = scn["vehicle"]
+    if "consist" in v:
+        from ..multibody.train import load_consist
+        return load_consist(v["consist"])
     return load_vehicle_with_overrides(v.get("name") or v["file"], v.get("overrides") or None)
 
 
@@ -119,6 +139,7 @@ class ScenarioModel:
     solver_type: object = None
     start_shift: float | None = None        #: largest track displacement under a wheelset at t = 0 (None: none)
     support_motion: object = None           #: the ground motion of the supports and the track (None: none)
+    flexible_track: object = None           #: the flexible track's handle (track.flexible; None: rigid track)
 
     @property
     def speed_m_s(self) -> float:
@@ -154,11 +175,17 @@ def build_scenario(scenario) -> ScenarioModel:
     modes = f_cut = None
     if "structure" in scn:
         _, modes, f_cut = build_bridge_modes(scn["structure"])
-    geo = vehicle.geometry
+    train = "consist" in scn["vehicle"]
+    geo = (vehicle.cars[0].vehicle if train else vehicle).geometry
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     springs = cs.wheel_rail == "springs"
-    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="springs" if springs else "none")
+    if train:
+        from ..multibody.train import build_train
+        model = build_train(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="springs" if springs else "none")
+    else:
+        model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start,
+                              wheel_rail="springs" if springs else "none")
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     track = build_track(scn)
@@ -169,33 +196,86 @@ def build_scenario(scenario) -> ScenarioModel:
         if "support_motion" in scn["structure"]:
             motion = support_motion(scn["structure"]["support_motion"], run.end_time_s)
             bridge.add_support_motion(mbs, motion)
+    flex = None
+    if "flexible_track" in scn and not springs:       # rails on pads, sleepers and ballast: the contact's deck slot
+        from ..track.flexible import add_flexible_track
+        from ..track.flexible_scenario import flexible_track_modes
+        if train:
+            raise ScenarioError("flexible_track: not available for a train (vehicle.consist)")
+        flex = add_flexible_track(mbs, flexible_track_modes(
+            scn["flexible_track"], s_start_m=s_start, wheelset_x_m=vehicle.wheelset_x_m(), speed_m_s=V,
+            end_time_s=run.end_time_s, solver=run.solver, dt_s=run.dt_s))
     if not springs:
         try:
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
                                              s_start_m=s_start, creep_law=cs.creep_law, mu=cs.friction,
                                              fastsim_grid=cs.fastsim_grid, geometry=cs.geometry,
-                                             **({"bridge": bridge} if bridge is not None else {}))
+                                             **({"bridge": bridge} if bridge is not None else {}),
+                                             **({"bridge": flex} if flex is not None else {}))
         except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
             raise RuntimeError(f"contact.creep_law = {cs.creep_law!r}: {exc}") from None
-        place_on_rails(mbs, model, pair)
-        shift = start_on_track(mbs, model, track)
+        if train:
+            from ..multibody.train import place_train_on_track
+            model.contact = contact
+            shift = place_train_on_track(mbs, model, pair, track)
+        else:
+            place_on_rails(mbs, model, pair)
+            shift = start_on_track(mbs, model, track)
+            if flex is not None:
+                from ..track.flexible_scenario import start_on_flexible_track
+                start_on_flexible_track(mbs, model, flex)
     h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
                       track=track, contact=contact, bridge=bridge, modes=modes, f_cut_Hz=f_cut, run=run,
                       contact_settings=cs, coverage=coverage, start_shift=shift, support_motion=motion)
+    h.flexible_track = flex
     if run.record and contact is not None:
-        points = [(p["name"], [_carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
-                  for p in scn["outputs"]["carbody_points"]]
         st = scn.get("structure", {})
-        probes = vehicle_probes(model=model, contact=contact, track=track, speed_m_s=V, s_leading0_m=s_lead0,
-                                carbody_points=points, bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"),
-                                deck_start_m=st.get("start_m"))
+        if train:
+            probes = train_probes(model, contact, track, V, s_lead0, scn["outputs"]["carbody_points"], bridge, modes,
+                                  st)
+        else:
+            points = [(p["name"], [_carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
+                      for p in scn["outputs"]["carbody_points"]]
+            probes = vehicle_probes(model=model, contact=contact, track=track, speed_m_s=V, s_leading0_m=s_lead0,
+                                    carbody_points=points, bridge=bridge, modes=modes,
+                                    deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"))
         if bridge is not None:
             probes += deck_probes(contact=contact, bridge=bridge, modes=modes, spans_m=st["spans_m"],
                                   start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
+        if flex is not None:
+            from ..track.flexible_scenario import flexible_track_probes
+            probes += flexible_track_probes(contact=contact, handle=flex, model=model)
         h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
     h.settings, h.solver_type = run.exudyn()
+    if flex is not None:        # hundreds of modal coordinates: Exudyn's sparse solver (measured: the dense one 3-30x slower)
+        h.settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     return h
+
+
+def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, carbody_points, bridge=None,
+                 modes=None, structure=None) -> list:
+    """The recorder's probes of a train (:class:`~..multibody.train.TrainModel`): the wheels, wheelsets and track of
+    :func:`~..simulation.recorder.vehicle_probes` for all wheelsets (train order: ``w<j>`` numbers the wheelsets of
+    the whole train, car after car), the deck's with a bridge, and every car's car-body points (``outputs.
+    carbody_points``, x from that car's centre), named ``<point>_c<k>`` (k = 1 the leading car)."""
+    import dataclasses
+
+    from ..multibody.train import car_suffix
+    st = structure or {}
+    probes = vehicle_probes(model=train, contact=contact, track=track, speed_m_s=speed_m_s, s_leading0_m=s_leading0_m,
+                            bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"))
+    wheelsets = train.wheelsets
+    for k, (car, x_car) in enumerate(zip(train.cars, train.car_x_m)):
+        if car.car_body is None or not carbody_points:
+            continue
+        points = [(p["name"] + car_suffix(k), [x_car + _carbody_x(p["x_m"], car.vehicle), p["y_m"], -p["height_m"]])
+                  for p in carbody_points]
+        # the car-body probe is the last of vehicle_probes without a bridge; the model lists every wheelset of the
+        # connector (the wheel probes built alongside are checked against it and dropped)
+        probes.append(vehicle_probes(model=dataclasses.replace(car, wheelsets=wheelsets), contact=contact, track=track,
+                                     speed_m_s=speed_m_s, s_leading0_m=s_leading0_m, carbody_points=points)[-1])
+    return probes
 
 
 def start_on_track(mbs, model, track) -> float | None:
@@ -210,11 +290,20 @@ def start_on_track(mbs, model, track) -> float | None:
     yaw ``atan(Δy/Δx)`` and pitch ``-atan(Δz/Δx)`` (z down: the nose goes up for θ > 0), with the matching rates
     (rotation vector ``(0, θ, ψ)``, the small-angle composition).  Without it a millimetre of vertical
     irregularity is a millimetre of Hertz penetration at t = 0 (MN contact forces) and a slope dy/ds a lateral
-    creepage dy/ds.  Returns the largest displacement [m], or None when the track under every wheelset is
-    undisplaced and parallel to the frame (nothing is changed)."""
+    creepage dy/ds.  A cross level c rolls each wheelset with its rails, ``θ = asin(c/b)`` (b the rail-centre
+    distance, :mod:`exudyn_wheelrail.conventions`), at the rate ``V dθ/ds``; the bogie frames and the car body stay
+    level (the suspension takes the small roll difference).  Returns the largest displacement [m], or None when the
+    track under every wheelset is undisplaced and parallel to the frame (nothing is changed)."""
+    from ..conventions import RAIL_CENTRE_DISTANCE_M
+    from ..track.irregularities import channel_values
     x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
-    v = track.rail_offset(model.track_distance_m(x, 0.0))
-    if not (np.any(v.y_m) or np.any(v.z_m) or np.any(v.dy_ds) or np.any(v.dz_ds)):
+    s0 = model.track_distance_m(x, 0.0)
+    v = track.rail_offset(s0)
+    cl = channel_values(track.irregularity, s0)
+    roll = np.arcsin(cl.cross_level_m / RAIL_CENTRE_DISTANCE_M)
+    roll_rate = model.speed_m_s * cl.d_cross_level / (RAIL_CENTRE_DISTANCE_M * np.cos(roll))
+    if not (np.any(v.y_m) or np.any(v.z_m) or np.any(v.dy_ds) or np.any(v.dz_ds) or np.any(roll)
+            or np.any(roll_rate)):
         return None
     V = model.speed_m_s
     # per body: x, (y, z, pitch θ, yaw ψ) and their rates
@@ -250,6 +339,20 @@ def start_on_track(mbs, model, track) -> float | None:
 
     for j, w in enumerate(model.wheelsets):
         shift(w.node, ws[j])
+        if roll[j] != 0.0 or roll_rate[j] != 0.0:
+            # rolled with the rails about their centre line: the axle centre at R_x(θ) of its height d above it
+            q0 = np.array(mbs.GetNodeParameter(w.node, "initialCoordinates"), dtype=float)
+            v0 = np.array(mbs.GetNodeParameter(w.node, "initialVelocities"), dtype=float)
+            d = w.p_cg_in_frame[2] + q0[2] - v.z_m[j]
+            sn, cs = math.sin(roll[j]), math.cos(roll[j])
+            q0[1] -= d * sn
+            q0[2] += d * (cs - 1.0)
+            q0[3] += roll[j]
+            v0[1] -= d * cs * roll_rate[j]
+            v0[2] -= d * sn * roll_rate[j]
+            v0[3] += roll_rate[j]
+            mbs.SetNodeParameter(w.node, "initialCoordinates", q0.tolist())
+            mbs.SetNodeParameter(w.node, "initialVelocities", v0.tolist())
     bogies = []
     for i, b in enumerate(model.bogies):
         bogies.append(on_line([ws[j] for j, w in enumerate(model.wheelsets) if w.bogie == i], b.p_cg_in_frame[0]))

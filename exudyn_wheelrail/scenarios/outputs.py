@@ -48,8 +48,11 @@ def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
     paths["summary"] = out / "summary.json"
     write_json(paths["summary"], s)
     if o["plots"] and ts and len(ts["time_s"]) > 1:
+        train = s["model"].get("layout") == "train"
         for g in o["timeseries"]:
-            if g in FIGURES and s["columns"].get(g):
+            # the car-body figure draws the points of outputs.carbody_points; a train records them per car
+            # (<point>_c<k>), which it does not draw: no figure rather than an empty one
+            if g in FIGURES and s["columns"].get(g) and not (train and g == "carbody"):
                 paths[f"plot_{g}"] = out / f"plot_{g}.png"
                 save_group_figure(result, g, paths[f"plot_{g}"])
     return {k: str(v) for k, v in paths.items()}

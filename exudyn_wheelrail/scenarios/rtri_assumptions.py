@@ -33,6 +33,24 @@ Transition length l_t = 3 m (ASSUMPTION)
     λ ≈ 0.96 m; the bending response to a concentrated kink is confined to about half a wavelength, πλ ≈ 3.0 m.
     l_t/L = 0.15 (20 m) and 0.075 (40 m): the sine keeps most of the span.  l_t is the least certain input; studies
     should vary it (1 ... 6 m).
+Flexible car body (``rtri --car-body flexible``; ASSUMPTION: the vehicle file ``manchester_vehicle1_flexible``)
+    The paper attributes its remaining misfit of the car-body accelerations to the rigid car body of its model;
+    neither the test vehicle's nor the Manchester coach's car-body flexibility is published.  The car body becomes
+    a uniform free–free Euler–Bernoulli beam (:mod:`exudyn_wheelrail.multibody.flexible_body`) whose mass and
+    inertia are the Manchester data's: length 27.17 m, just below sqrt(12 Iyy / M) = 27.18 m, so a uniform beam
+    of 32 t has the data's pitch and yaw inertia (1.97e6 kg m²) with almost no extra rotary inertia, polar inertia
+    per length Ixx / L.  Its stiffnesses are chosen for the first free–free frequencies **10 Hz vertical bending,
+    12 Hz torsion, 15 Hz lateral bending**: published first flexible modes of passenger car bodies lie at
+    8–15 Hz (KTH rail vehicle dynamics course notes, as quoted in the car-body flexibility literature), the first
+    vertical bending of long, light (high-speed) car bodies at 6–12 Hz (Dumitriu & Dihoru, Appl. Sci. 11 (2021)
+    8502; Dumitriu et al., Appl. Sci. 14 (2024) 4687), and RTRI models the elastic modes of Shinkansen-type car
+    bodies in this range (Takigami, Akiyama & Aida, QR of RTRI 62 (2021) 22–28: six target elastic modes fitted
+    within 0.86 %); lateral bending of the wide shell is stiffer than vertical bending, torsion lies between.  The
+    three modes below 20 Hz are kept (the next, torsion 24 Hz and vertical bending 27 Hz, are above the comfort
+    weightings' sensitive range and cost: the FFRF object's cost grows steeply with its modes), each damped with
+    2 % of critical (ASSUMPTION: structural damping of welded car-body shells of 1–3 % is the usual modelling
+    range).  ``EA`` = 1e10 N (first axial mode 54 Hz, not kept).  Values in ``vehicles/manchester_vehicle1_
+    flexible.toml``.
 """
 from __future__ import annotations
 
@@ -60,6 +78,8 @@ class RtriAssumptions:
     # --- ASSUMPTIONS (not published)
     #: ASSUMPTION: substitute vehicle (rtri_scenario.md): Manchester vehicle 1, S1002 on UIC60 1:40, gauge 1435 mm
     vehicle: str = "manchester_vehicle1"
+    #: ASSUMPTION: the same vehicle with a flexible car body (``--car-body flexible``; see the module docstring)
+    flexible_vehicle: str = "manchester_vehicle1_flexible"
     #: ASSUMPTION δ: see the module docstring (of the order of the code limits for deck-end rotation)
     deviation_amplitude_m: float = 0.010
     #: ASSUMPTION l_t: see the module docstring (≈ π λ, the bending half-wavelength of the rails on their support)

@@ -41,6 +41,8 @@ from .scenario import DEFAULT_FLOOR_HEIGHT_M, validate_scenario
 __all__ = [
     "RtriCaseAssumptions",
     "RTRI_CASE",
+    "CAR_BODY_MODELS",
+    "CARBODY_POINTS",
     "RtriCase",
     "RTRI_GROUPS",
     "assumptions_table",
@@ -50,6 +52,12 @@ __all__ = [
 
 #: the scenario groups the case records
 RTRI_GROUPS = ("Y", "Q", "YQ", "flange", "contact_angle", "wheelset_lateral", "track", "carbody")
+#: the car-body models of the case (``RtriCase.car_body``, ``rtri --car-body``): the vehicle file's rigid car body
+#: (``RtriAssumptions.vehicle``) or its flexible variant (``RtriAssumptions.flexible_vehicle``)
+CAR_BODY_MODELS = ("rigid", "flexible")
+#: the car-body measurement points at floor level (name -> position along the car, scenario ``x_m``); the rigid
+#: case records ``rear`` (Fig. 5), the flexible one all three (comfort at the bogies and mid-car)
+CARBODY_POINTS = {"front": "front_bogie", "centre": "centre", "rear": "rear_bogie"}
 
 
 # ============================================================================================ ASSUMPTIONS block
@@ -91,6 +99,8 @@ _RTRI_ORIGINS = {
     "plant_max_speed_km_h": "published (RTRI plant limit)",
     "deviation_direction": "published (lateral irregularity of a rigid track)",
     "vehicle": "ASSUMPTION: substitute vehicle (test vehicle unpublished; rtri_scenario.md)",
+    "flexible_vehicle": "ASSUMPTION: the substitute vehicle with a flexible car body, first modes 10 Hz vertical "
+                        "bending, 12 Hz torsion, 15 Hz lateral bending, 2 % damping (rtri_assumptions.py)",
     "deviation_amplitude_m": "ASSUMPTION: of the order of the code limits for deck-end rotation, πδ/L = 1.6 mrad "
                              "at 20 m (rtri_assumptions.py)",
     "transition_length_m": "ASSUMPTION: ≈ π λ, bending half-wavelength of the rails on their lateral support "
@@ -156,6 +166,9 @@ def case_assumptions_table(case: RtriCase) -> dict:
     if case.contact.friction != ca.friction_coefficient:
         table["RtriCaseAssumptions"]["friction_coefficient"]["used_in_this_run"] = case.contact.friction
         table["RtriCaseAssumptions"]["friction_coefficient"]["origin"] += "; OVERRIDDEN for this run"
+    if case.car_body != "rigid":
+        table["RtriAssumptions"]["vehicle"]["used_in_this_run"] = case.vehicle_name
+        table["RtriAssumptions"]["vehicle"]["origin"] += f"; car body {case.car_body}: flexible_vehicle"
     if case.vehicle_overrides:
         table["RtriAssumptions"]["vehicle"]["overrides_in_this_run"] = dict(case.vehicle_overrides)
         table["RtriAssumptions"]["vehicle"]["origin"] += "; values OVERRIDDEN for this run (overrides_in_this_run)"
@@ -181,7 +194,10 @@ class RtriCase:
     run-out)``.  ``wheel_rail="springs"`` replaces each contact by linear springs — a cost baseline for
     benchmarks only: the springs hold the wheels at the nominal rail position, the deviation does not act, and
     nothing is recorded (``record=False``).  ``vehicle_overrides``: numeric values of the vehicle file replaced for
-    this run, e.g. ``{"primary.ky_N_per_m": 7.8e6}`` (recorded in the summary's assumptions)."""
+    this run, e.g. ``{"primary.ky_N_per_m": 7.8e6}`` (recorded in the summary's assumptions).  ``car_body``: one of
+    :data:`CAR_BODY_MODELS` (the flexible one is ``RtriAssumptions.flexible_vehicle``); ``carbody_points``: the
+    measurement points recorded (names of :data:`CARBODY_POINTS`; default ``("rear",)`` for the rigid car body, all
+    three for the flexible one)."""
 
     span_m: float
     speed_km_h: float
@@ -192,12 +208,14 @@ class RtriCase:
     vehicle_overrides: dict | None
     assumptions: RtriAssumptions
     case_assumptions: RtriCaseAssumptions
+    car_body: str
+    carbody_points: tuple
 
     def __init__(self, span_m: float = 20.0, speed_km_h: float | None = None, *, run: RunSettings | None = None,
                  contact: ContactSettings | None = None, deviation_amplitude_m: float | None = None,
                  transition_length_m: float | None = None, vehicle_overrides: dict | None = None,
                  assumptions: RtriAssumptions = RTRI, case_assumptions: RtriCaseAssumptions = RTRI_CASE,
-                 **settings):
+                 car_body: str = "rigid", carbody_points: tuple | None = None, **settings):
         unknown = set(settings) - set(_RUN_FIELDS) - set(_CONTACT_FIELDS)
         if unknown:
             raise TypeError(f"RtriCase: unknown argument(s) {', '.join(sorted(unknown))} (fields of RunSettings: "
@@ -214,7 +232,9 @@ class RtriCase:
         values = dict(span_m=span_m, speed_km_h=case_assumptions.representative_speed_km_h if speed_km_h is None
                       else speed_km_h, run=run, contact=contact, deviation_amplitude_m=deviation_amplitude_m,
                       transition_length_m=transition_length_m, vehicle_overrides=vehicle_overrides,
-                      assumptions=assumptions, case_assumptions=case_assumptions)
+                      assumptions=assumptions, case_assumptions=case_assumptions, car_body=car_body,
+                      carbody_points=tuple(carbody_points) if carbody_points is not None else
+                      (("rear",) if car_body == "rigid" else tuple(CARBODY_POINTS)))
         for k, v in values.items():
             object.__setattr__(self, k, v)
         self._check()
@@ -230,6 +250,11 @@ class RtriCase:
                 raise ValueError(f"{name} = {value!r}: must be <= {hi}")
             return value
 
+        if self.car_body not in CAR_BODY_MODELS:
+            raise ValueError(f"car_body = {self.car_body!r}: expected one of {', '.join(CAR_BODY_MODELS)}")
+        if "rear" not in self.carbody_points or any(p not in CARBODY_POINTS for p in self.carbody_points):
+            raise ValueError(f"carbody_points = {self.carbody_points!r}: expected names of {', '.join(CARBODY_POINTS)}"
+                             " including 'rear' (Fig. 5)")
         number("span_m", self.span_m, 0.0, 1000.0)
         number("speed_km_h", self.speed_km_h, 0.0, 600.0)
         if self.deviation_amplitude_m is not None:
@@ -273,7 +298,12 @@ class RtriCase:
         """The run's :class:`~..multibody.vehicle_data.VehicleData`: the assumptions' vehicle with
         ``vehicle_overrides`` applied."""
         from ..multibody.vehicle_data import load_vehicle_with_overrides
-        return load_vehicle_with_overrides(self.assumptions.vehicle, self.vehicle_overrides)
+        return load_vehicle_with_overrides(self.vehicle_name, self.vehicle_overrides)
+
+    @property
+    def vehicle_name(self) -> str:
+        """The vehicle file of the case's car-body model (:data:`CAR_BODY_MODELS`)."""
+        return self.assumptions.vehicle if self.car_body == "rigid" else self.assumptions.flexible_vehicle
 
     def span_deflection(self):
         """The deviation: the assumptions' shape with this case's δ and l_t; the first transition begins
@@ -303,7 +333,7 @@ class RtriCase:
             "schema_version": 2,
             "scenario": {"name": f"rtri_L{float(self.span_m):g}_V{float(self.speed_km_h):g}",
                          "description": "RTRI rigid-rail validation case (substitute inputs)"},
-            "vehicle": {"name": self.assumptions.vehicle, "speed_km_h": float(self.speed_km_h), "start_s_m": 0.0,
+            "vehicle": {"name": self.vehicle_name, "speed_km_h": float(self.speed_km_h), "start_s_m": 0.0,
                         "overrides": dict(self.vehicle_overrides or {})},
             "track": [{"type": "span_deflection", "span_length_m": sd.span_length_m, "amplitude_m": sd.amplitude_m,
                        "start_m": sd.start_m, "transition_length_m": sd.transition_length_m,
@@ -311,8 +341,9 @@ class RtriCase:
             "contact": self.contact.as_dict(),
             "run": self.run_settings().as_dict(),
             "outputs": {"timeseries": list(RTRI_GROUPS), "formats": ["csv"], "plots": False, "criteria": False,
-                        "carbody_points": [{"name": "rear", "x_m": "rear_bogie", "y_m": 0.0,
-                                            "height_m": self.case_assumptions.floor_height_m}]},
+                        "carbody_points": [{"name": p, "x_m": CARBODY_POINTS[p], "y_m": 0.0,
+                                            "height_m": self.case_assumptions.floor_height_m}
+                                           for p in self.carbody_points]},
         }
         return validate_scenario(spec, source="RTRI case")
 

@@ -6,7 +6,9 @@ summary (:mod:`.rtri_run`) or from the sweep's rows (:mod:`.rtri_sweep`):
 * :func:`plot_fig6` — the lateral contact force on the right wheel of the leading wheelset vs time, raw and its
   :data:`~.rtri_run.AVERAGE_WINDOW_S` moving average, with the flange-region contacts marked (the sign is the
   force of the rail on the wheel, :mod:`.rtri_run`);
-* :func:`plot_fig7` — the passage peak of the car-body acceleration vs speed, one line per span.
+* :func:`plot_fig7` — the passage peak of the car-body acceleration vs speed, one line per span;
+* :func:`plot_carbody_comparison` — the car-body accelerations of the rigid and the flexible car body side by side
+  (Fig. 5 style: lateral above each bogie and mid-car, and the vertical ones, where the bending modes act).
 
 Figs. 5 and 6 shade the time each leading wheelset of a bogie runs on the deviation and circle the passage peak
 (``summary["peaks_passage"]``: what ``rtri`` prints and the validation report tabulates).  Every title states that
@@ -18,7 +20,7 @@ import numpy as np
 
 from .rtri_run import AVERAGE_WINDOW_S, RtriResult
 
-__all__ = ["plot_fig5", "plot_fig6", "plot_fig7"]
+__all__ = ["plot_fig5", "plot_fig6", "plot_fig7", "plot_carbody_comparison"]
 
 
 def _title(summary: dict) -> str:
@@ -137,6 +139,36 @@ def plot_fig7(rows, path):
     ax.title.set_fontsize(9)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_carbody_comparison(results: dict, path):
+    """Car-body accelerations of the runs in ``results`` (car-body model name -> :class:`~.rtri_run.RtriResult`,
+    e.g. rigid and flexible, recorded at the same points) side by side: one row per point (front bogie, mid-car,
+    rear bogie), lateral (left column) and vertical (right column) kinematic acceleration vs time, with each run's
+    Sperling index of the point (``summary["comfort"]``) in the legend."""
+    plt = _pyplot()
+    first = next(iter(results.values()))
+    points = [p for p in ("front", "centre", "rear")
+              if all(f"carbody_lateral_acceleration_{p}_m_s2" in r.timeseries for r in results.values())]
+    fig, axes = plt.subplots(len(points), 2, figsize=(12, 2.6 * len(points) + 0.8), sharex=True, squeeze=False)
+    for i, p in enumerate(points):
+        for j, d in enumerate(("lateral", "vertical")):
+            ax = axes[i, j]
+            for k, (name, r) in enumerate(results.items()):
+                wz = r.summary.get("comfort", {}).get(p, {}).get(d, {}).get("sperling_Wz")
+                label = f"{name} car body" + (f" (Sperling Wz {wz:.2f})" if wz is not None else "")
+                ax.plot(r.timeseries["time_s"], r.timeseries[f"carbody_{d}_acceleration_{p}_m_s2"], f"C{k}-",
+                        lw=0.9 if k == 0 else 0.7, alpha=1.0 if k == 0 else 0.85, label=label)
+            ax.set_ylabel(f"{d} acc. {p} [m/s²]", fontsize=8)
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7)
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
+    fig.suptitle("Car-body accelerations (track frame, no gravity), rigid vs flexible car body — " + _title(
+        first.summary), fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

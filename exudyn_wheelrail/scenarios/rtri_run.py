@@ -39,6 +39,10 @@ shift the rails by V h, up to 69 mm at 250 km/h).  A run of n steps has n + 1 ro
   the throat, :class:`~..profiles.profiles.WheelProfile`) carries a contact (``WheelRailContact.flange_contact``),
   else 0.  A contact high on the flange root can still belong to the tread region (contact angles up to ~0.55
   rad); ``contact_angle_w1_right_rad`` shows it (the angle of the most loaded region).
+* with a flexible car body (``RtriCase(car_body="flexible")``) the accelerations are those of the deformed body at
+  the point (the frame's and the modes' motion), and the points above the front bogie and mid-car are recorded too
+  (``carbody_<lateral|vertical>_<acceleration|accelerometer>_<front|centre|rear>_m_s2``); ``summary["comfort"]``
+  gives Sperling's Wz and the EN 14363 quantities of every recorded point, ``summary["car_body"]`` the modes.
 * extras: the track deviation under the leading wheelset and the wheelset's lateral displacement relative to its
   rails (the contact search's pose), ``Y_w<j>_<side>_N`` / ``Q_w<j>_<side>_N`` of every wheel (j = 1 leading … 4),
   the flange flags of both leading wheels, the car body's lateral displacement above the rear bogie.
@@ -99,9 +103,16 @@ RTRI_COLUMNS = {
 TIMESERIES_REQUIRED = tuple(RTRI_COLUMNS)[:5]
 
 
-def rtri_columns(n_wheelsets: int) -> dict:
-    """:data:`RTRI_COLUMNS` followed by every wheel's ``Y`` and ``Q`` (wheelset by wheelset, right then left)."""
+def rtri_columns(n_wheelsets: int, carbody_points=("rear",)) -> dict:
+    """:data:`RTRI_COLUMNS` followed by every wheel's ``Y`` and ``Q`` (wheelset by wheelset, right then left) and,
+    for every car-body point, its lateral and vertical acceleration and accelerometer reading (the rear point's
+    lateral ones are in :data:`RTRI_COLUMNS`)."""
     cols = dict(RTRI_COLUMNS)
+    for p in carbody_points:
+        for q in ("acceleration", "accelerometer"):
+            for d in ("lateral", "vertical"):
+                name = f"carbody_{d}_{q}_{p}_m_s2"
+                cols.setdefault(name, name)
     for j in range(1, n_wheelsets + 1):
         for side in ("right", "left"):
             cols[f"Y_w{j}_{side}_N"] = f"Y_w{j}_{side}_N"
@@ -239,6 +250,10 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
     vehicle = case.vehicle()
     if vehicle.layout != "car" or vehicle.car_body is None:
         raise ValueError(f"vehicle {case.assumptions.vehicle!r}: the RTRI case needs a car (layout 'car')")
+    from ..multibody.flexible_body import explicit_step_problem
+    problem = explicit_step_problem(vehicle, case.run.solver, case.run.dt_s)
+    if problem:                                           # before any work: the run would diverge
+        raise ValueError(f"dt_s (--dt) with car_body={case.car_body!r}: {problem}")
     h = build_scenario(case.scenario())
     run = h.run
     if progress:
@@ -248,7 +263,8 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
     outcome = run_model(h, progress=False, view=view)
     status = outcome.status
     rec = h.recorder.table() if h.recorder is not None else {}
-    ts = {name: rec[col] for name, col in rtri_columns(len(h.model.wheelsets)).items()} if rec else {}
+    ts = ({name: rec[col] for name, col in rtri_columns(len(h.model.wheelsets), case.carbody_points).items()}
+          if rec else {})
     cov, notes = _coverage(case, vehicle, run)
     evaluate = bool(ts) and len(ts["time_s"]) > 0 and status.kind != S.DIVERGED
     after = _after_passage(ts, cov["t_needed_with_run_out_s"]) if evaluate else {}
@@ -303,6 +319,8 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
         "fastsim_grid": list(case.contact.fastsim_grid),
         "contact_calls": int(h.contact.n_calls) if h.contact is not None else 0,
         "vehicle": vehicle.name,
+        "car_body": _car_body_summary(case, h.model),
+        "comfort": _comfort(ts, run.dt_s, case) if evaluate else {},
         "wheel_rail_pair": repr(h.pair),
         "coverage": cov,
         "notes": notes,
@@ -327,6 +345,43 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
         "assumptions": table,
     }
     return RtriResult(timeseries=ts, summary=summary, case=case, outcome=outcome)
+
+
+def _car_body_summary(case: RtriCase, model) -> dict:
+    """The car-body model of the run: rigid, or the flexible body's modes."""
+    fb = getattr(model.car_body, "flexible", None)
+    if fb is None:
+        return {"model": "rigid"}
+    m = fb.modes
+    return {"model": case.car_body, "vehicle_file": case.vehicle_name,
+            "modes": [{"kind": k, "frequency_Hz": float(f), "damping_ratio": float(z)}
+                      for k, f, z in zip(m.kinds, m.frequencies_Hz, m.damping_ratio)]}
+
+
+def _comfort(ts: dict, dt_s: float, case: RtriCase) -> dict:
+    """Sperling's ride index Wz and the EN 14363 car-body quantities (0.4–10 Hz band-passed maximum and RMS) of every
+    recorded car-body point over the whole run (:mod:`exudyn_wheelrail.analysis.comfort`): lateral from the
+    accelerometer reading (what a floor sensor measures, g times the roll included), vertical from the kinematic
+    acceleration (the accelerometer's constant -g removed) — the scenarios' convention."""
+    from ..analysis.comfort import carbody_acceleration_en14363, sperling_index
+    out = {}
+    for p in case.carbody_points:
+        cols = {"lateral": f"carbody_lateral_accelerometer_{p}_m_s2",
+                "vertical": f"carbody_vertical_acceleration_{p}_m_s2"}
+        res = {}
+        for d, c in cols.items():
+            a = np.asarray(ts.get(c, []), dtype=float)
+            if a.size < 2 or not np.all(np.isfinite(a)):
+                continue
+            try:
+                en = carbody_acceleration_en14363(a, dt_s)
+                res[d] = {"column": c, "sperling_Wz": float(sperling_index(a, dt_s, d)["Wz"]),
+                          "en14363_peak_m_s2": en["peak_m_s2"], "en14363_rms_m_s2": en["rms_m_s2"],
+                          "en14363_peak_near_record_edge": en["peak_near_record_edge"]}
+            except ValueError as exc:                   # a record too short for the filters
+                res[d] = {"column": c, "not_evaluated": str(exc)}
+        out[p] = res
+    return out
 
 
 # ================================================================================================ outputs

@@ -17,7 +17,8 @@ from .deck import deck_scalars, deck_summary
 from .outputs import write_scenario_outputs
 from .spec import TIMESERIES_GROUPS, UNLOADING_GROUP, as_scenario
 
-__all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary"]
+__all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary",
+           "train_criteria"]
 
 
 @dataclass
@@ -90,6 +91,9 @@ def _scalars(ts: dict, groups: dict, pk: dict, criteria, dt: float, deck: dict |
                  if v.get("value_after_lowpass") is not None]
         if after:
             out["criteria.wheel_unloading.max_value_after_lowpass"] = max(after)
+        for car in criteria.get("cars", []):                      # a train: every car's verdicts
+            out[f"criteria.car{car['car']}.safety_passed"] = car["safety_passed"]
+            out[f"criteria.car{car['car']}.passed"] = car["passed"]
     if deck is not None:
         out.update(deck_scalars(deck))
     return out
@@ -110,22 +114,60 @@ def _add_unloading(h: ScenarioModel, ts: dict, groups: dict) -> None:
 
 
 def _criteria(h: ScenarioModel, ts: dict, groups: dict) -> dict:
-    from ..analysis.safety import running_criteria_summary
+    """The running-safety and comfort criteria (:func:`~exudyn_wheelrail.analysis.safety.running_criteria_summary`)
+    of the vehicle, or of a train (:func:`train_criteria`)."""
     o = h.scenario["outputs"]["criteria"]
+    options = dict(vehicle=o["vehicle"], yq_limit=o["yq_limit"], unloading_limit=o["unloading_limit"])
+    if _is_train(h):
+        return train_criteria(h.model, ts, h.speed_m_s, static_wheel_loads(h), groups["Y"] + groups["Q"],
+                              carbody_point=o["carbody_point"], **options)
+    return _running_criteria(ts, h.speed_m_s, groups["Y"] + groups["Q"], static_wheel_loads(h), o["carbody_point"],
+                             **options)
+
+
+def _running_criteria(ts, speed_m_s, wheel_columns, static, point, **options) -> dict:
+    from ..analysis.safety import running_criteria_summary
     cols = {}
-    p = o["carbody_point"]
-    if p:
-        cols = {"lateral": f"carbody_lateral_accelerometer_{p}_m_s2",
-                "vertical": f"carbody_vertical_acceleration_{p}_m_s2"}
-    static = static_wheel_loads(h)
-    sub = {k: ts[k] for k in ["time_s"] + groups["Y"] + groups["Q"] + list(cols.values())}
-    return running_criteria_summary(sub, h.speed_m_s, vehicle=o["vehicle"], static_wheel_loads_N=static,
-                                    yq_limit=o["yq_limit"], unloading_limit=o["unloading_limit"],
-                                    carbody_columns=cols or None)
+    if point:
+        cols = {"lateral": f"carbody_lateral_accelerometer_{point}_m_s2",
+                "vertical": f"carbody_vertical_acceleration_{point}_m_s2"}
+    sub = {k: ts[k] for k in ["time_s"] + list(wheel_columns) + list(cols.values())}
+    return running_criteria_summary(sub, speed_m_s, static_wheel_loads_N=static, carbody_columns=cols or None,
+                                    **options)
+
+
+def train_criteria(train, ts: dict, speed_m_s: float, static_wheel_loads_N: dict, wheel_columns, *, vehicle: str,
+                   yq_limit: float, unloading_limit: float, carbody_point: str = "") -> dict:
+    """The criteria of a train (:class:`~exudyn_wheelrail.multibody.train.TrainModel`) from a recorded table:
+    :func:`~exudyn_wheelrail.analysis.safety.running_criteria_summary` of all its wheels (``wheel_columns``: the
+    ``Y_w<j>_<side>_N`` and ``Q_w<j>_<side>_N`` columns, train numbering; comfort at the leading car's point
+    ``<carbody_point>_c1``) and, under ``cars``, every car's own (its wheels, its car-body point
+    ``<carbody_point>_c<k>``; ``""``: comfort not evaluated); ``passed`` / ``safety_passed`` hold for every car."""
+    from ..multibody.train import car_suffix
+    options = dict(vehicle=vehicle, yq_limit=yq_limit, unloading_limit=unloading_limit)
+    wheel_columns = list(wheel_columns)
+    cars = []
+    for k, car in enumerate(train.cars):
+        wheels = tuple(f"w{j + 1}_" for j in train.wheelset_range(k))
+        mine = [c for c in wheel_columns if c.split("_", 1)[1].startswith(wheels)]
+        point = carbody_point + car_suffix(k) if carbody_point and car.car_body is not None else ""
+        cars.append({"car": k + 1, "vehicle": car.vehicle.name,
+                     **_running_criteria(ts, speed_m_s, mine, static_wheel_loads_N, point, **options)})
+    lead = carbody_point + car_suffix(0) if carbody_point and train.cars[0].car_body is not None else ""
+    out = _running_criteria(ts, speed_m_s, wheel_columns, static_wheel_loads_N, lead, **options)
+    out["cars"] = cars
+    out["safety_passed"] = bool(out["safety_passed"] and all(c["safety_passed"] for c in cars))
+    out["passed"] = bool(out["passed"] and all(c["passed"] for c in cars))
+    return out
+
+
+def _is_train(h) -> bool:
+    return "consist" in h.scenario["vehicle"]
 
 
 def static_wheel_loads(h: ScenarioModel) -> dict:
-    wheel = h.model.load_path.wheel                                          # (n_ws, 2) in (left, right)
+    """``{"w<j>_<side>": Q0}``: the static wheel loads of the lever rule (a train: every car's, train order)."""
+    wheel = h.model.static_wheel_loads_N() if _is_train(h) else h.model.load_path.wheel   # (n_ws, 2) (left, right)
     return {f"w{j + 1}_{side}": float(wheel[j, 0 if side == "left" else 1])
             for j in range(len(h.model.wheelsets)) for side in SIDES}
 
@@ -172,10 +214,17 @@ def run_scenario(scenario, out_dir=None, progress=None, view=None) -> ScenarioRe
     return result
 
 
-def _events(outcome, limit: int = 200) -> list:
-    """The monitor's events (the first ``limit``) as plain dicts."""
-    return [{"kind": e.kind, "time_s": e.time_s, "wheelset": e.wheelset, "side": e.side, "detail": e.detail}
-            for e in outcome.events[:limit]]
+def _events(outcome, limit: int = 200, car_of_wheelset=None) -> list:
+    """The monitor's events (the first ``limit``) as plain dicts; for a train also the ``car`` (1 = leading) of the
+    event's wheelset (``car_of_wheelset``: 0-based car per 0-based wheelset; the monitor numbers the train's
+    wheelsets from 0)."""
+    out = []
+    for e in outcome.events[:limit]:
+        d = {"kind": e.kind, "time_s": e.time_s, "wheelset": e.wheelset, "side": e.side, "detail": e.detail}
+        if car_of_wheelset is not None:
+            d["car"] = car_of_wheelset[e.wheelset] + 1 if e.wheelset is not None else None
+        out.append(d)
+    return out
 
 
 def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> ScenarioResult:
@@ -213,7 +262,7 @@ def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> Sc
         "scenario_file": source,
         "status": status.kind,
         "status_detail": status.as_dict(),
-        "events": _events(outcome),
+        "events": _events(outcome, car_of_wheelset=h.model.car_of_wheelset if _is_train(h) else None),
         "n_events": len(outcome.events),
         "steps": run.steps,
         "dt_s": dt,
@@ -267,10 +316,19 @@ def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> Sc
 
 
 def _model_info(h: ScenarioModel) -> dict:
-    info = {"vehicle": h.vehicle.name, "layout": h.vehicle.layout, "n_wheelsets": len(h.model.wheelsets),
-            "wheelset_x_m": [float(x) for x in h.vehicle.wheelset_x_m()],
+    train = _is_train(h)
+    info = {"vehicle": h.vehicle.name, "layout": "train" if train else h.vehicle.layout,
+            "n_wheelsets": len(h.model.wheelsets), "wheelset_x_m": [float(x) for x in h.vehicle.wheelset_x_m()],
             "frame_s_start_m": float(h.model.s_start_m), "wheel_rail_pair": repr(h.pair),
             "static_wheel_loads_N": static_wheel_loads(h), "bridge": None}
+    if train:
+        info["cars"] = [{"car": k + 1, "vehicle": car.vehicle.name, "x_m": float(x),
+                         "length_m": h.vehicle.cars[k].length_m,
+                         "wheelsets": [j + 1 for j in h.model.wheelset_range(k)]}
+                        for k, (car, x) in enumerate(zip(h.model.cars, h.model.car_x_m))]
+        info["consist"] = {"name": h.vehicle.name, "file": h.vehicle.file, "source": h.vehicle.source,
+                           "gap_m": h.vehicle.gap_m, "coupling": dict(h.vehicle.coupling.__dict__),
+                           "total_mass_kg": h.vehicle.total_mass_kg, "length_m": h.vehicle.length_m}
     if h.modes is not None:
         info["bridge"] = {"n_modes": int(h.modes.n_modes), "f_cut_Hz": h.f_cut_Hz,
                           "frequencies_Hz": [float(f) for f in h.modes.frequencies_Hz], "kinds": list(h.modes.kinds),

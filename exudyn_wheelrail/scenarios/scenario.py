@@ -39,22 +39,38 @@ dotted overrides with the old keys are moved the same way.
     ``name`` (default: the file name without ``.toml``), ``description`` (default "").
 
 ``[vehicle]`` (required) — exactly one of ``name`` (a shipped vehicle, ``vehicles/<name>.toml``, e.g.
-    ``"manchester_vehicle1"``) or ``file`` (a vehicle data file, schema: ``vehicles/README.md``), and
-    ``speed_km_h`` (required, 0 < V ≤ 600), ``start_s_m`` (track distance of the **leading** wheelset at t = 0,
-    default 0), ``overrides`` (optional table: numeric values of the vehicle file replaced for this run, by
-    ``"table.key"``, e.g. ``"primary.ky_N_per_m" = 7.8e6``;
-    :func:`~..multibody.vehicle_data.load_vehicle_with_overrides`).  The wheel and rail profiles, gauge,
-    inclination and back-to-back distance come from the vehicle file.
+    ``"manchester_vehicle1"``), ``file`` (a vehicle data file, schema: ``vehicles/README.md``) or ``consist`` (a
+    train: a shipped consist of ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.multibody.train`),
+    and ``speed_km_h`` (required, 0 < V ≤ 600), ``start_s_m`` (track distance of the **leading** wheelset — of
+    the train's first car for a consist — at t = 0, default 0), ``overrides`` (optional table, not for a
+    consist: numeric values of the vehicle file replaced for this run, by ``"table.key"``, e.g.
+    ``"primary.ky_N_per_m" = 7.8e6``; :func:`~..multibody.vehicle_data.load_vehicle_with_overrides`).  The wheel
+    and rail profiles, gauge, inclination and back-to-back distance come from the vehicle file (the first car's
+    for a train).  A train's wheel columns number its wheelsets front to back over the whole train (``w1`` …),
+    its car-body points are named ``<point>_c<k>`` (car k from the front), and the criteria are given for the
+    train and per car (``criteria.cars``).
 
-``[[track]]`` (optional, any number; none = a perfect straight track) — irregularity components, summed:
+``[[track]]`` (optional, any number; none = a perfect straight track) — irregularity components, summed, on the
+    four channels of :mod:`exudyn_wheelrail.conventions` (alignment, level, cross level, gauge; ``direction``
+    "lateral" = alignment, "vertical" = level):
     ``type = "span_deflection"``: ``span_length_m``, ``amplitude_m``, ``start_m`` (s of the span start),
     optional ``transition_length_m`` (0; C2 end transitions centred on the span ends), ``direction``
-    ("lateral" | "vertical", default "lateral") — :class:`~..multibody.track.SpanDeflection`.
+    ("lateral" | "vertical" | "cross_level" | "gauge", default "lateral") —
+    :class:`~..multibody.track.SpanDeflection`.
     ``type = "harmonic"``: ``amplitude_m``, ``wavelength_m``, optional ``phase_rad`` (0), ``direction``
     ("lateral") — ``amplitude sin(2π s/wavelength + phase)`` along the whole track.
     ``type = "sampled"``: ``file`` — a CSV file with the columns ``s_m, y_m, z_m`` (``#`` comments allowed),
     cubic-spline interpolated, held constant outside the table
     (:meth:`~..multibody.track.SampledIrregularity.from_csv`).
+    ``type = "measured"``: ``file`` — a CSV file of ``s_m`` and the four channels or the rails' ``y_right``,
+    ``y_left``, ``z_right``, ``z_left``, each with its unit ``_m`` or ``_mm`` (:mod:`exudyn_wheelrail.track.measured`).
+    ``type = "spectrum"``: generated from a standard PSD (:mod:`exudyn_wheelrail.track.spectra`: ``spectrum`` =
+    "fra_class_1" … "fra_class_6", "german_low", "german_high"), ``seed`` (required), ``length_m``, optional
+    ``band_m`` ([3, 150]), ``step_m``, ``start_m``, ``channels`` (all four), ``scale`` (1).
+    ``type = "defect"``: an isolated defect of one rail or both (:class:`~..track.irregularities.IsolatedDefect`):
+    ``shape`` ("bump" | "cusp" | "dipped_joint"), ``position_m``, ``length_m``, ``depth_m``, optional ``rail``
+    ("right" | "left" | "both"), ``direction`` ("vertical" | "lateral").  Full example:
+    ``examples/scenarios/README.md``.
 
 ``[structure]`` (optional) — a flexible bridge deck under the track (:class:`~..structures.bridge.BridgeModel`,
 entered with :func:`~..structures.bridge.add_bridge`):
@@ -80,6 +96,15 @@ entered with :func:`~..structures.bridge.add_bridge`):
     amplitude ≥ 0, or ``"auto"`` (default): to the end of the run), ``start_s`` (≥ 0, default 0: the time the
     ramp starts).  Start the vehicle so that it reaches the deck after the ramp (``start_m`` − ``start_s_m`` ≥
     V × ramp_cycles / frequency_Hz) to see the deck's own response to the ground first.
+
+``[flexible_track]`` (optional, not with ``[structure]``) — rails on pads, sleepers and ballast instead of rigid
+    rails (:mod:`exudyn_wheelrail.track.flexible`, coupled like a deck, :mod:`exudyn_wheelrail.track.
+    flexible_scenario`): ``file`` (a track file, default ``exudyn_wheelrail/data/track_60E1_ballasted.toml``),
+    ``start_m`` and ``length_m`` of the modelled segment (both numbers or both ``"auto"`` (default): the segment the
+    run needs), ``modes_up_to_Hz`` (the modal reduction's cut-off).  An explicit solver needs a step the wheel on
+    the rail's modal mass allows (the build refuses a larger one, naming ``run.dt_s``; ``docs/track.md``).  Output
+    group ``"flexible_track"``: rail displacements under each wheelset, the nearest sleeper's displacement, pad and
+    ballast forces.
 
 ``[contact]`` (optional) — the fields of :class:`~exudyn_wheelrail.simulation.settings.ContactSettings`, validated
     by it: ``creep_law`` ("table" (default: Kalker's exact theory, tabulated), "fastsim", "shen_hedrick_elkins",

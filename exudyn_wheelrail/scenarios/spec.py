@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
+from ..track.flexible_scenario import FLEXIBLE_TRACK_GROUP
 from ..validation import Quantity
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
 
@@ -29,8 +30,9 @@ SCHEMA_VERSION = 2
 V1_MOVED = {"run.speed_km_h": "vehicle.speed_km_h", "run.start_s_m": "vehicle.start_s_m",
             "run.creep_law": "contact.creep_law", "run.friction": "contact.friction",
             "run.fastsim_grid": "contact.fastsim_grid"}
-TRACK_TYPES = ("span_deflection", "harmonic", "sampled")
-DIRECTIONS = ("lateral", "vertical")
+TRACK_TYPES = ("span_deflection", "harmonic", "sampled", "measured", "spectrum", "defect")
+#: irregularity channels of span deflections and harmonics: lateral (alignment), vertical (level), cross level, gauge
+DIRECTIONS = ("lateral", "vertical", "cross_level", "gauge")
 #: the wheel unloading ``dQQ_w<j>_<side>`` = (Q₀ − Q)/Q₀ per wheel (Q₀ the static wheel load of the vehicle's load
 #: path), derived from the recorded Q after the run (:mod:`.run`)
 UNLOADING_GROUP = "unloading"
@@ -38,7 +40,7 @@ UNLOADING_GROUP = "unloading"
 STRUCTURE_GROUPS = ("deck",) + DECK_GROUPS
 #: column groups of the time series, in the order they are written: the recorder's
 #: (:mod:`exudyn_wheelrail.simulation.recorder`), the wheel unloading, the deck's
-TIMESERIES_GROUPS = GROUPS + (UNLOADING_GROUP,) + DECK_GROUPS
+TIMESERIES_GROUPS = GROUPS + (UNLOADING_GROUP,) + DECK_GROUPS + (FLEXIBLE_TRACK_GROUP,)
 FORMATS = ("csv", "npz")
 NAMED_X = ("front_bogie", "rear_bogie", "centre")
 CRITERIA_VEHICLES = ("passenger", "locomotive", "freight")
@@ -54,6 +56,8 @@ QUANTITIES = {
     "track.*.span_length_m": Quantity("span length of a span deflection", "m", 1.0, 1000.0),
     "track.*.transition_length_m": Quantity("transition length", "m", 0.0, 200.0),
     "track.*.wavelength_m": Quantity("irregularity wavelength", "m", 0.01, 1000.0),
+    "track.*.depth_m": Quantity("isolated defect depth", "m", 0.0, 0.05, magnitude=True),
+    "track.*.length_m": Quantity("length of an isolated defect or a generated irregularity", "m", 0.01, 100000.0),
     "structure.spans_m": Quantity("bridge span length", "m", 1.0, 1000.0),
     "structure.rail_height_m": Quantity("height of the rail top above the deck's beam axis", "m", 0.0, 10.0),
     "structure.support_motion.peak_acceleration_m_s2": Quantity("peak ground acceleration", "m/s²", 0.0, 10.0),
@@ -192,7 +196,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     filled in, file paths absolute (relative ones against ``base_dir``), plain Python values only."""
     c = _Check(source, Path(base_dir) if base_dir is not None else None)
     c.table(data, "", required=("schema_version", "vehicle"),
-            optional=("scenario", "track", "structure", "contact", "run", "outputs"))
+            optional=("scenario", "track", "structure", "flexible_track", "contact", "run", "outputs"))
     version = c.integer(data["schema_version"], "schema_version")
     if version == 1:
         data = _from_v1(data)
@@ -212,6 +216,13 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     # --------------------------------------------------------------------------------------- [structure]
     if "structure" in data:
         out["structure"] = _structure(c, data["structure"])
+    if "flexible_track" in data:                  # rails on pads, sleepers and ballast (track/flexible_scenario.py)
+        from ..track.flexible_scenario import normalise_flexible_track
+        if "structure" in data:
+            raise c.error("flexible_track", "cannot be combined with a [structure] in a scenario (the track on a deck "
+                                            "is the Python model track/flexible_deck.py): remove one of the two "
+                                            "tables")
+        out["flexible_track"] = normalise_flexible_track(data["flexible_track"], c.error, c.base_dir)
     # --------------------------------------------------------------------------------- [contact], [run]
     contact = c.settings(ContactSettings, data.get("contact", {}), "contact")
     run = c.settings(RunSettings, data.get("run", {}), "run")
@@ -227,7 +238,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     if contact.wheel_rail == "springs" and run.record:
         raise c.error("contact.wheel_rail", "'springs' (the cost baseline) records nothing: set run.record = false")
     # ----------------------------------------------------------------------------------------- [outputs]
-    out["outputs"] = _outputs(c, data.get("outputs", {}), vehicle, "structure" in out)
+    out["outputs"] = _outputs(c, data.get("outputs", {}), vehicle, "structure" in out, "flexible_track" in out)
     return out
 
 
@@ -244,10 +255,30 @@ def _flat_overrides(value, prefix: str = "") -> dict:
 
 
 def _vehicle(c: _Check, vt) -> tuple[dict, object]:
-    c.table(vt, "vehicle", required=("speed_km_h",), optional=("name", "file", "start_s_m", "overrides"))
-    if ("name" in vt) == ("file" in vt):
-        raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle) or vehicle.file (a vehicle "
-                                 "data file)")
+    """``[vehicle]``: one vehicle (``name`` or ``file``) or a train (``consist``: a shipped consist name of
+    ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.multibody.train`; ``start_s_m`` is then the track
+    distance of the train's leading wheelset; no ``overrides``).  Returns the normal form and the vehicle data the
+    output checks judge (for a train: its first car without a car body, else its first car)."""
+    c.table(vt, "vehicle", required=("speed_km_h",), optional=("name", "file", "consist", "start_s_m", "overrides"))
+    if sum(k in vt for k in ("name", "file", "consist")) != 1:
+        raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle), vehicle.file (a vehicle "
+                                 "data file) or vehicle.consist (a train: a shipped consist or a consist file)")
+    if "consist" in vt:
+        from ..multibody.train import ConsistError, load_consist
+        ref = c.string(vt["consist"], "vehicle.consist")
+        if Path(ref).suffix:
+            ref = c.path(ref, "vehicle.consist")
+        if vt.get("overrides"):
+            raise c.error("vehicle.overrides", "not available for a train (vehicle.consist): change the vehicle files")
+        try:
+            consist = load_consist(ref)
+        except ConsistError as exc:
+            raise c.error("vehicle.consist", str(exc)) from None
+        cars = [car.vehicle for car in consist.cars]
+        out = {"consist": ref,
+               "speed_km_h": c.number(vt["speed_km_h"], "vehicle.speed_km_h", lo=0.0, hi=600.0),
+               "start_s_m": c.number(vt.get("start_s_m", 0.0), "vehicle.start_s_m"), "overrides": {}}
+        return out, next((v for v in cars if v.car_body is None), cars[0])
     from ..multibody.vehicle_data import load_vehicle_with_overrides
     if "name" in vt:
         key, ref = "vehicle.name", c.string(vt["name"], "vehicle.name")
@@ -298,14 +329,66 @@ def _track_component(c: _Check, comp, key: str) -> dict:
                                             f"{key}.wavelength_m", "track.*.wavelength_m"),
                 "phase_rad": c.number(comp.get("phase_rad", 0.0), f"{key}.phase_rad"),
                 "direction": c.string(comp.get("direction", "lateral"), f"{key}.direction", DIRECTIONS)}
+    if kind == "spectrum":
+        return _spectrum_component(c, comp, key)
+    if kind == "defect":
+        from ..track.irregularities import DEFECT_SHAPES, RAILS
+        c.table(comp, key, required=("type", "shape", "position_m", "length_m", "depth_m"),
+                optional=("rail", "direction"))
+        return {"type": kind, "shape": c.string(comp["shape"], f"{key}.shape", tuple(DEFECT_SHAPES)),
+                "position_m": c.number(comp["position_m"], f"{key}.position_m"),
+                "length_m": c.plausible(c.number(comp["length_m"], f"{key}.length_m", lo=0.0), f"{key}.length_m",
+                                        "track.*.length_m"),
+                "depth_m": c.plausible(c.number(comp["depth_m"], f"{key}.depth_m"), f"{key}.depth_m",
+                                       "track.*.depth_m"),
+                "rail": c.string(comp.get("rail", "both"), f"{key}.rail", tuple(RAILS)),
+                "direction": c.string(comp.get("direction", "vertical"), f"{key}.direction", DIRECTIONS[:2])}
     c.table(comp, key, required=("type", "file"))
     path = c.path(comp["file"], f"{key}.file")
-    from ..multibody.track import SampledIrregularity
     try:
-        SampledIrregularity.from_csv(path)
+        _track_table(kind, path)
     except (ValueError, OSError) as exc:
         raise c.error(f"{key}.file", str(exc)) from None
     return {"type": kind, "file": path}
+
+
+def _track_table(kind: str, path):
+    """The table of a ``sampled`` (columns s_m, y_m, z_m) or ``measured`` (the four channels or the rails,
+    :mod:`exudyn_wheelrail.track.measured`) track component."""
+    if kind == "sampled":
+        from ..multibody.track import SampledIrregularity
+        return SampledIrregularity.from_csv(path)
+    from ..track.measured import read_irregularity_csv
+    return read_irregularity_csv(path)
+
+
+def _spectrum_component(c: _Check, comp, key: str) -> dict:
+    """A ``spectrum`` track component: irregularities generated from a standard PSD
+    (:class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`)."""
+    from ..track.irregularities import CHANNELS
+    from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrregularity
+    c.table(comp, key, required=("type", "spectrum", "seed", "length_m"),
+            optional=("band_m", "step_m", "start_m", "channels", "scale"))
+    band = c.array(comp.get("band_m", list(DEFAULT_BAND_M)), f"{key}.band_m")
+    if len(band) != 2:
+        raise c.error(f"{key}.band_m", f"expected [lambda_min_m, lambda_max_m], got {band!r}")
+    channels = c.array(comp.get("channels", list(CHANNELS)), f"{key}.channels")
+    out = {"type": "spectrum", "spectrum": c.string(comp["spectrum"], f"{key}.spectrum", tuple(SPECTRA)),
+           "seed": c.integer(comp["seed"], f"{key}.seed", lo=0),
+           "length_m": c.plausible(c.number(comp["length_m"], f"{key}.length_m", lo=0.0), f"{key}.length_m",
+                                   "track.*.length_m"),
+           "band_m": [c.number(v, f"{key}.band_m", lo=0.0) for v in band],
+           "step_m": c.number(comp.get("step_m", DEFAULT_STEP_M), f"{key}.step_m", lo=0.0),
+           "start_m": c.number(comp.get("start_m", 0.0), f"{key}.start_m"),
+           "channels": [c.string(v, f"{key}.channels", tuple(CHANNELS)) for v in channels],
+           "scale": c.number(comp.get("scale", 1.0), f"{key}.scale", lo=0.0, lo_open=False)}
+    try:
+        SpectralIrregularity(out["spectrum"], out["length_m"], out["seed"], band_m=out["band_m"],
+                             step_m=out["step_m"], channels=out["channels"], start_m=out["start_m"],
+                             scale=out["scale"])
+    except ValueError as exc:
+        raise c.error(key, str(exc)) from None
+    return out
 
 
 _SECTION_KEYS = ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2", "GJ_Nm2", "EA_N", "Ip_kgm2_m")
@@ -368,11 +451,12 @@ def _support_motion(c: _Check, sm) -> dict:
                                 lo_open=False)}
 
 
-def _outputs(c: _Check, o, vehicle, has_structure: bool) -> dict:
+def _outputs(c: _Check, o, vehicle, has_structure: bool, has_flexible_track: bool = False) -> dict:
     c.table(o, "outputs", optional=("timeseries", "carbody_points", "formats", "plots", "criteria"))
     has_car = vehicle.car_body is not None
     available = [g for g in TIMESERIES_GROUPS
-                 if (g != "carbody" or has_car) and (g not in STRUCTURE_GROUPS or has_structure)]
+                 if (g != "carbody" or has_car) and (g not in STRUCTURE_GROUPS or has_structure)
+                 and (g != FLEXIBLE_TRACK_GROUP or has_flexible_track)]
     if "timeseries" in o:
         groups = c.array(o["timeseries"], "outputs.timeseries")
         for i, g in enumerate(groups):
@@ -382,6 +466,8 @@ def _outputs(c: _Check, o, vehicle, has_structure: bool) -> dict:
                                                          f"{vehicle.layout!r}) has no car body")
             if g in STRUCTURE_GROUPS and not has_structure:
                 raise c.error(f"outputs.timeseries.{i}", f"{g!r} needs a [structure]")
+            if g == FLEXIBLE_TRACK_GROUP and not has_flexible_track:
+                raise c.error(f"outputs.timeseries.{i}", f"{g!r} needs a [flexible_track]")
         if len(set(groups)) != len(groups):
             raise c.error("outputs.timeseries", f"{groups!r}: a group is listed twice")
         groups = [g for g in TIMESERIES_GROUPS if g in groups]          # canonical order
@@ -444,9 +530,12 @@ def features_end_m(scn: dict) -> float | None:
     for comp in scn.get("track", []):
         if comp["type"] == "span_deflection":
             ends.append(comp["start_m"] + comp["span_length_m"] + 0.5 * comp["transition_length_m"])
-        elif comp["type"] == "sampled":
-            from ..multibody.track import SampledIrregularity
-            ends.append(float(SampledIrregularity.from_csv(comp["file"]).s_m[-1]))
+        elif comp["type"] in ("sampled", "measured"):
+            ends.append(float(_track_table(comp["type"], comp["file"]).s_m[-1]))
+        elif comp["type"] == "spectrum":
+            ends.append(comp["start_m"] + comp["length_m"])
+        elif comp["type"] == "defect":
+            ends.append(comp["position_m"] + (comp["length_m"] if comp["shape"] == "bump" else 0.5 * comp["length_m"]))
     if "structure" in scn:
         st = scn["structure"]
         ends.append(st["start_m"] + sum(st["spans_m"]))

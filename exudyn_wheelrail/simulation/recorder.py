@@ -20,7 +20,9 @@ z down):
   line (irregularity and deck included; what the contact search used);
 * ``track`` ``track_lateral_w<j>_m``, ``track_vertical_w<j>_m`` — the track irregularity (y, z) under wheelset j;
 * ``carbody`` per car-body point p: ``carbody_lateral_acceleration_<p>_m_s2``, ``carbody_vertical_acceleration_
-  <p>_m_s2`` (track frame, kinematic: no gravity; Exudyn's rigid-body ``Acceleration`` output at the point),
+  <p>_m_s2`` (track frame, kinematic: no gravity; Exudyn's rigid-body ``Acceleration`` output at the point; a
+  flexible car body: its frame's and modes' motion at the point, :class:`~..multibody.flexible_body.
+  BodyPointKinematics`, the accelerometer then in the axes of the deformed section),
   ``carbody_lateral_accelerometer_<p>_m_s2``, ``carbody_vertical_accelerometer_<p>_m_s2`` (the specific force
   a − g in the car body's own axes: what a floor accelerometer reads; ≈ −9.81 vertical at rest),
   ``carbody_lateral_displacement_<p>_m``, ``carbody_vertical_displacement_<p>_m`` (track frame);
@@ -240,6 +242,11 @@ class _CarBodyPoints:
         self.body = cb.body
         self.gravity = np.array([0.0, 0.0, model.gravity_m_s2])
         self.local = [(np.asarray(pos, dtype=float) - cb.p_cg_in_frame).tolist() for _, pos in points]
+        self.flexible = None
+        if getattr(cb, "flexible", None) is not None:     # flexible car body: frame + modal motion at the points
+            from ..multibody.flexible_body import BodyPointKinematics
+            self.flexible = BodyPointKinematics(cb, self.local)
+            self.fill = self._fill_flexible
         self.columns = []
         for name, _ in points:
             self.columns += [("carbody", f"carbody_{d}_{q}_{name}_{u}")
@@ -257,6 +264,14 @@ class _CarBodyPoints:
             f = R.T @ (a - self.gravity)
             out[k:k + 6] = (a[1], a[2], f[1], f[2], u[1], u[2])
             k += 6
+
+    def _fill_flexible(self, mbs, t, out):
+        R, a, u, theta = self.flexible.state(mbs)
+        for i in range(len(self.local)):
+            f = R.T @ (a[i] - self.gravity)
+            th = theta[i]                                 # into the section's axes, R (I + θ̃): f - θ × f
+            f = f - (th[1] * f[2] - th[2] * f[1], th[2] * f[0] - th[0] * f[2], th[0] * f[1] - th[1] * f[0])
+            out[6 * i:6 * i + 6] = (a[i, 1], a[i, 2], f[1], f[2], u[i, 1], u[i, 2])
 
 
 class _DeckMidSpans:

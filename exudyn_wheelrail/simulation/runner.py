@@ -42,7 +42,8 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from ..multibody.monitor import RK44_LIMIT, RunMonitor, Status, _contact_state_error, _status_from_state_error
+from ..multibody.monitor import (RK44_LIMIT, RK44_REAL_LIMIT, RunMonitor, Status, _contact_state_error,
+                                 _status_from_state_error)
 from . import status as S
 from .guidance import FlangeClimbCheck
 from .settings import RunSettings
@@ -70,6 +71,7 @@ class RunOutcome:
     rejected_steps: int = 0
     rows_dropped: int = 0
     contact_omega_rad_s: list = field(default_factory=list)
+    creep_rate_1_s: list = field(default_factory=list)
     max_omega_h: float = 0.0
     monitor: RunMonitor | None = None
     guidance: FlangeClimbCheck | None = None
@@ -111,6 +113,12 @@ class RunOutcome:
 
 def _stable_step_hint(o: RunOutcome) -> str:
     w = o.omega_rad_s
+    sigma = max(o.creep_rate_1_s, default=0.0)
+    if o.solver == "rk44" and sigma > 0.0 and not (w > 0.0 and RK44_LIMIT / w <= RK44_REAL_LIMIT / sigma):
+        h = RK44_REAL_LIMIT / sigma
+        return (f"the largest stable RK44 step is about {h:.3g} s (sigma h <= {RK44_REAL_LIMIT:.3f} with sigma = "
+                f"{sigma:.4g} 1/s, the fastest decay rate of the creep damping, which grows as 1/V): use dt_s <= "
+                f"{h:.3g} s, or the implicit solver newmark")
     if not w > 0.0:
         return f"reduce dt_s (now {o.dt_s:g} s)"
     h = RK44_LIMIT / w
@@ -250,16 +258,24 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
     t_start = time.perf_counter()
     exc = None
     ok = False
+    # Exudyn's end-of-solve check counts the allocations of the Python user functions (the contact's results, the
+    # hook) and prints a 'may be slow' warning for any long run: by design here, not a finding of this run
+    import exudyn.solver as exu_solver
+    check_allocations = exu_solver.solverCheckMemoryAllocations
+    exu_solver.solverCheckMemoryAllocations = False
     try:
         ok = mbs.SolveDynamic(sim, solverType=solver_type)
     except Exception as e:                 # Exudyn re-raises user-function exceptions (the cause is kept)
         exc = e
+    finally:
+        exu_solver.solverCheckMemoryAllocations = check_allocations
     out.solve_seconds = time.perf_counter() - t_start
     out.t_end_s = float(mbs.systemData.GetTime())
     out.rejected_steps = hook.rejected
     out.events = events
     if monitor is not None:
         out.max_omega_h = max(monitor.max_omega_h)
+        out.creep_rate_1_s = list(monitor.creep_rate_1_s)
     if hook.error is not None:
         raise RuntimeError(f"recording the run failed at t = {hook.t_state}: {type(hook.error).__name__}: "
                            f"{hook.error}") from hook.error
@@ -326,14 +342,15 @@ def _completed(mbs, hook: _Hook, monitor, out: RunOutcome, events) -> Status:
 
 
 def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None, progress=None,
-        exu_settings=None) -> RunOutcome:
+        exu_settings=None, user_function=None) -> RunOutcome:
     """Run ``mbs`` (assembled) with ``settings`` (duration resolved), watched by a new
     :class:`~exudyn_wheelrail.multibody.monitor.RunMonitor` of ``contact`` and the flange-climb check
     (``speed_m_s`` the running speed; ``contact`` None only for the wheel–rail springs baseline, which has nothing
     to watch).  ``recorder``: a :class:`~.recorder.Recorder` (None or ``settings.record`` False: nothing recorded);
     ``progress``: a :class:`~.recorder.ProgressBar` or None; ``exu_settings``: ``(SimulationSettings,
     DynamicSolverType)`` of these settings when the caller changed them (a viewer slows the solve), else built
-    here."""
+    here; ``user_function(mbs, t)``: called after the checks of every state (:func:`solve`), e.g. to update loads
+    that follow the track."""
     sim, solver_type = exu_settings if exu_settings is not None else settings.exudyn()
     monitor = guidance = None
     omega = []
@@ -344,4 +361,5 @@ def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None,
         guidance = FlangeClimbCheck(len(contact.nodes_exu), speed_m_s, monitor.nadal_limit)
     return solve(mbs, sim, solver_type, monitor, dt_s=float(settings.dt_s), solver=settings.solver,
                  guidance=guidance, recorder=recorder if settings.record else None,
-                 record_every=settings.record_every, progress=progress, grid_check=True, contact_omega=omega)
+                 record_every=settings.record_every, progress=progress, grid_check=True, contact_omega=omega,
+                 user_function=user_function)

@@ -1,0 +1,139 @@
+r"""The ``vehicles`` load model of ``bridge-crossing``: the full vehicle–bridge interaction of a train.
+
+``python -m exudyn_wheelrail bridge-crossing ... --train FILE.toml --model vehicles``: the consist of the file
+(:mod:`exudyn_wheelrail.multibody.train`) is built in the crossing's Exudyn system
+(:func:`~exudyn_wheelrail.multibody.train.build_train`: one :class:`~exudyn_wheelrail.multibody.vehicle_builder.
+VehicleModel` per car, its couplers), and all its wheelsets are coupled to the rails and the deck by **one**
+wheel–rail connector (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact` with ``bridge=`` the deck of the
+crossing, as :func:`exudyn_wheelrail.scenarios.build.build_scenario` couples a vehicle to a deck: the deck under a
+wheel moves its rails, the wheel forces drive the modes).  The rails are otherwise perfect (no irregularity); the
+contact settings are the defaults of :class:`~exudyn_wheelrail.simulation.settings.ContactSettings`.
+
+Conventions of the crossing: the deck spans ``[deck_start_m, deck_start_m + L]``; at ``t = 0`` the train's leading
+wheelset is at ``deck_start_m`` and the whole train behind it, every car in static equilibrium on the rails
+(:func:`~exudyn_wheelrail.multibody.train.place_train_on_track`; the unloaded deck is at rest).
+
+Time step: the crossing's default step, at most :data:`CONTACT_DT_S` and at most half the step at which the
+stiffest wheelset bouncing on its linearised Hertz contact reaches the resolution bound ``ω h = 2√2``
+(:data:`~exudyn_wheelrail.simulation.runner.RESOLUTION_LIMIT`; ``ω = √(2 k_H / m_wheelset)``, ``k_H = 1.5 Q/δ``
+at the static wheel load Q, :meth:`~exudyn_wheelrail.multibody.vehicle_builder.RailSprings.from_hertz`).
+
+Outputs beside the deck's: the wheels' ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` columns (``w<j>``: the
+train's wheelsets, car after car), the wheelsets' lateral position, and per car the car-body points above its
+bogies at floor height (``rear_c<k>``, ``front_c<k>``; :func:`exudyn_wheelrail.scenarios.build.train_probes`);
+``summary.json`` ``load_model.details``: the consist, every car's place and wheelsets, and the running-safety and
+comfort criteria of the train and of every car (:func:`exudyn_wheelrail.scenarios.run.train_criteria`).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .bridge_crossing import BridgeCrossing, LoadModel, LoadModelHandle
+
+__all__ = ["VEHICLES", "CONTACT_DT_S", "train_axles", "hertz_dt_bound_s"]
+
+#: largest time step of the vehicles model [s]: the step of the project's contact runs (the RTRI case's published
+#: 1 ms, :class:`~exudyn_wheelrail.simulation.settings.RunSettings`'s default)
+CONTACT_DT_S = 1e-3
+
+
+def _consist(case: BridgeCrossing):
+    from ..multibody.train import ConsistError, load_consist
+    if case.train_file is None:
+        raise ValueError("--train: the vehicles model needs a consist file (--train FILE.toml)")
+    try:
+        return load_consist(case.train_file)
+    except ConsistError as exc:
+        raise ValueError(f"--train: {exc}") from None
+
+
+def train_axles(path):
+    """The static axle loads of a consist file as an :class:`~exudyn_wheelrail.structures.load_models.AxleTrain`
+    (the moving-load model of the same train): wheelset distances behind the leading one, their lever-rule loads."""
+    from ..multibody.train import ConsistError, load_consist
+    from ..structures.load_models import AxleTrain
+    try:
+        consist = load_consist(path)
+    except ConsistError as exc:
+        raise ValueError(f"--train: {exc}") from None
+    x = consist.wheelset_x_m()
+    return AxleTrain(x_m=x[0] - x, load_N=consist.static_axle_loads_N(), name=consist.name, source=consist.source)
+
+
+def hertz_dt_bound_s(consist) -> float:
+    """Half the step at which the stiffest wheelset of ``consist`` on its linearised Hertz contact reaches the
+    resolution bound (module docstring) [s]."""
+    from ..multibody.vehicle_builder import RailSprings, static_load_path
+    from ..simulation.runner import RESOLUTION_LIMIT
+    omega = 0.0
+    for car in consist.cars:
+        v = car.vehicle
+        q = float(np.max(static_load_path(v).wheel))
+        k = RailSprings.from_hertz(wheel_load_N=q, r0_m=v.geometry.r0_m).k_vertical_N_per_m
+        omega = max(omega, math.sqrt(2.0 * k / v.wheelset.mass_kg))
+    return 0.5 * RESOLUTION_LIMIT / omega
+
+
+def _check(case: BridgeCrossing) -> None:
+    """The consist file is read and validated (errors ``--train: <file>: <key>: <problem>``); nothing is built."""
+    _consist(case)
+
+
+def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
+    from ..contact.pair import WheelRailPair
+    from ..multibody.train import build_train
+    from ..multibody.track import RigidStraightTrack
+    from ..simulation.settings import ContactSettings
+    from .build import train_probes
+    from .run import train_criteria
+    from .spec import DEFAULT_FLOOR_HEIGHT_M
+
+    consist = _consist(case)
+    V = case.speed_m_s
+    x_ws = consist.wheelset_x_m()
+    s_start = case.deck_start_m - float(x_ws[0])               # the leading wheelset at the deck start at t = 0
+    geo = consist.cars[0].vehicle.geometry
+    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    cs = ContactSettings()
+    track = RigidStraightTrack()
+    train = build_train(mbs, consist, speed_m_s=V, s_start_m=s_start, pair=pair, track=track,
+                        contact_options=dict(creep_law=cs.creep_law, mu=cs.friction, fastsim_grid=cs.fastsim_grid,
+                                             geometry=cs.geometry, bridge=bridge))
+    contact = train.contact
+    points = [{"name": name, "x_m": x, "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}
+              for name, x in (("rear", "rear_bogie"), ("front", "front_bogie"))]
+    probes = train_probes(train, contact, track, V, case.deck_start_m, points)
+    static = {f"w{j + 1}_{side}": float(w[0 if side == "left" else 1])
+              for j, w in enumerate(train.static_wheel_loads_N()) for side in ("right", "left")}
+
+    def summary(ts: dict) -> dict:
+        from ..analysis.safety import EN14363_YQ_LIMIT, WHEEL_UNLOADING_LIMIT
+        wheels = [c for c in ts if c.startswith(("Y_w", "Q_w")) and c.endswith("_N")]
+        try:
+            crit = train_criteria(train, ts, V, static, wheels, vehicle="passenger", yq_limit=EN14363_YQ_LIMIT,
+                                  unloading_limit=WHEEL_UNLOADING_LIMIT, carbody_point="rear")
+        except ValueError as exc:
+            crit = {"error": str(exc)}
+        return {"consist": {"name": consist.name, "file": consist.file, "source": consist.source,
+                            "n_cars": consist.n_cars, "length_m": consist.length_m,
+                            "total_mass_kg": consist.total_mass_kg, "gap_m": consist.gap_m,
+                            "coupling": dict(consist.coupling.__dict__)},
+                "cars": [{"car": k + 1, "vehicle": car.vehicle.name, "x_m": float(x),
+                          "wheelsets": [j + 1 for j in train.wheelset_range(k)]}
+                         for k, (car, x) in enumerate(zip(train.cars, train.car_x_m))],
+                "contact": {"creep_law": cs.creep_law, "friction": cs.friction, "geometry": cs.geometry},
+                "criteria": crit}
+
+    return LoadModelHandle(contact=contact, axle_x_m=float(x_ws[0]) - x_ws, axle_load_N=consist.static_axle_loads_N(),
+                           modal_forces=lambda mbs_, t: contact.modal_forces_N().copy(), probes=probes,
+                           summary=summary,
+                           description=f"{consist.name}: {consist.n_cars} car(s), {len(x_ws)} wheelsets, full "
+                                       f"vehicle-bridge interaction (one wheel-rail contact, {cs.creep_law})",
+                           max_dt_s=min(CONTACT_DT_S, hertz_dt_bound_s(consist)))
+
+
+#: the full vehicle–bridge interaction (module docstring)
+VEHICLES = LoadModel(check=_check, build=_build)

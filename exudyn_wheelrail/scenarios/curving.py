@@ -1,0 +1,328 @@
+r"""Steady curving run: a vehicle from straight track through an entry transition (clothoid, linear cant ramp) into
+a circular curve, run until it is steady, and the steady-state quantities of :mod:`exudyn_wheelrail.analysis.
+curving`.
+
+>>> case = CurvingCase("manchester_vehicle1", radius_m=600.0, cant_m=0.15, speed_km_h=100.0)   # doctest: +SKIP
+>>> result = run_curving(case, out_dir="out/curving")                                          # doctest: +SKIP
+>>> result.summary["sum_Y_N"], result.summary["status"]                                        # doctest: +SKIP
+
+The model: the vehicle of :func:`~exudyn_wheelrail.multibody.build_vehicle` (frame moving with V), the wheel–rail
+connector on the rails of the layout (:mod:`exudyn_wheelrail.track.layout`), the curve's terms on the bodies and
+the suspension elements (:class:`~exudyn_wheelrail.multibody.track_following.TrackFollowingFrame`, updated before
+every step through the runner's ``user_function``), started in static equilibrium on the straight, solved by the
+one runner (:func:`~exudyn_wheelrail.simulation.runner.solve`, watched by the run monitor and the flange-climb
+check) with the ``fast`` preset's integrator (RK44, 1 ms, shortened where the creep damping of a slowly rolling
+wheelset needs it: :func:`creep_step_limit_s`) and contact geometry.
+
+Run length (:func:`curving_distances`): the leading wheelset starts :data:`LEAD_IN_M` before the transition; the
+run lasts until the trailing wheelset has run the settling distance ``max(SETTLE_M, SETTLE_S · V)`` into the
+circular curve and then the steady part ``max(WINDOW_M, WINDOW_S · V)``.  The mean over a whole number of periods
+of the slowest oscillation left in it (:func:`~exudyn_wheelrail.analysis.curving.averaging_window`) is the steady
+value; the run is called steady when, per wheelset, the means of ΣY over the two halves of the steady part differ
+by less than :data:`~exudyn_wheelrail.analysis.curving.STEADY_TOLERANCE` of the static axle load
+(:func:`~exudyn_wheelrail.analysis.curving.steady_state`).
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..analysis.curving import curving_columns, minimum_radius_m, steady_state
+from ..conventions import RAIL_CENTRE_DISTANCE_M
+from ..simulation import status as S
+from ..track.layout import MAX_CANT_M, TrackLayout
+
+__all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
+           "build_curving", "run_curving", "LEAD_IN_M", "SETTLE_M", "SETTLE_S", "WINDOW_M", "WINDOW_S",
+           "MAX_TRANSITION_M", "MAX_SPEED_KM_H", "MAX_RADIUS_M", "DEFAULT_RAMP", "CREEP_STEP_FACTOR",
+           "creep_step_limit_s", "curving_summary", "write_outputs"]
+
+#: straight track ahead of the leading wheelset at t = 0 [m]
+LEAD_IN_M = 5.0
+#: settling distance after the trailing wheelset enters the circular curve: at least this [m] and this [s] of run
+SETTLE_M = 60.0
+SETTLE_S = 3.0
+#: averaging window of the steady state: at least this [m] and this [s] of run
+WINDOW_M = 40.0
+WINDOW_S = 2.5
+#: default transition: the cant ramp 1 : DEFAULT_RAMP (EN 13803's usual limit for the cant gradient), at least 20 m
+DEFAULT_RAMP = 400.0
+DEFAULT_MIN_TRANSITION_M = 20.0
+#: RK44 step = this / the fastest creep decay rate (RK44's real-axis stability limit is 2.785)
+CREEP_STEP_FACTOR = 2.0
+#: plausible ranges (values outside name the unit they were evidently given in)
+MAX_TRANSITION_M = 1000.0
+MAX_SPEED_KM_H = 500.0
+MAX_RADIUS_M = 1.0e5
+
+
+class CurvingInputError(ValueError):
+    """Bad curving input: ``option`` names the argument (``radius_m``…), ``str()`` is ``"<option>: <problem>"``."""
+
+    def __init__(self, option: str, problem: str):
+        super().__init__(f"{option}: {problem}")
+        self.option = option
+        self.problem = problem
+
+
+@dataclass(frozen=True)
+class CurvingCase:
+    """What a curving run simulates.  ``transition_m`` None: the default ramp (:data:`DEFAULT_RAMP`)."""
+
+    vehicle: object                       #: a shipped vehicle name, a vehicle file or a VehicleData
+    radius_m: float
+    cant_m: float
+    speed_km_h: float
+    transition_m: float | None = None
+    direction: str = "right"
+    friction: float = 0.3
+    preset: str = "fast"
+    #: a :class:`~exudyn_wheelrail.contact.WheelRailPair` in place of the vehicle's profiles (None: the vehicle's)
+    wheel_rail_pair: object = None
+
+    @property
+    def speed_m_s(self) -> float:
+        return self.speed_km_h / 3.6
+
+    @property
+    def transition_length_m(self) -> float:
+        if self.transition_m is not None:
+            return float(self.transition_m)
+        return max(DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP * self.cant_m)
+
+
+@dataclass
+class CurvingResult:
+    summary: dict
+    timeseries: dict = field(repr=False)
+    outcome: object = field(default=None, repr=False)
+
+
+def _vehicle(case: CurvingCase):
+    from ..multibody.vehicle_data import VehicleData, load_vehicle
+    return case.vehicle if isinstance(case.vehicle, VehicleData) else load_vehicle(case.vehicle)
+
+
+def check_curving_case(case: CurvingCase, vehicle=None):
+    """Check the inputs before any work; raises :class:`CurvingInputError` naming the argument.  Returns the
+    vehicle data."""
+    def num(name, v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise CurvingInputError(name, f"{v!r}: expected a finite number")
+        return float(v)
+
+    R = num("radius_m", case.radius_m)
+    h = num("cant_m", case.cant_m)
+    v = num("speed_km_h", case.speed_km_h)
+    if case.transition_m is not None:
+        lt = num("transition_m", case.transition_m)
+        if lt < 0.0:
+            raise CurvingInputError("transition_m", f"{lt:g} m: a transition cannot be shorter than 0 m")
+        if lt > MAX_TRANSITION_M:
+            raise CurvingInputError("transition_m", f"{lt:g} m is longer than {MAX_TRANSITION_M:g} m; was it given "
+                                                    f"in mm ({lt / 1000:g} m)?")
+    if h < 0.0:
+        raise CurvingInputError("cant_m", f"{h:g} m: expected a cant >= 0 (it raises the outer rail; the direction "
+                                          "of the curve is given separately)")
+    if h > MAX_CANT_M:
+        hint = f"; was it given in mm ({h / 1000:g} m)?" if h >= 1.0 else ""
+        raise CurvingInputError("cant_m", f"{h:g} m is above the largest cant, {MAX_CANT_M:g} m (EN 13803){hint}")
+    if not v > 0.0:
+        raise CurvingInputError("speed_km_h", f"{v:g} km/h: expected a running speed > 0")
+    if v > MAX_SPEED_KM_H:
+        raise CurvingInputError("speed_km_h", f"{v:g} km/h is above {MAX_SPEED_KM_H:g} km/h")
+    if case.direction not in ("right", "left"):
+        raise CurvingInputError("direction", f"{case.direction!r}: expected 'right' or 'left'")
+    if not R > 0.0:
+        raise CurvingInputError("radius_m", f"{R:g} m: expected a radius > 0")
+    if R > MAX_RADIUS_M:
+        raise CurvingInputError("radius_m", f"{R:g} m is above {MAX_RADIUS_M:g} m (was it given in mm?)")
+    if vehicle is None:
+        try:
+            vehicle = _vehicle(case)
+        except (ValueError, FileNotFoundError) as exc:
+            raise CurvingInputError("vehicle", str(exc).splitlines()[0] if str(exc) else repr(exc)) from None
+    r_min, why = minimum_radius_m(vehicle)
+    if R < r_min:
+        hint = f"; was it given in km ({R * 1000:g} m)?" if R < 10.0 else ""
+        raise CurvingInputError("radius_m", f"{R:g} m is below the smallest radius this vehicle can follow, "
+                                            f"{r_min:.0f} m ({why}){hint}")
+    return vehicle
+
+
+def curving_distances(case: CurvingCase, vehicle) -> dict:
+    """The run's distances [m] and duration [s] (module docstring)."""
+    V = case.speed_m_s
+    x = vehicle.wheelset_x_m()
+    extent = float(max(x) - min(x))
+    lt = case.transition_length_m
+    settle = max(SETTLE_M, SETTLE_S * V)
+    window = max(WINDOW_M, WINDOW_S * V)
+    total = LEAD_IN_M + lt + extent + settle + window
+    return dict(lead_in_m=LEAD_IN_M, transition_m=lt, vehicle_extent_m=extent, settle_m=settle, window_m=window,
+                total_m=total, duration_s=total / V, window_start_s=(total - window) / V)
+
+
+def creep_step_limit_s(vehicle, speed_m_s: float, gravity_m_s2: float = 9.81) -> float:
+    """The largest RK44 step [s] for the creep damping of a wheelset, :data:`CREEP_STEP_FACTOR` / λ_max: at low
+    speed the creep forces act on a rolling wheelset like dampers ``f11/V``, ``f22/V`` (Kalker's coefficients at the
+    static wheel load, :meth:`~exudyn_wheelrail.multibody.vehicle_builder.RailSprings.from_hertz`), whose decay rates
+    ``2 f11 r0²/(V I_yy)`` (spin), ``2 f22/(V m)`` (lateral) and ``2 f11 b²/(V I_zz)`` (yaw) grow as 1/V; an explicit
+    step beyond RK44's real-axis limit h λ = 2.785 integrates a limit cycle instead of rolling (e.g. 36 km/h,
+    single wheelset: λ ≈ 4500 1/s, unstable at 1 ms).  The run monitor's step check watches the vertical contact
+    frequency only."""
+    from ..multibody.vehicle_builder import RailSprings, static_load_path
+    q = float(np.max(static_load_path(vehicle, gravity_m_s2).wheel))
+    rs = RailSprings.from_hertz(wheel_load_N=q, speed_m_s=speed_m_s, r0_m=vehicle.geometry.r0_m)
+    ws = vehicle.wheelset
+    b = vehicle.tape_circle_semi_spacing_m()
+    lam = max(2.0 * rs.c_longitudinal_N_s_per_m * vehicle.geometry.r0_m ** 2 / ws.Iyy_kg_m2,
+              2.0 * rs.c_lateral_N_s_per_m / ws.mass_kg,
+              2.0 * rs.c_longitudinal_N_s_per_m * b ** 2 / ws.Izz_kg_m2)
+    return CREEP_STEP_FACTOR / lam
+
+
+def build_curving(case: CurvingCase, vehicle=None):
+    """The assembled model of a curving run: a dict of handles (``mbs``, ``model``, ``contact``, ``frame``,
+    ``layout``, ``recorder``, ``run``, ``settings``, ``solver_type``, ``distances``)."""
+    import exudyn as exu
+
+    from ..contact.pair import WheelRailPair
+    from ..multibody.connector import add_wheel_rail_contact, place_on_rails
+    from ..multibody.track_following import TrackFollowingFrame
+    from ..multibody.vehicle_builder import build_vehicle
+    from ..simulation.presets import PRESETS
+    from ..simulation.recorder import Recorder, vehicle_probes
+    from ..simulation.settings import RunSettings
+
+    vehicle = check_curving_case(case, vehicle)
+    dist = curving_distances(case, vehicle)
+    V = case.speed_m_s
+    layout = TrackLayout.curve_entry(case.radius_m, case.cant_m, dist["transition_m"], direction=case.direction,
+                                     lead_in_m=LEAD_IN_M, curve_m=dist["total_m"] + 10.0)
+    preset = PRESETS[case.preset]
+    run = RunSettings(**preset.run)
+    dt = min(float(run.dt_s), creep_step_limit_s(vehicle, V))
+    if dt < float(run.dt_s):                         # a whole fraction of the preset's step
+        dt = float(run.dt_s) / math.ceil(float(run.dt_s) / dt)
+    run = dataclasses.replace(run, dt_s=dt).with_duration(dist["duration_s"])
+    geo = vehicle.geometry
+    s_start = -max(vehicle.wheelset_x_m())              # leading wheelset at s = 0 at t = 0
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start)
+    pair = case.wheel_rail_pair or WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                                                 inclination=geo.rail_inclination_tan,
+                                                 back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    contact_options = dict(preset.contact)
+    contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s_start,
+                                     creep_law=contact_options.get("creep_law", "table"), mu=case.friction,
+                                     geometry=contact_options.get("geometry", "online"), layout=layout)
+    place_on_rails(mbs, model, pair)
+    frame = TrackFollowingFrame(mbs, model, layout)
+    probes = vehicle_probes(model=model, contact=contact, track=contact.track, speed_m_s=V, s_leading0_m=0.0)
+    probes += curving_columns(model, layout)
+    recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
+    mbs.Assemble()
+    frame.update(mbs, 0.0)
+    settings, solver_type = run.exudyn()
+    return dict(mbs=mbs, system_container=sc, model=model, contact=contact, frame=frame, layout=layout,
+                recorder=recorder, run=run, settings=settings, solver_type=solver_type, distances=dist, pair=pair,
+                vehicle=vehicle)
+
+
+def run_curving(case: CurvingCase, out_dir=None, progress=None) -> CurvingResult:
+    """Build, run and reduce a curving case; with ``out_dir`` write ``summary.json`` and ``timeseries.csv``."""
+    from ..simulation.runner import run as run_model
+
+    h = build_curving(case)
+    outcome = run_model(h["mbs"], h["run"], h["contact"], speed_m_s=case.speed_m_s, recorder=h["recorder"],
+                        progress=progress, exu_settings=(h["settings"], h["solver_type"]),
+                        user_function=h["frame"].update)
+    ts = h["recorder"].table()
+    status = outcome.status
+    summary = curving_summary(case, h, ts, status, outcome)
+    result = CurvingResult(summary=summary, timeseries=ts, outcome=outcome)
+    if out_dir is not None:
+        write_outputs(result, out_dir)
+    return result
+
+
+def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> dict:
+    vehicle, model, layout, dist = h["vehicle"], h["model"], h["layout"], h["distances"]
+    g = model.gravity_m_s2
+    V = case.speed_m_s
+    s_curve = LEAD_IN_M + dist["transition_m"] + 1.0
+    a_nc = float(layout.unbalanced_lateral_acceleration([s_curve], V, g)[0])
+    mass = float(vehicle.total_mass_kg)
+    phi = math.asin(case.cant_m / RAIL_CENTRE_DISTANCE_M)
+    from .run import _events
+    summary = {"status": status.kind, "status_detail": status.as_dict(), "exit_code": status.exit_code,
+               "status_text": str(status), "events": _events(outcome), "n_events": len(outcome.events or []),
+               "vehicle": vehicle.name, "vehicle_mass_kg": mass, "n_wheelsets": len(model.wheelsets),
+               "radius_m": case.radius_m, "cant_m": case.cant_m, "direction": case.direction,
+               "speed_km_h": case.speed_km_h, "transition_m": dist["transition_m"],
+               "cant_angle_rad": phi,
+               "unbalanced_lateral_acceleration_m_s2": a_nc,
+               "balance_speed_km_h": math.sqrt(g * math.tan(phi) * case.radius_m) * 3.6,
+               "distances_m": dist, "solver": h["run"].solver, "dt_s": h["run"].dt_s,
+               "solve_seconds": outcome.solve_seconds, "t_end_s": outcome.t_end_s}
+    ok = status.kind == S.OK and outcome.t_end_s >= dist["duration_s"] - 2 * h["run"].dt_s
+    if ok:
+        st = steady_state(ts, model, layout, t_from_s=dist["window_start_s"], speed_m_s=V, gravity_m_s2=g)
+        summary.update(st)
+        total = float(np.sum(st["sum_Y_N"]))
+        guidance = st.get("guidance_lateral_N", 0.0)
+        summary["force_balance"] = {
+            "sum_sum_Y_N": total, "m_a_nc_N": mass * a_nc, "guidance_lateral_N": guidance,
+            "relative_error": (total + guidance - mass * a_nc) / (mass * a_nc) if abs(a_nc) > 0 else None,
+            "reads": "sum_sum_Y_N + guidance_lateral_N = m_a_nc (guidance: the elements to the moving frame of the "
+                     "bogie and wheelset layouts, zero for a car)"}
+    else:
+        summary["sum_Y_N"] = None
+        summary["steady"] = False
+    summary["assumptions"] = [
+        "track-following frames per body (exudyn_wheelrail.multibody.track_following): frame inertia and gravity in "
+        "the canted track plane on every body, gyroscopic moment of the wheelsets, suspension offsets from the "
+        "chord geometry between bodies at different track distances",
+        "creepage terms of the turning frame in the contact connector (longitudinal -+ b kappa, spin)",
+        "neglected (module docstring of track_following): element forces are not turned by the relative yaw of "
+        "the bodies' frames, the rate of the suspension offsets in the dampers (transition only), the Coriolis "
+        "term of the bodies' relative velocities",
+    ]
+    if model.vehicle.layout in ("wheelset", "bogie"):
+        summary["assumptions"].append(
+            "dead-load layout: the carried mass is held by the moving frame (its weight is the dead load, its "
+            "lateral inertia is not on the wheelsets); vehicle_mass_kg is the mass of the modelled bodies, and the "
+            "guidance elements to the frame carry guidance_lateral_N")
+    return summary
+
+
+def write_outputs(result: CurvingResult, out_dir) -> None:
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "summary.json", "w") as f:
+        json.dump(_jsonable(result.summary), f, indent=2)
+    ts = result.timeseries
+    names = list(ts)
+    data = np.column_stack([ts[n] for n in names]) if names else np.zeros((0, 0))
+    np.savetxt(out / "timeseries.csv", data, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {k: _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _jsonable(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        return float(x) if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    return x

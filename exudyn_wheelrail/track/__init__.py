@@ -1,0 +1,13 @@
+"""The track as a function of distance: its layout (straight, curves, transitions, cant), the irregularities of each
+rail (measured, harmonic, isolated defects, generated from standard spectra) and its flexibility (rails on pads,
+sleepers and ballast).  The rigid straight track with whole-track irregularities lives in
+:mod:`exudyn_wheelrail.multibody.track`."""
+
+from .layout import Curve, Straight, TrackLayout, Transition  # noqa: E402,F401  (the track layout)
+from .irregularities import (ChannelTable, IsolatedDefect, channel_values,  # noqa: E402,F401  (per-rail channels)
+                             rail_values)
+from .measured import read_irregularity_csv  # noqa: E402,F401  (measured irregularity files)
+from .spectra import SPECTRA, SpectralIrregularity, TrackSpectrum  # noqa: E402,F401  (standard spectra)
+from .flexible import (DEFAULT_TRACK_FILE, FlexibleTrackModel, FlexibleTrackModes,  # noqa: E402,F401
+                       TrackFileError, TrackParameters, add_flexible_track)  # (the flexible track)
+from .flexible_deck import TrackOnDeckModel, TrackOnDeckModes  # noqa: E402,F401  (the track over a deck)

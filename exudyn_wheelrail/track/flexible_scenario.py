@@ -1,0 +1,249 @@
+r"""The flexible track in a scenario (``[flexible_track]``): its keys, the segment that carries the run, the starting
+state and the recorded columns.
+
+Keys (all optional; the table's presence switches the flexible track on)
+-------------------------------------------------------------------------
+* ``file`` — a track file (TOML, :class:`~.flexible.TrackParameters`; relative to the scenario file); default the
+  ballasted 60E1 track :data:`~.flexible.DEFAULT_TRACK_FILE`;
+* ``start_m``, ``length_m`` — the segment (first sleeper, length in m), or ``"auto"`` (default): from the rearmost
+  wheelset at t = 0 to the leading wheelset at the end of the run, plus five decay lengths at both ends
+  (:func:`~.flexible.segment_for_run`).  A given segment must carry every wheelset from start to end (else an
+  error naming the key: a wheel leaving the segment would meet a rigid rail);
+* ``modes_up_to_Hz`` — the modal truncation, default the track file's ``model.modes_up_to_Hz``.
+
+The flexible track takes the contact's structure slot: it cannot be combined with a ``[structure]`` (the track on
+a deck, :mod:`.flexible_deck`, is used from Python; the deck's columns and summary of a scenario read the bridge's
+own modes).
+
+Starting state (:func:`start_on_flexible_track`): the reduced track in static equilibrium under the static wheel
+loads of the vehicle's load path (``q0 = diag(ω⁻²) Σ Φ(s_j)ᵀ F_j``, F_j the wheelset's vertical load and its roll
+moment ``(b/2)(Q_right − Q_left)``), moving with the vehicle (``q̇0 = V diag(ω⁻²) Σ Φ'(s_j)ᵀ F_j``, the quasi-static
+bowl), and every body of the vehicle moved by the rails' deflection under it (interpolated between the wheelsets)
+— a run starts without a drop onto the track (tests/test_flexible_track.py: Q constant to 0.1 % on a stiff track).
+
+Step check (explicit solvers, :func:`contact_mode_Hz`): the highest kept mode and the wheel on the rail's modal mass
+must satisfy ``ω dt < 2.83``; a step beyond is an error naming ``run.dt_s`` (or ``flexible_track.modes_up_to_Hz``)
+before the run.
+
+Recorded columns (:func:`flexible_track_probes`, group ``flexible_track``; wheelset j = 1 leading): ``rail_z_w<j>_m``,
+``rail_y_w<j>_m``, ``rail_roll_w<j>_rad`` (the rails' centre line under the wheelset, the contact's deck state),
+and at the sleeper nearest to it ``sleeper_z_w<j>_m``, ``pad_left_w<j>_N``, ``pad_right_w<j>_N``,
+``ballast_left_w<j>_N``, ``ballast_right_w<j>_N`` (compression positive).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .flexible import DEFAULT_TRACK_FILE, FlexibleTrackModel, TrackFileError, TrackParameters, segment_for_run
+
+__all__ = ["FLEXIBLE_TRACK_KEYS", "FLEXIBLE_TRACK_GROUP", "AUTO", "RK44_OMEGA_DT_LIMIT", "EXPLICIT_CHECKED",
+           "CONTACT_STIFFNESS_N_M", "normalise_flexible_track", "flexible_track_modes", "contact_mode_Hz",
+           "start_on_flexible_track", "flexible_track_probes", "flexible_track_summary"]
+
+FLEXIBLE_TRACK_KEYS = ("file", "start_m", "length_m", "modes_up_to_Hz")
+#: the recorder group of the flexible track's columns
+FLEXIBLE_TRACK_GROUP = "flexible_track"
+AUTO = "auto"
+#: explicit RK44: the undamped oscillator is stable for ω dt below 2√2; the highest kept mode must stay under it
+RK44_OMEGA_DT_LIMIT = 2.0 * math.sqrt(2.0)
+#: explicit solvers -> the largest ω dt on the imaginary axis for which they are stable (an undamped mode): RK44
+#: 2√2, RK33 √3, RK67 taken as RK44's (its limit lies above); the explicit midpoint rule (RK2) amplifies every
+#: undamped oscillation (|1 + iy - y²/2| > 1) and is refused with a flexible track
+EXPLICIT_CHECKED = {"rk44": RK44_OMEGA_DT_LIMIT, "rk33": math.sqrt(3.0), "rk67": RK44_OMEGA_DT_LIMIT,
+                    "explicit_midpoint": 0.0}
+#: ASSUMPTION: an upper estimate of the wheel–rail contact stiffness for the step check [N/m] — a Hertz contact
+#: under ~80 kN is ~1e9 N/m, a flange contact (two points, steep normal) up to a few times that
+CONTACT_STIFFNESS_N_M = 4.0e9
+
+
+def normalise_flexible_track(ft, error, base_dir: Path | None) -> dict:
+    """The normal form of a ``[flexible_track]`` table; ``error(key, message)`` makes the scenario's error.  The
+    track file is read here, so that its errors come before any work."""
+    if not isinstance(ft, dict):
+        raise error("flexible_track", f"expected a table, got {type(ft).__name__} {ft!r}")
+    for k in ft:
+        if k not in FLEXIBLE_TRACK_KEYS:
+            raise error(f"flexible_track.{k}", f"unknown key (allowed in [flexible_track]: "
+                                               f"{', '.join(FLEXIBLE_TRACK_KEYS)})")
+    f = ft.get("file", str(DEFAULT_TRACK_FILE))
+    if not isinstance(f, str):
+        raise error("flexible_track.file", f"expected a string, got {f!r}")
+    p = Path(f)
+    if not p.is_absolute() and base_dir is not None:
+        p = Path(base_dir) / p
+    if not p.is_file():
+        raise error("flexible_track.file", f"file not found: {p}")
+    try:
+        params = TrackParameters.from_file(p)
+    except TrackFileError as exc:
+        raise error("flexible_track.file", str(exc)) from None
+    out = {"file": str(p.resolve())}
+    for key in ("start_m", "length_m"):
+        v = ft.get(key, AUTO)
+        if v != AUTO:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise error(f"flexible_track.{key}", f"{v!r}: expected a number in m or 'auto'")
+            v = float(v)
+        out[key] = v
+    if (out["start_m"] == AUTO) != (out["length_m"] == AUTO):
+        raise error("flexible_track.length_m", "give both start_m and length_m, or neither ('auto')")
+    if out["length_m"] != AUTO and out["length_m"] < 2.0 * params.sleeper_spacing_m:
+        raise error("flexible_track.length_m", f"{out['length_m']!r} m: shorter than two sleeper bays "
+                                               f"({2.0 * params.sleeper_spacing_m:g} m)")
+    fm = ft.get("modes_up_to_Hz", params.modes_up_to_Hz)
+    if isinstance(fm, bool) or not isinstance(fm, (int, float)) or not (math.isfinite(fm) and fm > 0.0):
+        raise error("flexible_track.modes_up_to_Hz", f"{fm!r}: expected a frequency > 0 Hz")
+    out["modes_up_to_Hz"] = float(fm)
+    return out
+
+
+def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s: float, end_time_s: float,
+                         solver: str, dt_s: float):
+    """The :class:`~.flexible.FlexibleTrackModes` of a normalised ``[flexible_track]`` for a run: the segment
+    (given or ``auto``) checked to carry every wheelset from t = 0 to ``end_time_s``, and the highest kept mode
+    checked against the explicit solver's stability."""
+    params = TrackParameters.from_file(ft["file"])
+    x = np.asarray(wheelset_x_m, dtype=float)
+    s_rear0 = s_start_m + float(x.min())
+    s_front1 = s_start_m + speed_m_s * end_time_s + float(x.max())
+    if ft["length_m"] == AUTO:
+        start, length = segment_for_run(s_rear0, s_front1, params)
+    else:
+        start, length = ft["start_m"], ft["length_m"]
+        if s_rear0 < start or s_front1 > start + length:
+            raise TrackFileError(f"flexible_track.length_m = {length:g} m (start_m = {start:g} m): the segment "
+                                 f"[{start:g}, {start + length:g}] m does not carry the run, whose wheelsets span "
+                                 f"[{s_rear0:.6g}, {s_front1:.6g}] m (the track is shorter than the vehicle's path)")
+    limit = EXPLICIT_CHECKED.get(solver)
+    if limit == 0.0:
+        raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
+                             "(or 'newmark') with a flexible track")
+    if limit is not None:
+        f_lim = limit / (2.0 * math.pi * dt_s)
+        if ft["modes_up_to_Hz"] >= f_lim:
+            raise TrackFileError(f"flexible_track.modes_up_to_Hz = {ft['modes_up_to_Hz']:g} Hz: explicit {solver} at "
+                                 f"run.dt_s = {dt_s:g} s is unstable above {f_lim:.4g} Hz (omega dt = {limit:.3g}); "
+                                 "use run.solver = 'newmark' or a smaller step")
+    modes = FlexibleTrackModel(params, start, length).modes(f_max_Hz=ft["modes_up_to_Hz"])
+    if limit is not None:
+        f_c = contact_mode_Hz(modes, s_rear0, s_front1)
+        f_lim = limit / (2.0 * math.pi * dt_s)
+        if f_c >= f_lim:
+            raise TrackFileError(f"run.dt_s = {dt_s:g} s: the wheel on the flexible rail (contact stiffness "
+                                 f"{CONTACT_STIFFNESS_N_M:.0e} N/m on the rail's kept modal mass) vibrates at up to "
+                                 f"{f_c:.4g} Hz, beyond explicit {solver}'s stability ({f_lim:.4g} Hz at this step): "
+                                 f"use run.dt_s <= {limit / (2.0 * math.pi * f_c):.3g} s")
+    return modes
+
+
+def contact_mode_Hz(modes, s_from_m: float | None = None, s_to_m: float | None = None) -> float:
+    """Upper estimate of the highest frequency of the coupled wheel–track system: the kept modes' highest, and a
+    contact spring :data:`CONTACT_STIFFNESS_N_M` (roll: times (b/2)²) on the rail's modal mass at the contact,
+    ``m_eff = 1/Σ_k φ_k(s)²`` per row of the deck interface (y, z, roll), the smallest over the segment (the wheelset
+    is much heavier than that mass) or over the wheels' path ``[s_from_m, s_to_m]`` (the free rail ends are
+    lighter).  Measured: RK44 at 0.5 ms with the default 800 Hz modes chatters in flange
+    contact (lateral force jumping 2–25 kN between steps while the run reports ok), at 0.25 ms it does not; this
+    estimate puts the limit at 0.35 ms."""
+    tb = modes.table
+    s_pts = tb.start_m + np.append(tb.elem_x0, tb.elem_x0[-1] + tb.elem_len[-1])
+    sel = np.ones(s_pts.shape, dtype=bool)
+    if s_from_m is not None:
+        sel &= (s_pts >= s_from_m - tb.elem_len[0]) & (s_pts <= s_to_m + tb.elem_len[0])
+    ns = tb.node_shapes[sel]                                          # (n_pts, 5, n_modes): v, dv, w, dw, θ
+    inv_m = [float(np.max(np.sum(ns[:, r, :] ** 2, axis=1))) for r in (0, 2, 4)]
+    b = modes.model.params.rail_centre_distance_m
+    k = (CONTACT_STIFFNESS_N_M, CONTACT_STIFFNESS_N_M, CONTACT_STIFFNESS_N_M * (0.5 * b) ** 2)
+    f_c = max(math.sqrt(ki * im) for ki, im in zip(k, inv_m)) / (2.0 * math.pi)
+    return max(f_c, float(modes.frequencies_Hz.max(initial=0.0)))
+
+
+def _static_wheelset_forces(model, modes) -> np.ndarray:
+    """Per wheelset ``(Fy, Fz, Mx)`` on the rails from the static wheel loads (left, right) of the load path."""
+    b = modes.model.params.rail_centre_distance_m
+    Q = np.asarray(model.load_path.wheel, dtype=float)                  # (n_ws, 2): left, right
+    return np.column_stack([np.zeros(len(Q)), Q.sum(axis=1), 0.5 * b * (Q[:, 1] - Q[:, 0])])
+
+
+def start_on_flexible_track(mbs, model, track_handle) -> float:
+    """Starting state (module docstring): the track's modal coordinates and rates, and the vehicle's bodies moved
+    by the static deflection of the rails (lateral and vertical), each body by the deflection interpolated at its
+    centre of mass between the wheelsets (the deflections differ by micrometres between wheelsets: no pitch is
+    added).  Call after the vehicle is placed on the rails, before ``mbs.Assemble()``.  Returns the largest static
+    deflection under a wheelset [m]."""
+    modes = track_handle.modes
+    x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
+    s = model.track_distance_m(x, 0.0)
+    F = _static_wheelset_forces(model, modes)
+    phi, dphi = _shape_and_slope(modes, s)
+    w2 = modes.omega_rad_s ** 2
+    q0 = np.einsum("kij,ki->j", phi, F) / w2
+    q0_t = model.speed_m_s * np.einsum("kij,ki->j", dphi, F) / w2
+    mbs.SetNodeParameter(track_handle.modal_node, "initialCoordinates", q0.tolist())
+    mbs.SetNodeParameter(track_handle.modal_node, "initialCoordinates_t", q0_t.tolist())
+    d = phi @ q0                                                         # (n_ws, 3): y, z, roll under each
+    order = np.argsort(x)
+    for body in model.bodies:
+        xc = float(body.p_cg_in_frame[0])
+        q = np.array(mbs.GetNodeParameter(body.node, "initialCoordinates"), dtype=float)
+        q[1] += float(np.interp(xc, x[order], d[order, 0]))
+        q[2] += float(np.interp(xc, x[order], d[order, 1]))
+        mbs.SetNodeParameter(body.node, "initialCoordinates", q.tolist())
+    return float(np.max(np.abs(d[:, 1])))
+
+
+def _shape_and_slope(modes, s):
+    from ..structures.bridge import modal_shape_and_slope_at
+    phi = np.empty((len(s), 3, modes.n_modes))
+    dphi = np.empty_like(phi)
+    for i, x in enumerate(s):
+        modal_shape_and_slope_at(float(x), *modes.table, phi[i], dphi[i])
+    return phi, dphi
+
+
+class _TrackColumns:
+    """Recorder probe of the ``flexible_track`` group (module docstring)."""
+
+    def __init__(self, contact, handle, model):
+        self.c, self.h, self.model = contact, handle, model
+        self.modes = handle.modes
+        self.x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
+        n = len(self.x)
+        names = []
+        for j in range(n):
+            names += [f"rail_z_w{j + 1}_m", f"rail_y_w{j + 1}_m", f"rail_roll_w{j + 1}_rad", f"sleeper_z_w{j + 1}_m",
+                      f"pad_left_w{j + 1}_N", f"pad_right_w{j + 1}_N", f"ballast_left_w{j + 1}_N",
+                      f"ballast_right_w{j + 1}_N"]
+        self.columns = [(FLEXIBLE_TRACK_GROUP, c) for c in names]
+
+    def fill(self, mbs, t, out):
+        q, q_t = self.h.coordinates(mbs)
+        st = self.c.deck_state()
+        mdl = self.modes.model
+        s = self.model.track_distance_m(self.x, t)
+        k = np.clip(np.rint((s - mdl.start_m) / mdl.params.sleeper_spacing_m).astype(int), 0, mdl.n_sleepers - 1)
+        z_s = self.modes.sleeper_state(q, k)["z_m"]
+        f = self.modes.support_forces_N(q, q_t, k)
+        for j in range(len(self.x)):
+            out[8 * j:8 * j + 8] = (st[j, 1], st[j, 0], st[j, 2], z_s[j], f["pad_vertical_left_N"][j],
+                                    f["pad_vertical_right_N"][j], f["ballast_vertical_left_N"][j],
+                                    f["ballast_vertical_right_N"][j])
+
+
+def flexible_track_probes(*, contact, handle, model) -> list:
+    """The recorder probes of the flexible track (module docstring)."""
+    return [_TrackColumns(contact, handle, model)]
+
+
+def flexible_track_summary(modes) -> dict:
+    """The segment and the reduced model, for a run's summary."""
+    mdl = modes.model
+    n = {k: modes.slices[k].stop - modes.slices[k].start for k in modes.slices}
+    return {"file": mdl.params.source, "start_m": mdl.start_m, "length_m": mdl.length_m,
+            "sleepers": mdl.n_sleepers, "modes_up_to_Hz": modes.f_max_Hz, "modes": modes.n_modes,
+            "modes_by_kind": n, "damping": modes.damping,
+            "not_represented": "gauge spreading (both rails move together laterally), rail torsion and roll on its "
+                               "pad, sleeper bending, modes above modes_up_to_Hz (pinned-pinned, P1 contact "
+                               "resonance); the track is rigid off the segment"}
