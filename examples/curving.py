@@ -1,6 +1,8 @@
-r"""Manchester vehicle 1 through an R = 600 m curve with 150 mm cant at cant deficiency and at cant excess.
+r"""Manchester vehicle 1 through an R = 600 m curve with 150 mm cant at cant deficiency and at cant excess, and at
+cant deficiency over generated track irregularities.
 
 Run:  python examples/curving.py --out DIR [--deficiency-kmh 120] [--excess-kmh 60] [--transition-m 60]
+                                 [--spectrum german_low] [--seed 1]
 
 Each case is the ``curving`` command's run (:mod:`exudyn_wheelrail.scenarios.curving`: straight track, a clothoid
 transition with a linear cant ramp, the circular curve; the vehicle in track-following frames, RK44) and writes
@@ -9,11 +11,15 @@ the leading wheelset, per wheelset ΣY (the lateral force between both rails and
 the track) with the Prud'homme limit ``10 kN + P/3`` of the static axle load P (EN 14363's track-shift limit, a 2 m
 mean there; the raw signal here), Y/Q of every outer wheel with EN 14363's 0.8, and the angle of attack with the
 geometric value ``a/R`` of a bogie's wheelsets held parallel to its frame (a reference, not a limit).  The dashed
-lines mark the steady-state means; the printed table compares ΣΣY with m a_nc.
+lines mark the steady-state means; the printed table compares ΣΣY with m a_nc.  The third case runs the
+deficiency case over irregularities of all four channels generated from a standard spectrum (the spectra module's
+band, the given seed), faded in before the circular curve (:func:`~exudyn_wheelrail.scenarios.curving.
+spectral_irregularity`): its steady means average over the response to them.
 """
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 from pathlib import Path
 
@@ -22,15 +28,20 @@ import numpy as np
 from exudyn_wheelrail.analysis.safety import EN14363_YQ_LIMIT, prudhomme_limit_N
 from exudyn_wheelrail.conventions import outward_sign
 from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
-from exudyn_wheelrail.scenarios.curving import CurvingCase, run_curving
+from exudyn_wheelrail.scenarios.curving import CurvingCase, run_curving, spectral_irregularity
+from exudyn_wheelrail.track.spectra import SPECTRA
 
 RADIUS_M = 600.0
 CANT_M = 0.150
 
 
 def _cases(args):
-    return {"deficiency": CurvingCase("manchester_vehicle1", RADIUS_M, CANT_M, args.deficiency_kmh, args.transition_m),
-            "excess": CurvingCase("manchester_vehicle1", RADIUS_M, CANT_M, args.excess_kmh, args.transition_m)}
+    deficiency = CurvingCase("manchester_vehicle1", RADIUS_M, CANT_M, args.deficiency_kmh, args.transition_m)
+    irregular = dataclasses.replace(deficiency, irregularity=spectral_irregularity(deficiency, args.spectrum,
+                                                                                   args.seed))
+    return {"deficiency": deficiency,
+            "excess": CurvingCase("manchester_vehicle1", RADIUS_M, CANT_M, args.excess_kmh, args.transition_m),
+            f"deficiency, {args.spectrum} seed {args.seed}": irregular}
 
 
 def plot(results: dict, path: Path, semi_wheelbase_m: float) -> None:
@@ -85,17 +96,20 @@ def main(argv=None) -> int:
     p.add_argument("--deficiency-kmh", type=float, default=120.0, help="speed of the cant-deficiency case [km/h]")
     p.add_argument("--excess-kmh", type=float, default=60.0, help="speed of the cant-excess case [km/h]")
     p.add_argument("--transition-m", type=float, default=60.0, help="length of the entry transition [m]")
+    p.add_argument("--spectrum", default="german_low", choices=tuple(SPECTRA),
+                   help="spectrum of the irregularities of the third case")
+    p.add_argument("--seed", type=int, default=1, help="seed of the generated irregularities")
     args = p.parse_args(argv)
     out = Path(args.out)
     results = {}
-    print(f"{'case':>11} {'V km/h':>7} {'a_nc m/s2':>10} {'m a_nc kN':>10} {'sum sum Y kN':>13} {'error':>7}  steady")
+    print(f"{'case':>30} {'V km/h':>7} {'a_nc m/s2':>10} {'m a_nc kN':>10} {'sum sum Y kN':>13} {'error':>7}  steady")
     for name, case in _cases(args).items():
-        res = run_curving(case, out_dir=out / name)
+        res = run_curving(case, out_dir=out / name.replace(", ", "_").replace(" ", "_"))
         s = res.summary
         results[name] = res
         m_a = s["vehicle_mass_kg"] * s["unbalanced_lateral_acceleration_m_s2"]
         tot = sum(s["sum_Y_N"]) if s.get("sum_Y_N") is not None else math.nan
-        print(f"{name:>11} {case.speed_km_h:7.1f} {s['unbalanced_lateral_acceleration_m_s2']:10.3f} {m_a / 1e3:10.2f} "
+        print(f"{name:>30} {case.speed_km_h:7.1f} {s['unbalanced_lateral_acceleration_m_s2']:10.3f} {m_a / 1e3:10.2f} "
               f"{tot / 1e3:13.2f} {(tot - m_a) / m_a:7.2%}  {s.get('steady')}")
     plot(results, out / "curving.png", load_vehicle("manchester_vehicle1").geometry.semi_wheelbase_m)
     print(f"wrote {out / 'curving.png'}")

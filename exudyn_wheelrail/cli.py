@@ -571,6 +571,13 @@ def _overrides(pairs, option: str) -> dict:
     return out
 
 
+def _verdict(check: dict) -> str:
+    """'passed' / 'NOT passed' / 'not evaluated (why)' of a criterion's dict."""
+    if check.get("passed") is None:
+        return f"not evaluated ({check.get('not_evaluated') or 'no verdict'})"
+    return "passed" if check["passed"] else "NOT passed"
+
+
 def cmd_run_scenario(args):
     from .scenarios.scenario import run_scenario
     scn = args.scenario_spec
@@ -665,7 +672,29 @@ BRIDGE_CROSSING_OPTIONS = {"span_m": "--span-m", "mass_kg_m": "--bridge-mass-kg-
                            "f1_Hz": "--bridge-frequency-hz",
                            "damping_ratio": "--damping-ratio", "n_modes": "--modes", "speed_m_s": "--speed-kmh",
                            "model": "--model", "free_vibration_s": "--free-vibration-s", "dt_s": "--dt",
-                           "solver": "--solver", "track_form": "--track-form"}
+                           "solver": "--solver", "track_form": "--track-form", "spans_m": "--spans-m",
+                           "lateral_modes": "--lateral-modes", "lateral_f1_Hz": "--lateral-frequency-hz",
+                           "sprung_frequency_Hz": "--sprung-frequency-hz",
+                           "sprung_damping_ratio": "--sprung-damping-ratio"}
+
+
+def _bridge_crossing_spans(args):
+    """The chain of spans of ``--n-spans`` / ``--spans-m`` (None: the single span ``--span-m``), checked."""
+    from .scenarios.bridge_crossing import MAX_SPANS, SPAN_M
+    k = args.n_spans
+    if k is not None and k > MAX_SPANS:
+        raise ValueError(f"--n-spans: {k} spans, more than {MAX_SPANS}")
+    if args.spans_m is None:
+        return None if k is None or k == 1 else (float(args.span_m),) * k
+    spans = [SPAN_M.check("--spans-m", x) for x in args.spans_m]
+    if k is not None and k != len(spans):
+        raise ValueError(f"--n-spans: {k} spans but --spans-m lists {len(spans)} span lengths")
+    if spans[0] != args.span_m:
+        raise ValueError(f"--spans-m: the first span {spans[0]:g} m is not --span-m {args.span_m:g} m (--span-m is "
+                         "the first span of the chain)")
+    if len(spans) > MAX_SPANS:
+        raise ValueError(f"--spans-m: {len(spans)} spans, more than {MAX_SPANS}")
+    return tuple(spans)
 
 
 def _check_bridge_crossing(args) -> None:
@@ -673,8 +702,8 @@ def _check_bridge_crossing(args) -> None:
     :class:`~.scenarios.bridge_crossing.BridgeCrossing` goes to ``args.crossing``."""
     from pathlib import Path
 
-    from .scenarios.bridge_crossing import (F1_HZ, FREE_VIBRATION_S, MASS_KG_M, SPAN_M, BridgeCrossing,
-                                            resolve_load_model, resolve_train_axles)
+    from .scenarios.bridge_crossing import (AXLE_LOAD_MODELS, F1_HZ, FREE_VIBRATION_S, MASS_KG_M, SPAN_M,
+                                            BridgeCrossing, resolve_load_model, resolve_train_axles)
     from .simulation.settings import DT_S
     from .structures.load_models import hslm_a, read_axle_file
     output_dir("--out", args.out)
@@ -691,6 +720,9 @@ def _check_bridge_crossing(args) -> None:
     z = args.damping_ratio
     if not (np.isfinite(z) and 0.0 <= z < 1.0):
         raise ValueError(f"--damping-ratio: {z:g} must be in [0, 1) (a ratio, not a percentage: 2 % is 0.02)")
+    spans = _bridge_crossing_spans(args)
+    if args.lateral_frequency_hz is not None:
+        F1_HZ.check("--lateral-frequency-hz", args.lateral_frequency_hz)
     axles = None
     if args.axles is not None:
         axles = read_axle_file(args.axles)
@@ -699,7 +731,7 @@ def _check_bridge_crossing(args) -> None:
             axles = hslm_a(args.hslm)
         except ValueError as exc:
             raise ValueError(f"--hslm: {exc}") from None
-    elif args.model == "moving-loads":
+    elif args.model in AXLE_LOAD_MODELS:
         if not Path(args.train).is_file():
             raise ValueError(f"--train: {args.train}: no such consist file")
         axles = resolve_train_axles(args.train)
@@ -707,7 +739,11 @@ def _check_bridge_crossing(args) -> None:
         case = BridgeCrossing(span_m=args.span_m, mass_kg_m=args.bridge_mass_kg_per_m, f1_Hz=args.bridge_frequency_hz,
                               damping_ratio=z, n_modes=args.modes, axles=axles, speed_m_s=args.speed_kmh / 3.6,
                               model=args.model, free_vibration_s=args.free_vibration_s, dt_s=args.dt,
-                              solver=args.solver, track_form=args.track_form, train_file=args.train)
+                              solver=args.solver, track_form=args.track_form, train_file=args.train,
+                              spans_m=spans, lateral_modes=args.lateral_modes,
+                              lateral_f1_Hz=args.lateral_frequency_hz,
+                              sprung_frequency_Hz=args.sprung_frequency_hz,
+                              sprung_damping_ratio=args.sprung_damping_ratio)
     except ValueError as exc:
         name, _, problem = str(exc).partition(": ")
         raise ValueError(f"{BRIDGE_CROSSING_OPTIONS.get(name, name)}: {problem}") from None
@@ -761,8 +797,11 @@ def cmd_bridge_crossing(args):
     from .scenarios.bridge_crossing import default_dt_s, run_bridge_crossing
     case = args.crossing
     src = case.axles.name if case.axles is not None else case.train_file
-    print(f"bridge crossing: {case.model}, {src}, L = {case.span_m:g} m, f1 = {case.f1_Hz:g} Hz, "
-          f"{case.n_modes} modes, zeta = {case.damping_ratio:g}, {case.speed_m_s * 3.6:g} km/h, {case.solver}, dt "
+    chain = "" if case.n_spans == 1 else f" (spans {' + '.join(f'{x:g}' for x in case.chain_m)} m)"
+    lateral = f" + {case.lateral_modes} lateral" if case.lateral_modes else ""
+    print(f"bridge crossing: {case.model}, {src}, L = {case.span_m:g} m{chain}, f1 = {case.f1_Hz:g} Hz, "
+          f"{case.n_modes}{lateral} modes, zeta = {case.damping_ratio:g}, {case.speed_m_s * 3.6:g} km/h, "
+          f"{case.solver}, dt "
           f"{case.dt_s if case.dt_s is not None else default_dt_s(case):g} s")
     result = run_bridge_crossing(case, out_dir=args.out, progress=args.progress)
     s = result.summary
@@ -778,7 +817,17 @@ def cmd_bridge_crossing(args):
               f"{qs['dynamic_amplification']:.3g}), max |a| mid-span "
               f"{s['max_abs_deck_midspan_acceleration_m_s2']:.4g} m/s^2; EN 1990 deck acceleration "
               f"{en['peak_acceleration_m_s2']:.4g} m/s^2 (limit {en['limit_m_s2']:g}, {en['track_form']}): "
-              f"{'passed' if en['passed'] else 'NOT passed'}")
+              f"{_verdict(en)}")
+    for sp in s.get("spans") or ():
+        if sp["max_abs_midspan_displacement_m"] is not None:
+            en = sp["EN1990_A2_deck_acceleration"]
+            print(f"span {sp['span']} ({sp['span_m']:g} m): max |w| mid-span "
+                  f"{sp['max_abs_midspan_displacement_m'] * 1e3:.4g} mm, max |a| mid-span "
+                  f"{sp['max_abs_midspan_acceleration_m_s2']:.4g} m/s^2, EN 1990 "
+                  f"{en['peak_acceleration_m_s2']:.4g} m/s^2: {_verdict(en)}")
+    if s.get("max_abs_deck_lateral_midspan_displacement_m") is not None:
+        print(f"lateral mid-span: max |v| {s['max_abs_deck_lateral_midspan_displacement_m'] * 1e3:.4g} mm, max |a_y| "
+              f"{s['max_abs_deck_lateral_midspan_acceleration_m_s2']:.4g} m/s^2")
     if s["resonance_speeds"]:
         print("resonance speeds f1 d/i (d = %.4g m): %s km/h" % (
             s["characteristic_spacing_m"], ", ".join(f"{r['speed_km_h']:.4g}" for r in s["resonance_speeds"])))
@@ -919,8 +968,10 @@ def _add_bridge_crossing_parser(sub) -> None:
     bc = sub.add_parser("bridge-crossing", help="a train over a simply supported span: moving loads (or vehicles) on "
                                                 "the modal deck in Exudyn",
                         description="A train crosses a simply supported Euler-Bernoulli span (EI from f1, m, L; N "
-                                    "vertical modes, modal damping) built in Exudyn; t = 0 when the first axle "
-                                    "enters, the run ends when the last axle leaves (+ --free-vibration-s). Writes "
+                                    "vertical modes, modal damping) built in Exudyn, or a chain of them (--spans-m, "
+                                    "--n-spans), optionally with lateral modes (--lateral-modes); t = 0 when the "
+                                    "first axle enters, the run ends when the last axle leaves (+ "
+                                    "--free-vibration-s). Writes "
                                     "DIR/timeseries.csv and DIR/summary.json (deck values positive downward). Model: "
                                     "exudyn_wheelrail/scenarios/bridge_crossing.py.")
     _add_bridge_crossing_arguments(bc, sweep=False)
@@ -935,7 +986,9 @@ def _add_bridge_crossing_parser(sub) -> None:
 
 
 def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
-    from .scenarios.bridge_crossing import DEFAULT_SOLVER, MAX_MODES, MODEL_NAMES, STEPS_PER_PERIOD, TRACK_FORMS
+    from .scenarios.bridge_crossing import (DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES, MODEL_NAMES,
+                                            SPRUNG_DAMPING_RATIO, SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD,
+                                            TRACK_FORMS)
     from .simulation.settings import SOLVERS
     from .structures.load_models import HSLM_NAMES
     bc.add_argument("--span-m", type=float, required=True, help="span length L [m]")
@@ -944,7 +997,19 @@ def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
                     help="first bending frequency f1 [Hz]; EI = m (2 L^2 f1 / pi)^2")
     bc.add_argument("--damping-ratio", type=float, required=True, help="modal damping ratio of every mode, 0 <= z < 1")
     bc.add_argument("--modes", type=_positive_int("--modes"), required=True,
-                    help=f"vertical bending modes kept (1 to {MAX_MODES})")
+                    help=f"vertical bending modes kept per span (1 to {MAX_MODES})")
+    bc.add_argument("--n-spans", type=_positive_int("--n-spans"), default=None, metavar="K",
+                    help="a chain of K equal simply supported spans of --span-m (default 1); each span an independent "
+                         "deck; the deck_midspan_* columns and keys are the first span's, deck_span<k>_* each span's")
+    bc.add_argument("--spans-m", type=float, nargs="+", default=None, metavar="L",
+                    help="a chain of simply supported spans in running order [m]; the first must be --span-m (the "
+                         "span of --bridge-frequency-hz: every span has its section, span k f1 (L1/Lk)^2)")
+    bc.add_argument("--lateral-modes", type=int, default=0, metavar="N_L",
+                    help=f"lateral bending modes kept per span (0 to {MAX_MODES}, default 0); moving vertical loads "
+                         "leave them at rest, the vehicles model excites them")
+    bc.add_argument("--lateral-frequency-hz", type=float, default=None, metavar="F_L",
+                    help="first lateral bending frequency of the first span [Hz]: EI_z = m (2 L^2 F_L / pi)^2 "
+                         f"(default EI_z = {LATERAL_EI_RATIO:g} EI_y, F_L = sqrt({LATERAL_EI_RATIO:g}) f1)")
     src = bc.add_mutually_exclusive_group(required=True)
     src.add_argument("--axles", default=None, metavar="FILE.csv",
                      help="axle file: CSV with columns x_m (distance behind the first axle, >= 0) and load_N "
@@ -953,7 +1018,13 @@ def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
                      help=f"a universal train of EN 1991-2 (Table 6.3, Fig. 6.12): {', '.join(HSLM_NAMES)}")
     src.add_argument("--train", default=None, metavar="FILE.toml", help="a consist file (vehicles under vehicles/)")
     bc.add_argument("--model", default=MODEL_NAMES[0], choices=MODEL_NAMES,
-                    help="moving-loads: constant axle loads (default); vehicles: the full vehicle-bridge interaction")
+                    help="moving-loads: constant axle loads (default); vehicles: the full vehicle-bridge "
+                         "interaction; sprung-masses: every axle a mass P/g on a spring and damper on the deck")
+    bc.add_argument("--sprung-frequency-hz", type=float, default=SPRUNG_FREQUENCY_HZ, metavar="F_V",
+                    help=f"sprung-masses: suspension frequency of every axle's mass [Hz] (default "
+                         f"{SPRUNG_FREQUENCY_HZ:g}, assumed)")
+    bc.add_argument("--sprung-damping-ratio", type=float, default=SPRUNG_DAMPING_RATIO, metavar="Z_V",
+                    help=f"sprung-masses: suspension damping ratio (default {SPRUNG_DAMPING_RATIO:g}, assumed)")
     if sweep:
         sp = bc.add_mutually_exclusive_group(required=True)
         sp.add_argument("--speeds-kmh", type=float, nargs="+", default=None, help="the speeds [km/h]")
@@ -966,7 +1037,7 @@ def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
         bc.add_argument("--speed-kmh", type=float, required=True, help="running speed [km/h]")
     bc.add_argument("--out", required=True, help="output directory")
     bc.add_argument("--free-vibration-s", type=float, default=0.0,
-                    help="time simulated after the last axle has left the span [s] (default 0)")
+                    help="time simulated after the last axle has left the (last) span [s] (default 0)")
     bc.add_argument("--dt", type=float, default=None,
                     help=f"time step [s] (default: min(1/({STEPS_PER_PERIOD} f_N), 2L/({STEPS_PER_PERIOD} N V), "
                          "0.01 s), f_N = N^2 f1)")
@@ -981,11 +1052,13 @@ def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
 
 #: the command line's option of each field of a curving case (errors name the option)
 CURVING_OPTIONS = {"radius_m": "--radius-m", "cant_m": "--cant-m", "speed_km_h": "--speed-kmh",
-                   "transition_m": "--transition-m", "direction": "--direction", "vehicle": "--vehicle"}
+                   "transition_m": "--transition-m", "direction": "--direction", "vehicle": "--vehicle",
+                   "irregularity": "--irregularity-spectrum"}
 
 
 def _add_curving_parser(sub) -> None:
     from .scenarios.curving import DEFAULT_RAMP, LEAD_IN_M
+    from .track.spectra import DEFAULT_BAND_M, SPECTRA
     cv = sub.add_parser("curving", help="steady curving: a vehicle through an entry transition into a circular "
                                         "curve; per wheelset sum Y, Y/Q, lateral shift, angle of attack",
                         description="Runs the vehicle from straight track through a clothoid transition with a linear "
@@ -996,7 +1069,7 @@ def _add_curving_parser(sub) -> None:
                                     "force between both rails and the wheelset, positive outwards on the track, so "
                                     "that its sum is m a_nc) and DIR/timeseries.csv.")
     cv.add_argument("--vehicle", required=True, metavar="NAME|FILE",
-                    help="a shipped vehicle (vehicles/*.toml: manchester_vehicle1, single_bogie, single_wheelset) or a "
+                    help="a shipped vehicle (the name of a vehicles/*.toml file, e.g. manchester_vehicle1) or a "
                          "vehicle file")
     cv.add_argument("--radius-m", type=float, required=True, help="radius of the circular curve [m]")
     cv.add_argument("--cant-m", type=float, required=True,
@@ -1007,6 +1080,14 @@ def _add_curving_parser(sub) -> None:
                          f"1:{DEFAULT_RAMP:g}, at least 20 m; the leading wheelset starts {LEAD_IN_M:g} m before it)")
     cv.add_argument("--direction", default="right", choices=("right", "left"),
                     help="direction of the curve, looking in the running direction (default right)")
+    cv.add_argument("--irregularity-spectrum", default=None, choices=tuple(SPECTRA), metavar="NAME",
+                    help="run over track irregularities (all four channels) generated from this standard spectrum "
+                         f"({', '.join(SPECTRA)}; exudyn_wheelrail/track/spectra.py) in the wavelength band "
+                         f"{DEFAULT_BAND_M[0]:g}-{DEFAULT_BAND_M[1]:g} m over the run's distance, faded in from the "
+                         "leading wheelset's start to the circular curve (default: a perfect track); needs --seed")
+    cv.add_argument("--seed", type=int, default=None, metavar="N",
+                    help="seed of the generated irregularity (a non-negative integer; the same seed gives the same "
+                         "track)")
     cv.add_argument("--out", required=True, help="output directory")
     cv.add_argument("--progress", action="store_true", help="a progress bar on stderr")
     cv.set_defaults(func=cmd_curving, check=_check_curving)
@@ -1019,8 +1100,23 @@ def _check_curving(args) -> None:
     output_dir("--out", args.out)
     case = CurvingCase(args.vehicle, radius_m=args.radius_m, cant_m=args.cant_m, speed_km_h=args.speed_kmh,
                        transition_m=args.transition_m, direction=args.direction)
+    if args.irregularity_spectrum is None and args.seed is not None:
+        raise ValueError("--seed: given without --irregularity-spectrum (it seeds the generated irregularity)")
+    if args.irregularity_spectrum is not None:
+        if args.seed is None:
+            raise ValueError(f"--seed: missing (required with --irregularity-spectrum {args.irregularity_spectrum})")
+        if args.seed < 0:
+            raise ValueError(f"--seed: {args.seed}: expected a non-negative integer")
     try:
         args.curving_vehicle = check_curving_case(case)
+        if args.irregularity_spectrum is not None:
+            import dataclasses
+
+            from .scenarios.curving import spectral_irregularity
+            irregularity = spectral_irregularity(case, args.irregularity_spectrum, args.seed,
+                                                 vehicle=args.curving_vehicle)
+            case = dataclasses.replace(case, irregularity=irregularity)
+            check_curving_case(case, args.curving_vehicle)
     except CurvingInputError as exc:
         raise ValueError(f"{CURVING_OPTIONS.get(exc.option, exc.option)}: {exc.problem}") from None
     args.curving = case
@@ -1033,6 +1129,8 @@ def cmd_curving(args):
     v = args.curving_vehicle
     print(f"curving: {v.name}, R = {case.radius_m:g} m {case.direction}, cant {case.cant_m * 1000:g} mm, "
           f"{case.speed_km_h:g} km/h, transition {case.transition_length_m:g} m")
+    if case.irregularity is not None:
+        print(f"irregularity: {case.irregularity!r}")
     progress = None
     if args.progress:
         from .scenarios.curving import curving_distances
@@ -1047,6 +1145,8 @@ def cmd_curving(args):
     if s.get("sum_Y_N") is not None:
         print("sum Y per wheelset [N]: " + ", ".join(f"{y:.0f}" for y in s["sum_Y_N"])
               + f"; total {sum(s['sum_Y_N']):.0f} N; steady: {'yes' if s['steady'] else 'NO'}")
+    for note in s.get("notes", []):
+        print(f"note: {note}")
     print(f"wrote {args.out}/summary.json, {args.out}/timeseries.csv")
     return s["exit_code"]
 

@@ -373,3 +373,256 @@ def test_consist_files_need_the_reader_of_this_installation(tmp_path, capsys, mo
     assert err.startswith("error: --train: reading the static axle loads of a consist file is not available")
     assert _main(ARGS + ["--train", str(tmp_path / "missing.toml"), "--out", str(tmp_path / "o")]) == 2
     assert "--train: " in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+# ----------------------------------------------------------------------------- chains of spans, lateral modes
+def _chain_case(axles, V, spans, **kw):
+    return bc.BridgeCrossing(span_m=spans[0], mass_kg_m=M, f1_Hz=F1, damping_ratio=ZETA, n_modes=3, axles=axles,
+                             speed_m_s=V, spans_m=spans, **kw)
+
+
+def test_a_chain_of_two_equal_spans_first_span_is_the_single_span():
+    """The spans of a chain are independent decks, each with its own modes: the first span's response is the
+    single-span run's, sample by sample, for as long as that run lasts (the train on the first span and until it
+    leaves it).  Exact: the first span's modal equations are the same numbers integrated on the same time grid;
+    the other span's modal coordinates enter the deck's sums with exact zeros.  The nine check points are a matrix
+    product whose summation order depends on the number of modes: equal to a few ulps of the peak (1e-12)."""
+    axles = AxleTrain(np.array([0.0, 2.5, 9.0]), np.array([1.7e5, 1.7e5, 1.5e5]))
+    one = bc.run_bridge_crossing(_case(axles, 50.0))
+    two = bc.run_bridge_crossing(_chain_case(axles, 50.0, (L, L)))
+    a, b = one.timeseries, two.timeseries
+    n = a["time_s"].size
+    assert two.summary["status"] == "ok" and b["time_s"].size > n
+    assert np.array_equal(a["time_s"], b["time_s"][:n])
+    for c in ("deck_midspan_displacement_m", "deck_midspan_acceleration_m_s2", "deck_midspan_velocity_m_s"):
+        assert np.array_equal(a[c], b[c][:n]), c
+    for c in ("midspan_displacement_m", "midspan_acceleration_m_s2", "en1990_max_abs_acceleration_m_s2"):
+        assert np.array_equal(b[f"deck_{c}"], b[f"deck_span1_{c}"]), c       # the contract's columns: span 1
+    for c in bc.DECK_COLUMNS:
+        assert np.max(np.abs(a[c] - b[c][:n])) <= 1e-12 * np.max(np.abs(a[c])), c
+    # the run ends when the last axle leaves the last span
+    assert two.summary["simulated_seconds"] == pytest.approx((9.0 + 2 * L) / 50.0, abs=two.summary["dt_s"])
+    spans = two.summary["spans"]
+    assert [s["span"] for s in spans] == [1, 2] and spans[1]["start_m"] == L
+    assert spans[0]["max_abs_midspan_displacement_m"] == two.summary["max_abs_deck_midspan_displacement_m"]
+    assert all(s["EN1990_A2_deck_acceleration"]["passed"] for s in spans) and two.summary["EN1990_A2_all_spans_passed"]
+
+
+def test_the_second_of_two_equal_spans_is_the_first_delayed_by_l_over_v():
+    """One load: the second span sees the first span's load history L/V later (0.4 s = 800 steps of 0.5 ms, on
+    the grid).  Before, it is exactly at rest; after, equal up to the integrator's rounding: the step times t_n
+    accumulated in floating point differ by about n ε t (1e-13 s), the load's place by V times that — 1e-13 of
+    the peak measured, asserted to 1e-9."""
+    axles = AxleTrain(np.array([0.0]), np.array([2e5]))
+    r = bc.run_bridge_crossing(_chain_case(axles, 50.0, (L, L), dt_s=5e-4))
+    ts = r.timeseries
+    shift = 800
+    assert ts["time_s"][shift] == pytest.approx(L / 50.0, abs=1e-12)
+    for c in ("midspan_displacement_m", "midspan_acceleration_m_s2", "en1990_max_abs_acceleration_m_s2"):
+        first, second = ts[f"deck_span1_{c}"], ts[f"deck_span2_{c}"]
+        assert np.all(second[:shift] == 0.0), c
+        m = first.size - shift
+        assert np.max(np.abs(second[shift:] - first[:m])) <= 1e-9 * np.max(np.abs(first)), c
+
+
+def test_a_chain_of_unequal_spans_against_the_closed_form(tmp_path):
+    """Spans 20 m and 30 m of one section (the second's f1 = 5 (20/30)² = 2.22 Hz): each span's mid-span response
+    against the closed form of its own span, the second's with the train entering it at L1/V (run budget RUN_TOL,
+    module docstring); the command line's files and keys."""
+    f = _axle_file(tmp_path / "axles.csv", ["0,170000", "2.5,170000", "18,150000"])
+    out = tmp_path / "out"
+    assert main(ARGS + ["--axles", f, "--spans-m", "20", "30", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    V, L2 = 250 / 3.6, 30.0
+    assert s["status"] == "ok" and s["inputs"]["spans_m"] == [L, L2]
+    assert s["simulated_seconds"] == pytest.approx((18.0 + L + L2) / V, abs=s["dt_s"])
+    with open(out / "timeseries.csv", newline="") as fh:
+        rows = list(csv.reader(fh))
+    data = dict(zip(rows[0], np.array(rows[1:], dtype=float).T))
+    t = data["time_s"]
+    axles = read_axle_file(f)
+    for k, (span, t0) in enumerate(((L, 0.0), (L2, L / V))):
+        w, a = modal_moving_load_response([span / 2], t - t0, axles, speed_m_s=V, span_m=span, EI_Nm2=EI, m_kg_m=M,
+                                          damping_ratio=0.01, n_modes=3)
+        for col, ref in (("midspan_displacement_m", w[:, 0]), ("midspan_acceleration_m_s2", a[:, 0])):
+            got = data[f"deck_span{k + 1}_{col}"]
+            assert np.max(np.abs(got - ref)) <= RUN_TOL * np.max(np.abs(ref)), (k, col)
+        sp = s["spans"][k]
+        assert sp["f1_Hz"] == pytest.approx(F1 * (L / span) ** 2)
+        assert sp["frequencies_Hz"] == pytest.approx([sp["f1_Hz"] * j * j for j in (1, 2, 3)], rel=1e-4)
+        assert sp["max_abs_midspan_displacement_m"] == pytest.approx(np.max(np.abs(w)), rel=RUN_TOL)
+        en = sp["EN1990_A2_deck_acceleration"]
+        assert en["cutoff_Hz"] == pytest.approx(max(30.0, 9 * sp["f1_Hz"]))
+    assert s["max_abs_deck_midspan_displacement_m"] == s["spans"][0]["max_abs_midspan_displacement_m"]
+
+
+def test_lateral_modes_stay_at_rest_under_vertical_loads():
+    """The section decouples lateral from vertical bending (the beam axis is the shear centre and the centre of
+    mass, the rails at its height): vertical axle loads do not excite the lateral modes — exactly zero, every step;
+    the vertical response is that of the run without lateral modes (its closed form, RUN_TOL)."""
+    axles = AxleTrain(np.array([0.0, 2.5, 18.0, 20.5]), np.full(4, 1.7e5))
+    case = _chain_case(axles, 60.0, (L, L), lateral_modes=2, lateral_f1_Hz=7.0)
+    r = bc.run_bridge_crossing(case)
+    ts = r.timeseries
+    lateral = [c for c in ts if "lateral" in c]
+    assert len(lateral) == 6                                     # the first span's two, two per span
+    for c in lateral:
+        assert np.all(ts[c] == 0.0), c
+    assert r.summary["max_abs_deck_lateral_midspan_displacement_m"] == 0.0
+    assert r.summary["lateral"]["frequencies_Hz"] == pytest.approx([7.0, 28.0], rel=1e-4)
+    ew, ea, _, _ = _errors(r, case)
+    assert ew <= RUN_TOL and ea <= RUN_TOL
+
+
+def test_lateral_modes_under_a_moving_lateral_force_against_the_closed_form(monkeypatch):
+    """A lateral force moving over the span (what the vehicles model's wheel–rail lateral forces do, through the
+    same modal projection) drives the lateral modes: the lateral mid-span response is the moving-load closed form
+    with EI_z = m (2 L² f_L/π)² (run budget RUN_TOL, module docstring)."""
+    import sys
+    import types
+    fy, fl = 3e4, 7.0
+
+    def build_lateral(mbs, case, bridge):
+        forces = np.zeros((1, 3))
+        forces[0, 0] = fy                                         # Fy along the track's y axis
+        mf = bridge.add_moving_forces(mbs, np.zeros(1), forces, case.speed_m_s, s_start_m=case.deck_start_m)
+        return bc.LoadModelHandle(contact=None, axle_x_m=np.zeros(1), axle_load_N=np.array([fy]),
+                                  modal_forces=lambda mbs_, t: mf.forces(t).copy())
+
+    mod = types.ModuleType("bridge_crossing_lateral_model")
+    mod.LATERAL = bc.LoadModel(check=bc.MOVING_LOADS.check, build=build_lateral)
+    monkeypatch.setitem(sys.modules, "bridge_crossing_lateral_model", mod)
+    monkeypatch.setitem(bc.LOAD_MODELS, "vehicles", "bridge_crossing_lateral_model:LATERAL")
+    case = _case(AxleTrain(np.array([0.0]), np.array([fy])), 40.0, model="vehicles", lateral_modes=3,
+                 lateral_f1_Hz=fl, free_vibration_s=0.2)
+    r = bc.run_bridge_crossing(case)
+    ts = r.timeseries
+    w, a = modal_moving_load_response([L / 2], ts["time_s"], case.axles, speed_m_s=40.0, span_m=L,
+                                      EI_Nm2=flexural_rigidity_Nm2(L, M, fl), m_kg_m=M, damping_ratio=ZETA, n_modes=3)
+    for col, ref in (("deck_lateral_midspan_displacement_m", w[:, 0]),
+                     ("deck_lateral_midspan_acceleration_m_s2", a[:, 0])):
+        assert np.max(np.abs(ts[col] - ref)) <= RUN_TOL * np.max(np.abs(ref)), col
+    assert r.summary["lateral"]["EI_z_Nm2"] == pytest.approx(flexural_rigidity_Nm2(L, M, fl))
+
+
+@pytest.mark.parametrize("extra, expected", [
+    (["--spans-m", "20", "-5"], "--spans-m: -5 is not a plausible span length"),
+    (["--spans-m", "25", "20"], "--spans-m: the first span 25 m is not --span-m 20 m"),
+    (["--n-spans", "3", "--spans-m", "20", "25"], "--n-spans: 3 spans but --spans-m lists 2 span lengths"),
+    (["--n-spans", "0"], "--n-spans: expected a positive integer"),
+    (["--lateral-modes", "-1"], "--lateral-modes: -1 must be an integer from 0 to 60"),
+    (["--lateral-frequency-hz", "0"], "--lateral-frequency-hz: 0 is not a plausible first bending frequency"),
+])
+def test_bad_chain_and_lateral_options_are_one_line_errors(tmp_path, capsys, extra, expected):
+    assert _main(ARGS + ["--hslm", "A1", "--out", str(tmp_path / "o")] + extra) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and err.startswith("error: ") and expected in err, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_n_spans_is_a_chain_of_equal_spans(tmp_path):
+    out = str(tmp_path / "o")
+    assert _parse(ARGS + ["--hslm", "A1", "--n-spans", "3", "--out", out]).crossing.chain_m == (L, L, L)
+    assert _parse(ARGS + ["--hslm", "A1", "--n-spans", "2", "--spans-m", "20", "20", "--out", out]).crossing.spans_m \
+        == (L, L)
+    assert _parse(ARGS + ["--hslm", "A1", "--out", out]).crossing.spans_m is None
+
+
+def _parse(argv):
+    from exudyn_wheelrail.cli import build_parser
+    args = build_parser().parse_args(argv)
+    args.check(args)
+    return args
+
+
+# ------------------------------------------------------------------------------------------- sprung masses
+def test_one_sprung_mass_against_a_separately_integrated_modal_system():
+    """One axle as a sprung mass (m = P/g on k = m (2π f_v)², c = 2 ζ_v m 2π f_v, f_v = 4 Hz near f1: a strong
+    interaction) crossing the span: Exudyn's run against the coupled equations of the model's docstring — the same
+    modes (frequencies and shapes of the deck model) and the mass integrated separately by scipy's DOP853 at rtol
+    1e-11, restarted where the mass leaves the span (the damper's force jumps there).  What separates them is RK44
+    at the default step and the Hermite interpolation of the shapes: within the runs' budget RUN_TOL (measured 8e-7
+    of the peak deflection, 8e-5 of the peak acceleration)."""
+    from scipy.integrate import solve_ivp
+
+    from exudyn_wheelrail.multibody.vehicle_builder import GRAVITY_M_S2
+    P, V, fv, zv = 2e5, 40.0, 4.0, 0.05
+    case = _case(AxleTrain(np.array([0.0]), np.array([P])), V, model="sprung-masses", sprung_frequency_Hz=fv,
+                 sprung_damping_ratio=zv, free_vibration_s=0.3)
+    r = bc.run_bridge_crossing(case)
+    assert r.summary["status"] == "ok"
+    ts = r.timeseries
+    t = ts["time_s"]
+    modes = bc.deck_modes(case).modes
+    n = modes.n_modes
+    w2, d = modes.omega_rad_s ** 2, 2 * ZETA * modes.omega_rad_s
+    m = P / GRAVITY_M_S2
+    k, c = m * (2 * math.pi * fv) ** 2, 2 * zv * m * 2 * math.pi * fv
+
+    def rhs(tt, y):
+        q, q_t, z, z_t = y[:n], y[n:2 * n], y[2 * n], y[2 * n + 1]
+        phi, dphi = modes.shape_and_slope_at(np.array([V * tt]))
+        p, dp = phi[0, 1], dphi[0, 1]
+        f = k * (z - p @ q) + c * (z_t - p @ q_t - V * (dp @ q))
+        return np.r_[q_t, p * (P + f) - d * q_t - w2 * q, z_t, -f / m]
+
+    t_exit = L / V
+    on = solve_ivp(rhs, (0.0, t_exit), np.zeros(2 * n + 2), method="DOP853", rtol=1e-11, atol=1e-14,
+                   dense_output=True)
+    off = solve_ivp(rhs, (t_exit, t[-1]), on.y[:, -1], method="DOP853", rtol=1e-11, atol=1e-14, dense_output=True)
+    Y = np.where(t <= t_exit, on.sol(np.minimum(t, t_exit)), off.sol(np.maximum(t, t_exit)))
+    phi_mid = modes.shape_at(L / 2)[1]
+    w_ref = phi_mid @ Y[:n]
+    a_ref = np.array([phi_mid @ rhs(tt, Y[:, i])[n:2 * n] for i, tt in enumerate(t)])
+    assert np.max(np.abs(ts["deck_midspan_displacement_m"] - w_ref)) <= RUN_TOL * np.max(np.abs(w_ref))
+    assert np.max(np.abs(ts["deck_midspan_acceleration_m_s2"] - a_ref)) <= RUN_TOL * np.max(np.abs(a_ref))
+    details = r.summary["load_model"]["details"]
+    assert details["sprung_mass_kg"] == pytest.approx([m])
+    assert details["max_abs_interaction_force_over_static_load"] > 10 * RUN_TOL       # the interaction is there
+
+
+def test_sprung_masses_tend_to_the_moving_loads_as_the_suspension_softens():
+    """f_v → 0: the interaction force k (z - w) + c (ż - ẇ) vanishes — the damper's share linearly in f_v
+    (c ∝ f_v), the spring's quadratically — and the deck sees the moving loads: the difference of the mid-span
+    deflection shrinks at least 8 x for a 10 x softer suspension (linear: 10 x; measured 10.2 x) and is below
+    2e-3 of the peak at 0.05 Hz (measured 1.2e-3); same time step, same rows."""
+    axles = AxleTrain(np.array([0.0, 2.5, 18.0, 20.5]), np.full(4, 1.7e5))
+    ref = bc.run_bridge_crossing(_case(axles, 50.0, free_vibration_s=0.2)).timeseries
+    diff = {}
+    for fv in (0.5, 0.05):
+        r = bc.run_bridge_crossing(_case(axles, 50.0, free_vibration_s=0.2, model="sprung-masses",
+                                         sprung_frequency_Hz=fv))
+        ts = r.timeseries
+        assert r.summary["status"] == "ok" and np.array_equal(ts["time_s"], ref["time_s"])
+        w = ref["deck_midspan_displacement_m"]
+        diff[fv] = np.max(np.abs(ts["deck_midspan_displacement_m"] - w)) / np.max(np.abs(w))
+    assert diff[0.05] < diff[0.5] / 8 and diff[0.05] < 2e-3, diff
+
+
+def test_sprung_masses_on_the_command_line(tmp_path, capsys):
+    f = _axle_file(tmp_path / "axles.csv", ["0,170000", "2.5,170000"])
+    out = tmp_path / "o"
+    assert main(ARGS[:-4] + ["--model", "sprung-masses", "--speed-kmh", "250", "--axles", f, "--sprung-frequency-hz",
+                             "2", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "ok" and s["inputs"]["sprung_frequency_Hz"] == 2.0
+    assert s["inputs"]["sprung_damping_ratio"] == bc.SPRUNG_DAMPING_RATIO
+    assert s["load_model"]["details"]["max_abs_sprung_acceleration_m_s2"] > 0.0
+    assert _main(ARGS[:-4] + ["--model", "sprung-masses", "--speed-kmh", "250", "--axles", f,
+                              "--sprung-damping-ratio", "1.5", "--out", str(tmp_path / "o2")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("error: --sprung-damping-ratio: 1.5 must be < 1")
+
+
+def test_hslm_a1_axle_positions_equal_the_published_table():
+    """HSLM-A1 (EN 1991-2 Fig. 6.12, Table 6.3: N = 18, D = 18 m, d = 2.0 m, P = 170 kN), axle positions behind
+    the first axle as tabulated for the universal trains in the CALDINTAV HSLM axle tables (and constructed by hand
+    from Fig. 6.12: power car 3 + 11 + 3 m, 3.525 m to the end coach's first axle, its bogies d apart ...): the
+    first ten and the last six of the 50 axles.  Exact to the table's 0.1 mm."""
+    from exudyn_wheelrail.structures.load_models import hslm_a
+    a = hslm_a("A1")
+    assert len(a.x_m) == 50
+    np.testing.assert_allclose(a.x_m[:10], [0.0, 3.0, 14.0, 17.0, 20.525, 22.525, 35.7625, 37.7625, 53.7625,
+                                            55.7625], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(a.x_m[-6:], [375.0, 377.0, 380.525, 383.525, 394.525, 397.525], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(a.load_N, 170e3, rtol=0, atol=0)

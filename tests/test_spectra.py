@@ -151,3 +151,38 @@ def test_bad_inputs():
         SpectralIrregularity("german_low", 500.0, seed=1, channels=("twist",))
     with pytest.raises(ValueError, match="unknown channel"):
         SPECTRA["german_low"].psd("twist", 1.0)
+
+
+# Published coefficients, typed here again from the tables (FRA: Hamid & Yang 1981 as in Garg & Dukkipati 1984,
+# Table 2.2 / Zhai 2020, Table 2.2; German: Zhai 2020, Table 2.4): a typo in the catalogue's constants changes the
+# spectrum by at least one digit in 5 (>= 1e-5 relative), far above the round-off of these closed forms (1e-15).
+_FRA_PUBLISHED = {"fra_class_1": (1.2107, 3.3634, 0.6046), "fra_class_4": (0.5376, 0.3027, 1.1312),
+                  "fra_class_6": (0.0339, 0.0339, 0.4380)}        # A_v, A_a [cm² rad/m], Ω_s [rad/m]
+_GERMAN_PUBLISHED = {"german_low": (2.119e-7, 4.032e-7, 5.32e-8), "german_high": (6.125e-7, 1.080e-6, 1.032e-7)}
+
+
+@pytest.mark.parametrize("name", sorted(_FRA_PUBLISHED))
+def test_fra_catalogue_equals_the_published_formula(name):
+    a_v, a_a, om_s = _FRA_PUBLISHED[name]
+    k, om_c = 0.25, 0.8245
+    w = np.array([0.03, 0.2, 1.0, 2.0])
+    w2, c2 = w ** 2, om_c ** 2
+    expect = {"level": 1e-4 * k * a_v * c2 / (w2 * (w2 + c2)), "alignment": 1e-4 * k * a_a * c2 / (w2 * (w2 + c2)),
+              "cross_level": 1e-4 * 4 * k * a_v * c2 / ((w2 + c2) * (w2 + om_s ** 2))}
+    expect["gauge"] = expect["cross_level"]
+    for ch, ref in expect.items():
+        np.testing.assert_allclose(SPECTRA[name].psd(ch, w), ref, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(_GERMAN_PUBLISHED))
+def test_german_catalogue_equals_the_published_formula(name):
+    a_a, a_v, a_g = _GERMAN_PUBLISHED[name]
+    om_c, om_r, om_s, b = 0.8246, 0.0206, 0.4380, 0.75
+    w = np.array([0.03, 0.2, 1.0, 2.0])
+    w2 = w ** 2
+    base = om_c ** 2 / ((w2 + om_r ** 2) * (w2 + om_c ** 2))
+    # cross level as a height difference: (2b)² times the published angle spectrum A_v b⁻² Ω_c² Ω² / (...)
+    expect = {"alignment": a_a * base, "level": a_v * base, "gauge": a_g * base * w2 / (w2 + om_s ** 2),
+              "cross_level": (2 * b) ** 2 * a_v / b ** 2 * base * w2 / (w2 + om_s ** 2)}
+    for ch, ref in expect.items():
+        np.testing.assert_allclose(SPECTRA[name].psd(ch, w), ref, rtol=1e-12)

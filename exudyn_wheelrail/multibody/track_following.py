@@ -37,7 +37,7 @@ track-frame components, set before every step):
   in place of ``m g`` (gradient: ``−m g sin θ`` along x, carried by the longitudinal restraint);
   ``r = (0, y_cg, z_cg)`` nominal (a car-body centre 1.8 m above the rails adds ``m Ω_z² r`` ≈ 4.5e-3 m/s² for
   V = 30 m/s, R = 600 m);
-* torque ``−(I Ω̇ + Ω × I Ω + Ω × I ω_s − ω_s × I Ω + I (ω_s × Ω))`` with ``ω_s = (0, −V/r0, 0)`` the nominal
+* torque ``−(I Ω̇ + Ω × I Ω + Ω × I ω_s + ω_s × I Ω − I (ω_s × Ω))`` with ``ω_s = (0, −V/r0, 0)`` the nominal
   spin of a wheelset (zero for the other bodies).  For a wheelset (``I_xx = I_zz``) the last two terms cancel and
   ``−Ω × I ω_s`` is the **gyroscopic moment** of the spinning axle in the turning frame: ``x`` component
   ``I_yy ω_s V κ cos φ = −I_yy V² κ cos φ / r0`` (the rails must supply ``dH/dt = Ω × H``, ``H = I_yy ω_s e_y``:
@@ -146,7 +146,7 @@ def _frame_terms(pieces, par, psi_a, Psi_a, theta_g, V, g, s, m, r, inertia, spi
         for a in range(3):
             I_dOm = I[a, 0] * dOm[0] + I[a, 1] * dOm[1] + I[a, 2] * dOm[2]
             I_wO = I[a, 0] * Iw[0] + I[a, 1] * Iw[1] + I[a, 2] * Iw[2]
-            T[i, a] = -(I_dOm + a1[a] + a2[a] - a3[a] + I_wO)
+            T[i, a] = -(I_dOm + a1[a] + a2[a] + a3[a] - I_wO)
     for e in range(el_bodies.shape[0]):
         kA = el_bodies[e, 0]
         kB = el_bodies[e, 1]

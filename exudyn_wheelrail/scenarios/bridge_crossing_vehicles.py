@@ -9,7 +9,8 @@ crossing, as :func:`exudyn_wheelrail.scenarios.build.build_scenario` couples a v
 wheel moves its rails, the wheel forces drive the modes).  The rails are otherwise perfect (no irregularity); the
 contact settings are the defaults of :class:`~exudyn_wheelrail.simulation.settings.ContactSettings`.
 
-Conventions of the crossing: the deck spans ``[deck_start_m, deck_start_m + L]``; at ``t = 0`` the train's leading
+Conventions of the crossing: the deck spans ``[deck_start_m, deck_start_m + L]`` (L the sum of the spans of a
+chain: the connector sees the whole chain's modes, vertical and lateral); at ``t = 0`` the train's leading
 wheelset is at ``deck_start_m`` and the whole train behind it, every car in static equilibrium on the rails
 (:func:`~exudyn_wheelrail.multibody.train.place_train_on_track`; the unloaded deck is at rest).
 

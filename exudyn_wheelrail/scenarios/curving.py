@@ -18,9 +18,18 @@ Run length (:func:`curving_distances`): the leading wheelset starts :data:`LEAD_
 run lasts until the trailing wheelset has run the settling distance ``max(SETTLE_M, SETTLE_S · V)`` into the
 circular curve and then the steady part ``max(WINDOW_M, WINDOW_S · V)``.  The mean over a whole number of periods
 of the slowest oscillation left in it (:func:`~exudyn_wheelrail.analysis.curving.averaging_window`) is the steady
-value; the run is called steady when, per wheelset, the means of ΣY over the two halves of the steady part differ
-by less than :data:`~exudyn_wheelrail.analysis.curving.STEADY_TOLERANCE` of the static axle load
+value; the run is called steady when the means of ΣY over the two halves of the steady part differ, summed over
+the wheelsets, by less than :data:`~exudyn_wheelrail.analysis.curving.STEADY_TOLERANCE` of ``m max(|a_nc|, 0.3 m/s²)``
 (:func:`~exudyn_wheelrail.analysis.curving.steady_state`).
+
+Track irregularities (``CurvingCase.irregularity``): any :class:`~exudyn_wheelrail.multibody.track.Irregularity`
+(per-rail channels, :mod:`exudyn_wheelrail.track.irregularities`) displaces the rails of the layout, relative to
+the local track frame at each wheelset's s.  The vehicle starts in equilibrium on the undisplaced straight, so the
+irregularity must vanish, with its slopes, under every wheelset at t = 0 (checked before any work).
+:func:`spectral_irregularity` generates one from a standard spectrum (:mod:`exudyn_wheelrail.track.spectra`) over
+the run's distance and fades it in (:class:`FadedIn`, a raised cosine) from the leading wheelset's start to the
+start of the circular curve, so the steady part runs over the full standard irregularity.  The steady values are
+then the means over the averaging window of the response to it.
 """
 from __future__ import annotations
 
@@ -35,12 +44,14 @@ import numpy as np
 from ..analysis.curving import curving_columns, minimum_radius_m, steady_state
 from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..simulation import status as S
+from ..track.irregularities import CHANNELS, ChannelTable
 from ..track.layout import MAX_CANT_M, TrackLayout
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
            "build_curving", "run_curving", "LEAD_IN_M", "SETTLE_M", "SETTLE_S", "WINDOW_M", "WINDOW_S",
-           "MAX_TRANSITION_M", "MAX_SPEED_KM_H", "MAX_RADIUS_M", "DEFAULT_RAMP", "CREEP_STEP_FACTOR",
-           "creep_step_limit_s", "curving_summary", "write_outputs"]
+           "MAX_TRANSITION_M", "MAX_SPEED_KM_H", "MIN_SPEED_KM_H", "MAX_RADIUS_M", "DEFAULT_RAMP", "CREEP_STEP_FACTOR",
+           "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity",
+           "irregularity_fade_m", "MIN_FADE_M", "START_TOLERANCE_M"]
 
 #: straight track ahead of the leading wheelset at t = 0 [m]
 LEAD_IN_M = 5.0
@@ -58,7 +69,15 @@ CREEP_STEP_FACTOR = 2.0
 #: plausible ranges (values outside name the unit they were evidently given in)
 MAX_TRANSITION_M = 1000.0
 MAX_SPEED_KM_H = 500.0
+MIN_SPEED_KM_H = 10.0
 MAX_RADIUS_M = 1.0e5
+#: shortest fade-in of a generated irregularity [m] (its slope is at most π/2 · amplitude / fade length)
+MIN_FADE_M = 20.0
+#: the layout's circular curve (and a generated irregularity) reaches this far beyond the run's distance [m]
+LAYOUT_MARGIN_M = 10.0
+#: the track under the wheelsets at t = 0 counts as undisplaced when every channel is within this [m] (and every
+#: slope within this per metre)
+START_TOLERANCE_M = 1e-12
 
 
 class CurvingInputError(ValueError):
@@ -84,6 +103,9 @@ class CurvingCase:
     preset: str = "fast"
     #: a :class:`~exudyn_wheelrail.contact.WheelRailPair` in place of the vehicle's profiles (None: the vehicle's)
     wheel_rail_pair: object = None
+    #: an :class:`~exudyn_wheelrail.multibody.track.Irregularity` of the rails (None: a perfect track); zero under
+    #: the wheelsets at t = 0 (module docstring; :func:`spectral_irregularity`)
+    irregularity: object = None
 
     @property
     def speed_m_s(self) -> float:
@@ -123,6 +145,11 @@ def check_curving_case(case: CurvingCase, vehicle=None):
         lt = num("transition_m", case.transition_m)
         if lt < 0.0:
             raise CurvingInputError("transition_m", f"{lt:g} m: a transition cannot be shorter than 0 m")
+        if lt == 0.0 and case.cant_m not in (None, 0, 0.0):
+            raise CurvingInputError("transition_m", "0 m with a cant: the cant would step from 0 to "
+                                                    f"{float(case.cant_m):g} m at one section (the rails twist "
+                                                    "instantly under a wheelset); give a transition for the cant ramp "
+                                                    f"(e.g. 1:{DEFAULT_RAMP:g}) or leave --transition-m out")
         if lt > MAX_TRANSITION_M:
             raise CurvingInputError("transition_m", f"{lt:g} m is longer than {MAX_TRANSITION_M:g} m; was it given "
                                                     f"in mm ({lt / 1000:g} m)?")
@@ -132,8 +159,10 @@ def check_curving_case(case: CurvingCase, vehicle=None):
     if h > MAX_CANT_M:
         hint = f"; was it given in mm ({h / 1000:g} m)?" if h >= 1.0 else ""
         raise CurvingInputError("cant_m", f"{h:g} m is above the largest cant, {MAX_CANT_M:g} m (EN 13803){hint}")
-    if not v > 0.0:
-        raise CurvingInputError("speed_km_h", f"{v:g} km/h: expected a running speed > 0")
+    if not v >= MIN_SPEED_KM_H:
+        raise CurvingInputError("speed_km_h", f"{v:g} km/h: expected a running speed >= {MIN_SPEED_KM_H:g} km/h "
+                                              "(the steady-curving run covers a fixed distance; below this its "
+                                              "duration and the creep damping's time step make it impractical)")
     if v > MAX_SPEED_KM_H:
         raise CurvingInputError("speed_km_h", f"{v:g} km/h is above {MAX_SPEED_KM_H:g} km/h")
     if case.direction not in ("right", "left"):
@@ -152,7 +181,87 @@ def check_curving_case(case: CurvingCase, vehicle=None):
         hint = f"; was it given in km ({R * 1000:g} m)?" if R < 10.0 else ""
         raise CurvingInputError("radius_m", f"{R:g} m is below the smallest radius this vehicle can follow, "
                                             f"{r_min:.0f} m ({why}){hint}")
+    if case.irregularity is not None:
+        _check_start_undisplaced(case.irregularity, vehicle)
     return vehicle
+
+
+def _start_s_m(vehicle) -> np.ndarray:
+    """Track distances of the wheelsets at t = 0 (the leading one at s = 0)."""
+    x = np.asarray(vehicle.wheelset_x_m(), dtype=float)
+    return x - np.max(x)
+
+
+def _check_start_undisplaced(irregularity, vehicle) -> None:
+    from ..multibody.track import Irregularity
+    from ..track.irregularities import channel_values
+    if not isinstance(irregularity, Irregularity):
+        raise CurvingInputError("irregularity", f"{irregularity!r}: expected an Irregularity "
+                                                "(exudyn_wheelrail.multibody.track, track.irregularities, "
+                                                "track.spectra) or None")
+    s0 = _start_s_m(vehicle)
+    v = channel_values(irregularity, s0)
+    for name in CHANNELS:
+        for prefix, unit in (("", "m"), ("d_", "m/m")):
+            key = f"{prefix}{name}" if prefix else f"{name}_m"
+            vals = np.asarray(getattr(v, key))
+            if np.any(np.abs(vals) > START_TOLERANCE_M):
+                j = int(np.argmax(np.abs(vals)))
+                what = "slope of the " if prefix else ""
+                raise CurvingInputError(
+                    "irregularity", f"{irregularity!r}: the {what}{name} is {vals[j]:.3g} {unit} under a wheelset "
+                                    f"at t = 0 (s = {s0[j]:g} m); the vehicle starts on the undisplaced straight "
+                                    "(s <= 0 m): start the irregularity ahead of the leading wheelset or fade it "
+                                    "in (FadedIn, spectral_irregularity)")
+
+
+class FadedIn(ChannelTable):
+    """The channels of ``table`` (a :class:`~exudyn_wheelrail.track.irregularities.ChannelTable`, e.g. a
+    :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`) times the raised cosine
+    ``w(s) = (1 - cos(π u))/2``, ``u = (s - s_from)/(s_to - s_from)`` clipped to [0, 1]: zero (with its slope) up to
+    ``s_from_m``, the table's own from ``s_to_m`` on; re-interpolated at the table's samples.  The table must start
+    at or before ``s_from_m``.  ``seed`` is the table's (None if it has none)."""
+
+    def __init__(self, table, s_from_m: float, s_to_m: float):
+        if not isinstance(table, ChannelTable):
+            raise ValueError(f"FadedIn: {table!r}: expected a ChannelTable (sampled channels)")
+        if not (math.isfinite(s_from_m) and math.isfinite(s_to_m) and s_to_m > s_from_m):
+            raise ValueError(f"FadedIn: s_from_m = {s_from_m!r}, s_to_m = {s_to_m!r}: expected finite s_from_m < "
+                             "s_to_m")
+        if table.s_m[0] > s_from_m:
+            raise ValueError(f"FadedIn: {table!r} starts at s = {table.s_m[0]:g} m, after s_from_m = {s_from_m:g} m "
+                             "(it is held constant before its start, not zero)")
+        u = np.clip((table.s_m - s_from_m) / (s_to_m - s_from_m), 0.0, 1.0)
+        w = 0.5 * (1.0 - np.cos(math.pi * u))
+        self.source = table
+        self.seed = getattr(table, "seed", None)
+        self.s_from_m, self.s_to_m = float(s_from_m), float(s_to_m)
+        super().__init__(table.s_m, {k: w * v for k, v in table.channels.items()}, name=f"{table.name} faded in")
+
+    def __repr__(self):
+        return f"FadedIn({self.source!r}, s_from_m={self.s_from_m:g}, s_to_m={self.s_to_m:g})"
+
+
+def irregularity_fade_m(case: CurvingCase) -> tuple[float, float]:
+    """Where a generated irregularity is faded in: from the leading wheelset's start (s = 0) to the start of the
+    circular curve, at least :data:`MIN_FADE_M`."""
+    return 0.0, max(LEAD_IN_M + case.transition_length_m, MIN_FADE_M)
+
+
+def spectral_irregularity(case: CurvingCase, spectrum, seed: int, vehicle=None, **options) -> FadedIn:
+    """An irregularity of ``spectrum`` (a name of :data:`~exudyn_wheelrail.track.spectra.SPECTRA`) and ``seed``
+    for ``case``: generated from s = 0 over the run's distance (at least the band's longest wavelength; ``options``
+    as :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`: ``band_m``, ``step_m``, ``channels``,
+    ``scale``; their defaults are the spectra module's) and faded in (:func:`irregularity_fade_m`).  Raises
+    ``ValueError`` for a bad spectrum, seed or option."""
+    from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
+    if vehicle is None:
+        vehicle = _vehicle(case)
+    dist = curving_distances(case, vehicle)
+    band = options.get("band_m", DEFAULT_BAND_M)
+    length = max(dist["total_m"] + LAYOUT_MARGIN_M, float(max(band)))
+    table = SpectralIrregularity(spectrum, length, seed, start_m=0.0, **options)
+    return FadedIn(table, *irregularity_fade_m(case))
 
 
 def curving_distances(case: CurvingCase, vehicle) -> dict:
@@ -204,7 +313,7 @@ def build_curving(case: CurvingCase, vehicle=None):
     dist = curving_distances(case, vehicle)
     V = case.speed_m_s
     layout = TrackLayout.curve_entry(case.radius_m, case.cant_m, dist["transition_m"], direction=case.direction,
-                                     lead_in_m=LEAD_IN_M, curve_m=dist["total_m"] + 10.0)
+                                     lead_in_m=LEAD_IN_M, curve_m=dist["total_m"] + LAYOUT_MARGIN_M)
     preset = PRESETS[case.preset]
     run = RunSettings(**preset.run)
     dt = min(float(run.dt_s), creep_step_limit_s(vehicle, V))
@@ -220,9 +329,13 @@ def build_curving(case: CurvingCase, vehicle=None):
                                                  inclination=geo.rail_inclination_tan,
                                                  back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     contact_options = dict(preset.contact)
+    track = {}
+    if case.irregularity is not None:                  # zero under the wheelsets at t = 0 (check_curving_case)
+        from ..multibody.track import RigidStraightTrack
+        track = dict(track=RigidStraightTrack(case.irregularity))
     contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s_start,
                                      creep_law=contact_options.get("creep_law", "table"), mu=case.friction,
-                                     geometry=contact_options.get("geometry", "online"), layout=layout)
+                                     geometry=contact_options.get("geometry", "online"), layout=layout, **track)
     place_on_rails(mbs, model, pair)
     frame = TrackFollowingFrame(mbs, model, layout)
     probes = vehicle_probes(model=model, contact=contact, track=contact.track, speed_m_s=V, s_leading0_m=0.0)
@@ -272,9 +385,15 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
                "balance_speed_km_h": math.sqrt(g * math.tan(phi) * case.radius_m) * 3.6,
                "distances_m": dist, "solver": h["run"].solver, "dt_s": h["run"].dt_s,
                "solve_seconds": outcome.solve_seconds, "t_end_s": outcome.t_end_s}
+    if case.irregularity is not None:
+        irr = case.irregularity
+        summary["irregularity"] = {"description": repr(irr), "seed": getattr(irr, "seed", None)}
+        if isinstance(irr, FadedIn):
+            summary["irregularity"]["faded_in_m"] = [irr.s_from_m, irr.s_to_m]
     ok = status.kind == S.OK and outcome.t_end_s >= dist["duration_s"] - 2 * h["run"].dt_s
     if ok:
-        st = steady_state(ts, model, layout, t_from_s=dist["window_start_s"], speed_m_s=V, gravity_m_s2=g)
+        st = steady_state(ts, model, layout, t_from_s=dist["window_start_s"], speed_m_s=V, gravity_m_s2=g,
+                          a_nc_m_s2=a_nc)
         summary.update(st)
         total = float(np.sum(st["sum_Y_N"]))
         guidance = st.get("guidance_lateral_N", 0.0)
@@ -283,6 +402,14 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
             "relative_error": (total + guidance - mass * a_nc) / (mass * a_nc) if abs(a_nc) > 0 else None,
             "reads": "sum_sum_Y_N + guidance_lateral_N = m_a_nc (guidance: the elements to the moving frame of the "
                      "bogie and wheelset layouts, zero for a car)"}
+        if not st["steady"]:
+            summary["notes"] = [f"not steady: the means of sum Y over the two halves of the steady part differ by "
+                                f"{sum(st['steady_drift_N']):.4g} N summed over the wheelsets (tolerance "
+                                f"{st['steady_tolerance_N']:.4g} N): the values are means of a drifting run; run a "
+                                "longer curve or check the vehicle's damping"]
+            if case.irregularity is not None:
+                summary["notes"].append("over track irregularities the halves differ also by the response to them "
+                                        "(the drift tolerance is set for a perfect track)")
     else:
         summary["sum_Y_N"] = None
         summary["steady"] = False

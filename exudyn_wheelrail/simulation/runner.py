@@ -260,15 +260,16 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
     ok = False
     # Exudyn's end-of-solve check counts the allocations of the Python user functions (the contact's results, the
     # hook) and prints a 'may be slow' warning for any long run: by design here, not a finding of this run
+    # (the check compares with solverCheckMemoryAllocationsThreshold; Exudyn 1.13.6 does not read the on/off flag)
     import exudyn.solver as exu_solver
-    check_allocations = exu_solver.solverCheckMemoryAllocations
-    exu_solver.solverCheckMemoryAllocations = False
+    threshold = exu_solver.solverCheckMemoryAllocationsThreshold
+    exu_solver.solverCheckMemoryAllocationsThreshold = float("inf")
     try:
         ok = mbs.SolveDynamic(sim, solverType=solver_type)
     except Exception as e:                 # Exudyn re-raises user-function exceptions (the cause is kept)
         exc = e
     finally:
-        exu_solver.solverCheckMemoryAllocations = check_allocations
+        exu_solver.solverCheckMemoryAllocationsThreshold = threshold
     out.solve_seconds = time.perf_counter() - t_start
     out.t_end_s = float(mbs.systemData.GetTime())
     out.rejected_steps = hook.rejected

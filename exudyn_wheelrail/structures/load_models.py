@@ -255,6 +255,12 @@ def read_axle_file(path) -> AxleTrain:
     if header is None or not xs:
         raise ValueError(f"{path}: no axle (expected a header line with {', '.join(AXLE_FILE_COLUMNS)} and one "
                          "line per axle)")
+    if sum(ps) <= 0.0:
+        import warnings
+
+        from ..validation import InputWarning
+        warnings.warn(f"{path}: the axle loads sum to {sum(ps):g} N, not a downward weight (load_N is positive "
+                      "downwards); going on with them", InputWarning, stacklevel=2)
     return AxleTrain(np.array(xs), np.array(ps), name=path.stem, source=str(path))
 
 
