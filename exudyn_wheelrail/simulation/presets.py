@@ -7,8 +7,9 @@ summary states the preset, what it set and what was overridden (:func:`apply_pre
 work–precision study (``benchmarks/work_precision.py``, RTRI 20 m at 250 km/h against a converged RK44 0.05 ms
 reference; table and reasons in ``benchmarks/README.md``).  Targets (one core): ``default`` at least 6x faster than
 real time with at most 1 % error in the peak lateral contact force; ``fast`` at least 15x with at most 5 %.
-Measured (``benchmarks/bench_presets.py``, shared machine): accurate 1.0x / 0.05 %; default 3.9x / 0.57 %; fast
-5.8x / 1.8 % — the error targets are met, the speed targets are not (benchmarks/README.md says why).
+Measured (``benchmarks/bench_presets.py``, 2 shared cores, load 1.1-1.4; real-time factor without / with recording,
+peak lateral force error): accurate 1.2x / 1.1x, 0.05 %; default 4.0x / 3.7x, 0.57 %; fast 5.4x / 4.6x, 1.8 % — the
+error targets are met, the speed targets are not (benchmarks/README.md says why).
 
 Without a preset a front end keeps its own settings (``rtri``: the paper's Newmark β = 1/4, γ = 1/2, 1 ms, online
 geometry).  A preset does not set the simulated duration.
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 
 from .settings import ContactSettings, RunSettings
 
-__all__ = ["Preset", "PRESETS", "TARGETS", "apply_preset"]
+__all__ = ["Preset", "PRESETS", "TARGETS", "SPRINGS_RATIO_MAX", "apply_preset"]
 
 
 @dataclass(frozen=True)
@@ -55,6 +56,8 @@ PRESETS = {
 #: per preset: (minimum real-time factor on one core, maximum relative error of the peak lateral contact force of
 #: wheelset 1, right wheel)
 TARGETS = {"default": (6.0, 0.01), "fast": (15.0, 0.05)}
+#: the ``default`` preset's cost against the same vehicle on linear rail springs (same solver, one run): at most this
+SPRINGS_RATIO_MAX = 2.0
 
 
 def apply_preset(preset: str | None, run: RunSettings, contact: ContactSettings, *, run_options: dict | None = None,
