@@ -28,8 +28,6 @@ difference channel (± its amplitude).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from scipy.interpolate import CubicSpline
 
@@ -48,6 +46,7 @@ from ..multibody.track import (
     Irregularity,
     irregularity_channels_many,
 )
+from ..validation import finite
 
 __all__ = ["CHANNELS", "RAILS", "DEFECT_SHAPES", "ChannelValues", "ChannelTable", "IsolatedDefect",
            "channel_values", "rail_values"]
@@ -94,14 +93,10 @@ def rail_values(irregularity: Irregularity, s_m) -> dict[str, np.ndarray]:
 
 
 def _finite(name: str, value, positive=False) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} = {value!r}: expected a number") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} = {value!r} must be finite")
+    """:func:`~exudyn_wheelrail.validation.finite`, and > 0 with ``positive``."""
+    value = finite(name, value)
     if positive and not value > 0.0:
-        raise ValueError(f"{name} = {value!r} must be positive")
+        raise ValueError(f"{name}: {value:g} must be positive")
     return value
 
 
