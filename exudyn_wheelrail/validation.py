@@ -10,18 +10,21 @@ issues an :class:`InputWarning` (printed by the command line as one line ``warni
 * :class:`Quantity` — a physical quantity with its plausibility range, declared once beside the parameter it belongs
   to (e.g. the track gauge in :mod:`exudyn_wheelrail.contact.pair`); a value that fits the range only in another
   unit (millimetres for metres, ...) is reported with that hint;
-* :func:`output_dir`, :func:`output_file` — a location the results can be written to, checked before any work.
+* :func:`output_dir`, :func:`output_file` — a location the results can be written to, checked before any work;
+* :func:`read_toml` — an input file in TOML (scenario, vehicle, consist, track file), its syntax errors reported as
+  ``<path>: not valid TOML: ...`` in the caller's error class.
 """
 from __future__ import annotations
 
 import math
 import os
+import tomllib
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 __all__ = ["InputWarning", "finite", "poisson_ratio", "youngs_modulus", "POISSON_RATIO_RANGE", "Quantity",
-           "output_dir", "output_file"]
+           "output_dir", "output_file", "read_toml"]
 
 
 class InputWarning(UserWarning):
@@ -194,3 +197,12 @@ def output_file(name: str, path, suffixes: tuple[str, ...] | None = None, what: 
     if p.exists() and not os.access(p, os.W_OK):
         raise ValueError(f"{name}: cannot write {path}: the file is read-only")
     return Path(path)
+
+
+def read_toml(path, error=ValueError) -> dict:
+    """The parsed TOML file ``path``; a syntax error raises ``error("<path>: not valid TOML: <detail>")``."""
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {exc}") from None

@@ -468,13 +468,10 @@ class WheelRailContact:
         """Evaluate the contact at the model's current state (e.g. after a step, for outputs) without changing the
         warm start; returns :attr:`results`.  ``t`` must be the time *of that state* (the track irregularity is
         evaluated at ``s_start + V t + x``): Exudyn calls a pre-step user function with the time at the *end* of the
-        coming step while the state is still at its start — pass the previous step's time there."""
+        coming step while the state is still at its start — pass the previous step's time there.  The evaluation is
+        kept for a next :meth:`forces` call at the same state (:meth:`evaluate_state`)."""
         q, v = self.coordinates(mbs)
-        warm = self._kc.warm.copy()
-        try:
-            self.forces(q, v, t)
-        finally:
-            self._kc.warm[:] = warm
+        self.evaluate_state(q, v, t)
         return self.results
 
     def warm_up(self, mbs, jacobian: bool = True) -> None:

@@ -564,12 +564,18 @@ class RunMonitor:
                     D += (G_mod * a * b * coefficient / V) * np.outer(g, g)
         if not D.any():
             return 0.0
-        mass, I_inv_sqrt = inertia
+        Mh = self._mass_scaling(k, q)
+        return float(np.linalg.eigvalsh(Mh @ D @ Mh)[-1])
+
+    def _mass_scaling(self, k: int, q) -> np.ndarray:
+        """``M^-1/2`` of wheelset k at its current rotation (6x6, global: ``1/√m`` and ``(R I Rᵀ)^-1/2``) in a
+        scratch array, for the eigenvalues of a stiffness or damping matrix against the wheelset's inertia."""
+        mass, I_inv_sqrt = self._inertia[k]
         R, Mh = self._R, self._Mh
         rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
         Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
         Mh[3:, 3:] = R @ I_inv_sqrt @ R.T
-        return float(np.linalg.eigvalsh(Mh @ D @ Mh)[-1])
+        return Mh
 
     def _creep_stability(self, t, q):
         """At the first checked state of an RK44 run: the creep damping's decay rates against the step
@@ -697,13 +703,9 @@ class RunMonitor:
         """The stability estimate of wheelset k with LAPACK's eigenvalue (the compiled screening value came close
         to or above RK44's limit): the highest frequency on its linearised contact stiffness (module docstring)."""
         h = self.rk44_step_s
-        mass, I_inv_sqrt = self._inertia[k]
         n_rows = int(self._wss[k, MC.WS_ROWS])
         G = self._G[k, :n_rows].copy()
-        R, Mh = self._R, self._Mh
-        rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
-        Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
-        Mh[3:, 3:] = R @ I_inv_sqrt @ R.T              # (R I R^T)^(-1/2)
+        Mh = self._mass_scaling(k, q)
         A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
         lam = float(np.linalg.eigvalsh(A @ A.T)[-1]) if n_rows > 1 else float(A[0] @ A[0])
         wh = math.sqrt(max(lam, 0.0)) * h

@@ -50,12 +50,12 @@ the displaced track (:func:`exudyn_wheelrail.scenarios.build.start_on_track`).
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from ..validation import read_toml
 from .vehicle_builder import GRAVITY_M_S2, StaticLoadPath, VehicleModel, build_vehicle, static_load_path
 from .vehicle_data import VEHICLES_DIR, VehicleData, load_vehicle
 
@@ -171,11 +171,7 @@ def load_consist(source) -> Consist:
     if not path.is_file():
         raise ConsistError(f"{source}: consist file not found (shipped trains: "
                            f"{', '.join(shipped_trains()) or 'none'})")
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConsistError(f"{path}: not valid TOML: {exc}") from None
+    data = read_toml(path, ConsistError)
     return consist_from_dict(data, source=str(path), base_dir=path.resolve().parent)
 
 

@@ -77,7 +77,6 @@ usual ones give an :class:`~exudyn_wheelrail.validation.InputWarning` naming the
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -86,7 +85,7 @@ import numpy as np
 from ..contact.pair import BACK_TO_BACK_M, GAUGE_M, INCLINATION_TAN, R0_M, back_to_back_problem
 from ..conventions import parse_inclination
 from ..profiles.profiles import RAIL_PROFILE_NAMES, WHEEL_PROFILE_NAMES
-from ..validation import Quantity
+from ..validation import Quantity, read_toml
 
 __all__ = [
     "SCHEMA_VERSION",
@@ -732,11 +731,7 @@ def _read_toml(path: Path, _seen: tuple = ()) -> dict:
     path = Path(path).resolve()
     if path in _seen:
         raise VehicleDataError(f"{path}: base_vehicle: circular reference ({' -> '.join(map(str, _seen + (path,)))})")
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise VehicleDataError(f"{path}: not valid TOML: {exc}") from None
+    data = read_toml(path, VehicleDataError)
     base = data.pop("base_vehicle", None)
     if base is None:
         return data

@@ -12,13 +12,12 @@ from __future__ import annotations
 import copy
 import math
 import re
-import tomllib
 from pathlib import Path
 
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
 from ..track.flexible_scenario import FLEXIBLE_TRACK_GROUP
-from ..validation import Quantity
+from ..validation import Quantity, read_toml
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
 
 __all__ = ["SCHEMA_VERSION", "V1_MOVED", "TRACK_TYPES", "DIRECTIONS", "UNLOADING_GROUP", "STRUCTURE_GROUPS",
@@ -167,11 +166,7 @@ def load_scenario(path) -> dict:
     path = Path(path)
     if not path.is_file():
         raise ScenarioError(f"{path}: scenario file not found")
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
+    data = read_toml(path, ScenarioError)
     return validate_scenario(data, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
 
 

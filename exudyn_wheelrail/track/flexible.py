@@ -77,7 +77,6 @@ Cost: one modal coordinate per kept mode, their number proportional to the segme
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 
@@ -86,6 +85,7 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from ..structures.bridge import ExudynBridge, ShapeTable, modal_shape_at
+from ..validation import read_toml
 
 __all__ = ["DEFAULT_TRACK_FILE", "KINDS", "DAMPING_FORMS", "TrackFileError", "TrackParameters",
            "FlexibleTrackModel", "FlexibleTrackModes", "add_flexible_track", "segment_for_run",
@@ -183,11 +183,7 @@ class TrackParameters:
         path = Path(path) if path is not None else DEFAULT_TRACK_FILE
         if not path.is_file():
             raise TrackFileError(f"{path}: track file not found")
-        try:
-            with open(path, "rb") as fh:
-                data = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
-            raise TrackFileError(f"{path}: not valid TOML: {exc}") from None
+        data = read_toml(path, TrackFileError)
         tables = sorted({t for t, _ in _FILE_KEYS})
         for t in data:
             if t not in tables:
