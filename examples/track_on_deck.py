@@ -86,7 +86,7 @@ def flexible_run(scn: dict, duration_s: float, dt_s: float) -> dict:
                                      mu=scn["contact"]["friction"], fastsim_grid=tuple(scn["contact"]["fastsim_grid"]),
                                      bridge=handle)
     place_on_rails(mbs, model, pair)
-    start_on_flexible_track(mbs, model, handle)
+    start_on_flexible_track(mbs, model, handle, contact=contact)
     s_mid = st["start_m"] + 0.5 * st["spans_m"][0]
     rec = Recorder([_DeckMid(handle, s_mid)], n_rows_hint=int(duration_s / dt_s) + 2)
     mbs.Assemble()

@@ -17,7 +17,8 @@ wheel,
    see :mod:`.vehicle_builder`; ``frame="track"`` for a model whose wheelsets move along x themselves);
 2. solves the contact geometry and Hertz for the tread and flange regions (:mod:`exudyn_wheelrail.contact.kernel`,
    warm-started from the previous call);
-3. places each contact point in 3-D (the yaw lead of :func:`~exudyn_wheelrail.contact.creepage.yawed_contact_point_core`),
+3. places each contact point in 3-D (the yaw lead of
+   :func:`~exudyn_wheelrail.contact.creepage.yawed_contact_point_core`),
    computes the creepages from the wheelset's velocity and angular velocity and the rail material velocity
    (``(-V, 0, 0)`` in the moving frame, zero on a fixed track) (:mod:`exudyn_wheelrail.contact.creepage`);
 4. evaluates the creep law (by default the USETAB-style table of Kalker's exact theory; FASTSIM or a cheap law
@@ -267,7 +268,7 @@ class WheelRailContact:
                np.ascontiguousarray(packed.coefs, dtype=float))
         # the bridge: its shape table (empty arrays, no modal coordinates, without a bridge)
         self.bridge = bridge
-        self._deck, self.n_modes = deck_arrays(bridge)
+        self._deck, self.n_modes = deck_arrays(bridge, n_ws)
         self._rail_delta = np.zeros((n_ws, 6))
         self._phi_ws = np.zeros((n_ws, 3, self.n_modes))
         self._rail_f = np.zeros((n_ws, 3))
@@ -375,31 +376,43 @@ class WheelRailContact:
         the first stage of an explicit step after the run monitor's check of the state it starts from), it takes
         the kept forces, results, counters and warm start instead of computing them again — the same numbers the
         computation gives, since it would start from the same warm start.  Any other call discards it.  Returns the
-        generalized forces (as :meth:`forces`)."""
+        generalized forces (as :meth:`forces`).
+
+        The kept evaluation stays in place (forces, results, the warm start it left) until the next call; the warm
+        start it started from is put back when that call does not take it (:meth:`_discard_held`), and
+        :meth:`save_warm_start` meanwhile answers with that one."""
+        if self._held is not None:
+            self._discard_held()
+        q = np.ascontiguousarray(q, dtype=float)
+        q_t = np.ascontiguousarray(q_t, dtype=float)
         warm = self._kc.warm
         saved = warm.copy()
         stats0 = self._stats.copy()
-        self._held = None
         try:
             f = self.forces(q, q_t, t)
-            self._held = (float(t), np.array(q, dtype=float), np.array(q_t, dtype=float), f.copy(),
-                          self.results.copy(), warm.copy(), self._stats - stats0)
-        finally:
+        except BaseException:
             warm[:] = saved
+            raise
+        self._held = (float(t), q.tobytes(), q_t.tobytes(), saved, self._stats - stats0)
         return f
 
     def _reuse_held(self, q, q_t, t: float) -> bool:
-        """Take the evaluation kept by :meth:`evaluate_state` if ``(q, q_t, t)`` is its state; discard it anyway."""
-        t_h, q_h, q_t_h, f_h, res_h, warm_h, dstats = self._held
-        self._held = None
-        if t != t_h or not (np.array_equal(q, q_h) and np.array_equal(q_t, q_t_h)):
+        """Take the evaluation kept by :meth:`evaluate_state` if ``(q, q_t, t)`` is its state (bitwise: the
+        coordinates' bytes); discard it anyway.  Its forces, results and warm start are still in place: taking it
+        only adds its counters."""
+        t_h, q_h, q_t_h, _, dstats = self._held
+        if t != t_h or q.tobytes() != q_h or q_t.tobytes() != q_t_h:
+            self._discard_held()
             return False
-        self._f[:] = f_h
-        self.results[:] = res_h
-        self._kc.warm[:] = warm_h
+        self._held = None
         self._stats += dstats
         self.n_reused += 1
         return True
+
+    def _discard_held(self) -> None:
+        """Drop the evaluation kept by :meth:`evaluate_state`, putting back the warm start it started from."""
+        self._kc.warm[:] = self._held[3]
+        self._held = None
 
     def _raise_bad(self, bad: int, t: float):
         """The :class:`ContactStateError` of a non-finite state (``bad`` from the compiled call)."""
@@ -424,7 +437,8 @@ class WheelRailContact:
     n_jacobian_differenced = 0
 
     def _jacobian_uf(self, mbs, t, itemIndex, q, q_t, fODE2, fODE2_t):
-        self._held = None
+        if self._held is not None:
+            self._discard_held()
         if self.jacobian_method not in JACOBIAN_METHODS:
             raise ValueError(f"jacobian_method = {self.jacobian_method!r}: expected one of {JACOBIAN_METHODS}")
         q = np.ascontiguousarray(q, dtype=float)
@@ -478,6 +492,8 @@ class WheelRailContact:
         """Load (or compile) the compiled code outside a timed solve: one force and, with ``jacobian``, one
         Jacobian evaluation at the model's current state; the warm start is left as it was."""
         q, v = self.coordinates(mbs)
+        if self._held is not None:
+            self._discard_held()
         warm = self._kc.warm.copy()
         try:
             self.forces(q, v, 0.0)
@@ -489,10 +505,12 @@ class WheelRailContact:
             self.n_jacobian_calls = self.n_jacobian_contact_calls = self.n_jacobian_differenced = 0
 
     def save_warm_start(self) -> np.ndarray:
-        """A copy of the contact search's warm-start state (restore with :meth:`restore_warm_start`)."""
-        return self._kc.warm.copy()
+        """A copy of the contact search's warm-start state (restore with :meth:`restore_warm_start`); with an
+        evaluation kept by :meth:`evaluate_state`, the one it started from."""
+        return (self._held[3] if self._held is not None else self._kc.warm).copy()
 
     def restore_warm_start(self, state: np.ndarray) -> None:
+        self._held = None
         self._kc.warm[:] = state
 
     # -- readable results ------------------------------------------------------------------------------------------
@@ -528,8 +546,23 @@ class WheelRailContact:
     def deck_state(self) -> np.ndarray:
         """Per wheelset the deck state under it (last evaluation): displacement ``(y, z, θ)`` of the rails' centre
         line at rail top, its material velocity ``(ẏ, ż, θ̇)`` and a 0/1 on-deck flag (zero off the deck) — relative
-        to the supports (a support motion's ``y_g``, ``ẏ_g`` come on top: :meth:`ground_state`)."""
+        to the supports (a support motion's ``y_g``, ``ẏ_g`` come on top: :meth:`ground_state`); then the residual
+        flexibility there (``structures.deck_kinematics.DS_RESIDUAL``, zero without a static correction)."""
         return self._deck_state.copy()
+
+    def predict_rail_loads(self, forces_N) -> None:
+        """Per wheelset a prediction of its generalized force on the rails ``(F_y, F_z, M_x)`` (n_wheelsets, 3;
+        track frame, z down, M_x about the rails' centre line), e.g. the static wheel loads: with a structure's
+        residual flexibility the contact geometry is found on rails already moved by the predicted residual
+        displacement, and found again only where the solve moves them further
+        (:func:`~.connector_core.series_compliance`).  The results do not depend on it beyond the geometry's
+        linearization over that distance; it saves the second geometry pass."""
+        F = np.asarray(forces_N, dtype=float)
+        if F.shape != self._deck[6].shape or not np.all(np.isfinite(F)):
+            raise ValueError(f"forces_N of shape {F.shape}: expected finite values of shape {self._deck[6].shape}")
+        self._deck[6][:] = F
+        if self._held is not None:
+            self._discard_held()
 
     def wheelset_rail_pose(self) -> np.ndarray:
         """Per wheelset the pose relative to its rail pair that the contact search used (last evaluation): rows
@@ -538,9 +571,17 @@ class WheelRailContact:
         deck and the cross level) [m] and roll relative to the rails
         [rad].  ``y_rel`` is the lateral wheelset–rail displacement from the rails' centre line (a gauge deviation
         moves the rails, not their centre line)."""
-        pose = self._side_poses[0::2].copy()
-        pose[:, 0] += self._work[3][:, WS_HALF_GAUGE]
+        side_poses, half_gauge = self.rail_pose_arrays()
+        pose = side_poses[0::2].copy()
+        pose[:, 0] += half_gauge
         return pose
+
+    def rail_pose_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The arrays :meth:`wheelset_rail_pose` is made of, overwritten in place by every evaluation (views, not
+        copies: for readers that take them once and must not allocate per state): the pose ``(c_y, c_z, roll)`` of
+        each wheel relative to its rail (2 n, 3; wheel ``2k`` the right one, its rows are the wheelset's pose less
+        the half gauge in ``c_y``) and per wheelset the half gauge (n,) [m]."""
+        return self._side_poses, self._work[3][:, WS_HALF_GAUGE]
 
     def geometry_statistics(self) -> dict:
         """Wheel evaluations answered by the geometry table and by the online search since the start (both count

@@ -33,9 +33,12 @@ in one call, and their Jacobian by structured forward differences.
   Jacobian perturbs it), and per wheelset ``Φ(s)`` (n, 3, n_m), the force on the rails ``(F_y, F_z, M_x)`` that is
   projected (n, 3) and the deck state (n, ``N_DECK_STATE``);
 * ``work`` — scratch the call overwrites, allocated once (:func:`work_arrays`; nothing is allocated per call):
-  ``(work_ds, deck_work, rot, wheelset, vec, frame, lay)``: the deck's shape scratch (3, n_m) and rail state (9,),
-  per wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of its pose (n, ``N_WS``), the vectors
-  ``V_*`` of a contact (``N_VEC``, 3), the contact frame (3, 3) and the layout values at a wheelset (4,);
+  ``(work_ds, deck_work, rot, wheelset, vec, frame, lay, residual, contacts, series, index)``: the deck's shape
+  scratch (3, n_m) and rail state (9,), per wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of
+  its pose (n, ``N_WS``), the vectors ``V_*`` of a contact (``N_VEC``, 3), the contact frame (3, 3), the layout
+  values at a wheelset (4,), and for a structure with residual flexibility (:func:`series_compliance`) per
+  wheelset the rails' residual displacement where the geometry was found and the solve's (n, 6), a wheelset's contacts
+  (2 ``N_SLOTS``, ``N_SC``), the solve's scratch (7, 3) and the contacts' wheel and region (2 ``N_SLOTS``, 2);
 * ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
   ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
 
@@ -73,16 +76,18 @@ from numba.experimental import structref
 from ..contact import geometry_table as GT
 from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..contact.creepage import creepages_core, yawed_contact_point_cs
-from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z, F_PENETRATION,
-                              F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, RES_A, RES_B, RES_CREEP_STATUS,
-                              RES_DECK_ROLL, RES_DECK_Y, RES_DECK_Z, RES_DELTA, RES_ETA, RES_F_TRACK_X,
-                              RES_F_TRACK_Y, RES_F_TRACK_Z, RES_FLAGS, RES_FX, RES_FY, RES_GAMMA, RES_GROUND_VY,
-                              RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_P_X, RES_P_Y, RES_P_Z, RES_PHI,
-                              RES_S_TRACK, RES_STATUS, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
+from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
+                              F_PENETRATION, F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, N_SLOTS, RES_A, RES_B,
+                              RES_CREEP_STATUS, RES_DECK_ROLL, RES_DECK_Y, RES_DECK_Z, RES_DELTA, RES_ETA, RES_FLAGS,
+                              RES_FX, RES_FY, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_GROUND_VY,
+                              RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_PHI, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS,
+                              RES_S_TRACK, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
 from ..creep.registry import creep_forces
-from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, deck_state_under, pose_relative_to_rails,
-                                          project_on_deck, rail_material_velocity, rail_moment_about_deck_line,
-                                          rail_pair_to_track, rails_under)
+from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, N_SC, SC_AT, SC_AY, SC_AZ,
+                                          SC_DELTA_G, SC_DN, SC_DN_G, SC_N, SC_N_G, SC_RATIO, deck_state_under,
+                                          pose_relative_to_rails, project_with, rail_material_velocity,
+                                          rail_moment_about_deck_line, rail_pair_to_track, rails_under,
+                                          series_contacts)
 from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, N_LAYOUT, layout_at
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
 from .track import irregularity_channels_at
@@ -129,7 +134,8 @@ N_VEC = 8
 def work_arrays(n_wheelsets: int, n_modes: int) -> tuple:
     """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets`` and ``n_modes``."""
     return (np.zeros((3, n_modes)), np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
-            np.zeros((N_VEC, 3)), np.zeros((3, 3)), np.zeros(N_LAYOUT))
+            np.zeros((N_VEC, 3)), np.zeros((3, 3)), np.zeros(N_LAYOUT), np.zeros((n_wheelsets, 6)),
+            np.zeros((2 * N_SLOTS, N_SC)), np.zeros((7, 3)), np.zeros((2 * N_SLOTS, 2), dtype=np.int64))
 
 
 @structref.register
@@ -227,27 +233,35 @@ def wheelset_poses(q, q_t, t, model, state, work):
         if c_irr != 0.0:
             th += math.asin(c_irr / RAIL_CENTRE_DISTANCE_M)
         h_g = 0.5 * g_irr
-        c_th = math.cos(th)
-        s_th = math.sin(th)
-        wk[WS_Y_RAIL] = y_r
-        wk[WS_Z_RAIL] = z_r
-        wk[WS_COS_TH] = c_th
-        wk[WS_SIN_TH] = s_th
         wk[WS_HALF_GAUGE] = h_g
-        y_rel, z_rel, roll_rel = pose_relative_to_rails(py, pz, roll, y_r, z_r, th, c_th, s_th)
-        # each side frame's rail moved outwards by half the gauge deviation
-        side_poses[2 * k, 0] = y_rel - h_g
-        side_poses[2 * k, 1] = z_rel
-        side_poses[2 * k, 2] = roll_rel
-        side_poses[2 * k + 1, 0] = -y_rel - h_g
-        side_poses[2 * k + 1, 1] = z_rel
-        side_poses[2 * k + 1, 2] = -roll_rel
+        _side_poses(k, py, pz, roll, y_r, z_r, th, wk, side_poses)
     if n_m > 0:
         for i in range(n_m):
             if not (math.isfinite(q_m[i]) and math.isfinite(q_m_t[i])):
                 if bad < 0:
                     bad = n_ws
     return bad
+
+
+@njit(cache=True)
+def _side_poses(k, p_y, p_z, roll, y_r, z_r, th, wk, side_poses):
+    """The rails under wheelset k at ``(y_r, z_r)`` rolled by ``th`` into ``wk`` and the pose of each wheel
+    relative to its rail into ``side_poses`` (the axle centre at ``(p_y, p_z)`` with ``roll``; each side frame's
+    rail moved outwards by half the gauge deviation ``wk[WS_HALF_GAUGE]``)."""
+    c_th = math.cos(th)
+    s_th = math.sin(th)
+    wk[WS_Y_RAIL] = y_r
+    wk[WS_Z_RAIL] = z_r
+    wk[WS_COS_TH] = c_th
+    wk[WS_SIN_TH] = s_th
+    h_g = wk[WS_HALF_GAUGE]
+    y_rel, z_rel, roll_rel = pose_relative_to_rails(p_y, p_z, roll, y_r, z_r, th, c_th, s_th)
+    side_poses[2 * k, 0] = y_rel - h_g
+    side_poses[2 * k, 1] = z_rel
+    side_poses[2 * k, 2] = roll_rel
+    side_poses[2 * k + 1, 0] = -y_rel - h_g
+    side_poses[2 * k + 1, 1] = z_rel
+    side_poses[2 * k + 1, 2] = -roll_rel
 
 
 @njit(cache=True)
@@ -434,7 +448,7 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
         rail_f[k, 2] = rmx
         if ds[6] > 0.5:
             # generalized modal forces Φ(s)^T (Fy, Fz, Mx) of the force on the rails
-            project_on_deck(wk[WS_S], rfy, rfz, rmx, deck, work_ds, f_m)
+            project_with(phi_ws[k], rfy, rfz, rmx, f_m)
 
 
 @njit(cache=True)
@@ -456,10 +470,162 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     if bad >= 0:
         return bad
     nodes, meta, mono, curve_ids, params, gtab = model[2]
+    residual = model[4][5].shape[0] > 0
+    if residual:
+        _predict_residual(q, model, state, work)
     GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0], params,
                                  state[1], state[3])
+    if residual:
+        if series_compliance(state, work, False):
+            # a solve moved its rails further than the geometry's linearization is trusted: move them there and
+            # find the geometry again
+            _move_rails(q, model, state, work)
+            GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0],
+                                         params, state[1], state[3])
+        series_compliance(state, work, True)
     wheel_forces(q, q_t, model, state, work, f_out, res)
     return -1
+
+
+#: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of
+#: being linearized (the gap changes by a·Δu exactly for a rigid shift of the rail; what a linearization misses is
+#: a contact region appearing or vanishing, which takes a shift comparable to the Hertz approach, ~50 µm) [m]
+SERIES_REGEOMETRY_M = 2.0e-5
+
+
+@njit(cache=True)
+def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
+    """Move the rails under wheelset k by ``(du_y, du_z, du_th)`` (deck state and the wheels' poses)."""
+    ds = state[7][k]
+    wk = work[3][k]
+    ds[0] += du_y
+    ds[1] += du_z
+    ds[2] += du_th
+    _side_poses(k, p_ref[k, 1] + q[6 * k + 1], p_ref[k, 2] + q[6 * k + 2], wk[WS_ROLL], wk[WS_Y_RAIL] + du_y,
+                wk[WS_Z_RAIL] + du_z, math.atan2(wk[WS_SIN_TH], wk[WS_COS_TH]) + du_th, wk, state[2])
+
+
+@njit(cache=True)
+def _predict_residual(q, model, state, work):
+    """Before the geometry, with a residual flexibility: the rails of every wheelset on the structure moved by the
+    residual displacement ``G_res F`` of its predicted rail load (deck arrays' ``rail_load_prediction``; zero: not
+    moved), kept in ``work[7][:, :3]``."""
+    deck = model[4]
+    pred = deck[6]
+    deck_state = state[7]
+    store = work[7]
+    p_ref = model[0][0]
+    for k in range(deck_state.shape[0]):
+        ds = deck_state[k]
+        for i in range(6):
+            store[k, i] = 0.0
+        if ds[6] < 0.5 or k >= pred.shape[0]:
+            continue
+        f0 = pred[k, 0]
+        f1 = pred[k, 1]
+        f2 = pred[k, 2]
+        if f0 == 0.0 and f1 == 0.0 and f2 == 0.0:
+            continue
+        g = ds[DS_RESIDUAL:DS_RESIDUAL + 6]
+        u_y = g[0] * f0 + g[3] * f1 + g[4] * f2         # the rails' displacement under the force on them: G F
+        u_z = g[3] * f0 + g[1] * f1 + g[5] * f2
+        u_th = g[4] * f0 + g[5] * f1 + g[2] * f2
+        store[k, 0] = u_y
+        store[k, 1] = u_z
+        store[k, 2] = u_th
+        _shift_rails(k, u_y, u_z, u_th, q, p_ref, state, work)
+
+
+@njit(cache=True)
+def _move_rails(q, model, state, work):
+    """Move the rails of every wheelset from where the geometry was found (``work[7][:, :3]``) to the solve's
+    residual displacement (``work[7][:, 3:]``)."""
+    store = work[7]
+    p_ref = model[0][0]
+    for k in range(store.shape[0]):
+        du_y = store[k, 3] - store[k, 0]
+        du_z = store[k, 4] - store[k, 1]
+        du_th = store[k, 5] - store[k, 2]
+        if du_y != 0.0 or du_z != 0.0 or du_th != 0.0:
+            _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work)
+        store[k, 0] = store[k, 3]
+        store[k, 1] = store[k, 4]
+        store[k, 2] = store[k, 5]
+
+
+@njit(cache=True)
+def series_compliance(state, work, final):
+    """Stage 2b, after the geometry, with a structure's residual flexibility
+    (:mod:`~exudyn_wheelrail.structures.deck_kinematics`): the contacts of every wheelset on the structure in series
+    with the rails' residual flexibility there (:func:`~exudyn_wheelrail.structures.deck_kinematics.series_contacts`),
+    from the penetrations found on the rails at their residual displacement ``work[7][:, :3]`` (the prediction of
+    :func:`_predict_residual`, or zero); the solution u into ``work[7][:, 3:]``.  Not ``final``: returns True if a
+    wheelset's u lies more than :data:`SERIES_REGEOMETRY_M` from where its geometry was found (the caller then
+    moves the rails there, :func:`_move_rails`, and finds the geometry again: on the undeflected rail head a
+    penetration deeper by the pads' compression shows a second, spurious tread maximum) and changes nothing else.
+    ``final``: moves the deck state to u and replaces the kernel's normal force, dN/dδ, semi-axes and penetration
+    (now the Hertz approach) by the series values (semi-axes and Hertz's dN/dδ scale with the square root of the
+    approach)."""
+    out = state[1]
+    deck_state = state[7]
+    wsd = work[3]
+    store = work[7]
+    contacts = work[8]
+    scratch = work[9]
+    index = work[10]
+    n_reg = out.shape[1]
+    again = False
+    for k in range(deck_state.shape[0]):
+        ds = deck_state[k]
+        u0 = store[k, 0:3]
+        if ds[6] < 0.5:
+            continue
+        h_g = wsd[k, WS_HALF_GAUGE]
+        n = 0
+        for side in range(2):
+            w = 2 * k + side
+            mirror = 1.0 if side == 0 else -1.0
+            for reg in range(n_reg):
+                ow = out[w, reg]
+                if ow[F_STATUS] <= 0 or not ow[F_NORMAL_FORCE] > 0.0 or not ow[F_PENETRATION] > 0.0:
+                    continue
+                # contact point and rail normal in the rail pair's frame (as in wheel_forces)
+                p_y = mirror * (ow[F_PW_Y] + h_g)
+                p_z = ow[F_PW_Z]
+                c = contacts[n]
+                c[SC_AY] = mirror * ow[F_NR_Y]
+                c[SC_AZ] = ow[F_NR_Z]
+                c[SC_AT] = c[SC_AZ] * p_y - c[SC_AY] * p_z
+                c[SC_N_G] = ow[F_NORMAL_FORCE]
+                c[SC_DELTA_G] = ow[F_PENETRATION]
+                c[SC_DN_G] = ow[F_DN_DDELTA]
+                index[n, 0] = w
+                index[n, 1] = reg
+                n += 1
+        if n > 0:
+            series_contacts(ds[DS_RESIDUAL:DS_RESIDUAL + 6], contacts, n, u0, scratch)
+            for i in range(3):
+                store[k, 3 + i] = scratch[0, i]
+        else:                        # lifted: the rails back at rest
+            for i in range(3):
+                store[k, 3 + i] = 0.0
+        if not final:
+            shift = max(abs(store[k, 3] - u0[0]), abs(store[k, 4] - u0[1]),
+                        0.5 * RAIL_CENTRE_DISTANCE_M * abs(store[k, 5] - u0[2]))
+            again = again or shift > SERIES_REGEOMETRY_M
+            continue
+        for i in range(3):           # the deck state: the rails at their final residual displacement
+            ds[i] += store[k, 3 + i] - u0[i]
+        for r in range(n):
+            ow = out[index[r, 0], index[r, 1]]
+            c = contacts[r]
+            root = math.sqrt(c[SC_RATIO])
+            ow[F_NORMAL_FORCE] = c[SC_N]
+            ow[F_DN_DDELTA] = c[SC_DN]
+            ow[F_SEMI_A] *= root
+            ow[F_SEMI_B] *= root
+            ow[F_PENETRATION] *= c[SC_RATIO]
+    return again
 
 
 @njit(cache=True)

@@ -24,9 +24,11 @@ with it as the ``__cause__``) and any other solver failure, checks the final sta
 Cost: the checks of a state are one compiled call over the arrays of that contact evaluation
 (:mod:`.monitor_core`: every quantity, record, interval and the hunting counter below, and the stability estimate
 with a Jacobi eigenvalue); it returns a code, and Python builds events only for a state where something starts,
-ends or fires.  For the RTRI vehicle (4 wheelsets, RK44) the monitor's work besides the contact call is about 5–10
-µs per state at rest and 15–20 µs along a run; the contact call itself about 25–35 µs
-(``benchmarks/bench_watching.py``).
+ends or fires; the call's arguments are packed once and it is called without numba's type dispatch, the wheelset
+poses are read from the connector's arrays without a copy.  For the RTRI vehicle (4 wheelsets, RK44) the monitor's
+work besides the contact call is about 5–10 µs per state at rest and 8–11 µs along a run (median state, load
+2.3–2.6); the contact call itself about 20–35 µs (``benchmarks/bench_watching.py``,
+``benchmarks/bench_step_overhead.py``).
 
 Quantities per wheel (wheel ``2k`` the right, ``2k+1`` the left wheel of wheelset k, as the connector) — all in the
 *side frame* of the wheel's rail (:mod:`exudyn_wheelrail.conventions`: y towards the field side, z down; the pose
@@ -123,6 +125,7 @@ from ..analysis.safety import nadal_limit, prudhomme_limit_N
 from ..contact import layout as L
 from . import connector as C
 from . import monitor_core as MC
+from .connector_core import compiled_for
 from .rotations import rotation_from_vector
 
 __all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "run_monitored", "STATUS_KINDS", "STOP_KINDS"]
@@ -346,6 +349,14 @@ class RunMonitor:
         self._hist_n = 0
         self._out = contact.kernel_output()      # read-only view of the kernel output, updated by every evaluation
         self._system = None                      # (mbs, its coordinate getters, the connector's global indices)
+        # the wheelset poses relative to the rails, filled per state from the connector's arrays without allocating
+        # (a contact without them: its wheelset_rail_pose())
+        self._poses = np.zeros((n_ws, 3))
+        pose_arrays = getattr(contact, "rail_pose_arrays", None)
+        self._pose_arrays = pose_arrays() if pose_arrays is not None else None
+        # the per-state call's arguments that stay the same objects for the whole run (filled in place)
+        self._records = (self._par, self._ws_par, self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings,
+                         self._G, self._work)
         self._load_compiled()
 
     def _load_compiled(self):
@@ -354,9 +365,13 @@ class RunMonitor:
         n_ws = self.n_wheelsets
         records = [a.copy() for a in (self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
                                       self._work)]
-        MC.monitor_state(0.0, np.zeros_like(self.contact.results), self._out, np.zeros((n_ws, 3)),
-                         np.zeros(6 * n_ws), np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records,
-                         self._hist, -1)
+        args = (0.0, np.zeros_like(self.contact.results), self._out, np.zeros((n_ws, 3)), np.zeros(6 * n_ws),
+                np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records, self._hist, -1)
+        MC.monitor_state(*args)
+        # the compiled specialization for exactly these argument types: no type dispatch per state
+        self._monitor_state = compiled_for(MC.monitor_state, *args)
+        if self._pose_arrays is not None:
+            MC.rail_poses(*self._pose_arrays, np.zeros((n_ws, 3)))
 
     def _constants(self) -> np.ndarray:
         par = np.zeros(MC.N_PAR)
@@ -525,9 +540,12 @@ class RunMonitor:
                 self._hist = grown
             row = self._hist_n
             self._hist_n += 1
-        code = MC.monitor_state(float(t), c.results, self._out, c.wheelset_rail_pose(), q, v, self._par, self._ws_par,
-                                self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
-                                self._work, self._hist, row)
+        if self._pose_arrays is not None:
+            poses = self._poses
+            MC.rail_poses(*self._pose_arrays, poses)
+        else:
+            poses = c.wheelset_rail_pose()
+        code = self._monitor_state(float(t), c.results, self._out, poses, q, v, *self._records, self._hist, row)
         if code:
             self._events_of_state(t, q, v)
         if self.n_checks == 1 and self._inertia is not None and self.status is None:

@@ -516,6 +516,18 @@ def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, 
     return code
 
 
+@njit(cache=True)
+def rail_poses(side_poses, half_gauge, ws_poses):
+    """``ws_poses`` (n, 3): each wheelset's pose relative to its rails, ``(c_y, c_z, roll)`` of its right wheel with
+    ``c_y`` measured from the rails' centre line — the right wheels' rows of ``side_poses`` (2 n, 3) with
+    ``half_gauge`` (n,) added to ``c_y`` (the connector's
+    :meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.wheelset_rail_pose`, without allocating)."""
+    for k in range(ws_poses.shape[0]):
+        ws_poses[k, 0] = side_poses[2 * k, 0] + half_gauge[k]
+        ws_poses[k, 1] = side_poses[2 * k, 1]
+        ws_poses[k, 2] = side_poses[2 * k, 2]
+
+
 def hunting_rings_ordered(rings_k, count: int, crossings: int, need: int):
     """The last ``need`` crossing times and peaks of one wheelset's rings, oldest first."""
     ts = [rings_k[0, (crossings - need + i) % need] for i in range(need)]

@@ -33,7 +33,7 @@ import numpy as np
 
 from .bridge_crossing import BridgeCrossing, LoadModel, LoadModelHandle
 
-__all__ = ["VEHICLES", "CONTACT_DT_S", "train_axles", "hertz_dt_bound_s"]
+__all__ = ["VEHICLES", "CONTACT_DT_S", "train_axles", "hertz_dt_bound_s", "build_train_on_straight_track"]
 
 #: largest time step of the vehicles model [s]: the step of the project's contact runs (the RTRI case's published
 #: 1 ms, :class:`~exudyn_wheelrail.simulation.settings.RunSettings`'s default)
@@ -82,10 +82,27 @@ def _check(case: BridgeCrossing) -> None:
     _consist(case)
 
 
-def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
+def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: float, bridge=None):
+    """``(train, track)``: the consist built in ``mbs`` with one wheel–rail connector (the first car's profiles,
+    the default contact settings) on the straight rigid track, coupled to ``bridge`` (an
+    :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge`, e.g. a deck or a flexible track) if given."""
     from ..contact.pair import WheelRailPair
     from ..multibody.train import build_train
     from ..multibody.track import RigidStraightTrack
+    from ..simulation.settings import ContactSettings
+
+    geo = consist.cars[0].vehicle.geometry
+    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    cs = ContactSettings()
+    track = RigidStraightTrack()
+    train = build_train(mbs, consist, speed_m_s=speed_m_s, s_start_m=s_start_m, pair=pair, track=track,
+                        contact_options=dict(creep_law=cs.creep_law, mu=cs.friction, fastsim_grid=cs.fastsim_grid,
+                                             geometry=cs.geometry, bridge=bridge))
+    return train, track
+
+
+def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
     from ..simulation.settings import ContactSettings
     from .build import train_probes
     from .run import train_criteria
@@ -95,14 +112,8 @@ def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
     V = case.speed_m_s
     x_ws = consist.wheelset_x_m()
     s_start = case.deck_start_m - float(x_ws[0])               # the leading wheelset at the deck start at t = 0
-    geo = consist.cars[0].vehicle.geometry
-    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
-                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
-    cs = ContactSettings()
-    track = RigidStraightTrack()
-    train = build_train(mbs, consist, speed_m_s=V, s_start_m=s_start, pair=pair, track=track,
-                        contact_options=dict(creep_law=cs.creep_law, mu=cs.friction, fastsim_grid=cs.fastsim_grid,
-                                             geometry=cs.geometry, bridge=bridge))
+    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, bridge=bridge)
+    cs = ContactSettings()                                    # the settings build_train_on_straight_track uses
     contact = train.contact
     points = [{"name": name, "x_m": x, "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}
               for name, x in (("rear", "rear_bogie"), ("front", "front_bogie"))]

@@ -140,6 +140,7 @@ class ScenarioModel:
     start_shift: float | None = None        #: largest track displacement under a wheelset at t = 0 (None: none)
     support_motion: object = None           #: the ground motion of the supports and the track (None: none)
     flexible_track: object = None           #: the flexible track's handle (track.flexible; None: rigid track)
+    flexible_window: object = None          #: its moving window (track.flexible_window; None: a fixed segment)
 
     @property
     def speed_m_s(self) -> float:
@@ -196,15 +197,13 @@ def build_scenario(scenario) -> ScenarioModel:
         if "support_motion" in scn["structure"]:
             motion = support_motion(scn["structure"]["support_motion"], run.end_time_s)
             bridge.add_support_motion(mbs, motion)
-    flex = None
+    flex = window = None
     if "flexible_track" in scn and not springs:       # rails on pads, sleepers and ballast: the contact's deck slot
         from ..track.flexible import add_flexible_track
         from ..track.flexible_scenario import flexible_track_modes
-        if train:
-            raise ScenarioError("flexible_track: not available for a train (vehicle.consist)")
         flex = add_flexible_track(mbs, flexible_track_modes(
             scn["flexible_track"], s_start_m=s_start, wheelset_x_m=vehicle.wheelset_x_m(), speed_m_s=V,
-            end_time_s=run.end_time_s, solver=run.solver, dt_s=run.dt_s))
+            end_time_s=run.end_time_s, solver=run.solver, dt_s=run.dt_s, moving_window=True))
     if not springs:
         try:
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
@@ -221,13 +220,15 @@ def build_scenario(scenario) -> ScenarioModel:
         else:
             place_on_rails(mbs, model, pair)
             shift = start_on_track(mbs, model, track)
-            if flex is not None:
-                from ..track.flexible_scenario import start_on_flexible_track
-                start_on_flexible_track(mbs, model, flex)
+        if flex is not None:
+            from ..track.flexible_scenario import flexible_track_window, start_on_flexible_track
+            start_on_flexible_track(mbs, model, flex, contact=contact)
+            window = flexible_track_window(scn["flexible_track"], contact=contact, handle=flex)
     h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
                       track=track, contact=contact, bridge=bridge, modes=modes, f_cut_Hz=f_cut, run=run,
                       contact_settings=cs, coverage=coverage, start_shift=shift, support_motion=motion)
     h.flexible_track = flex
+    h.flexible_window = window
     if run.record and contact is not None:
         st = scn.get("structure", {})
         if train:
@@ -244,7 +245,7 @@ def build_scenario(scenario) -> ScenarioModel:
                                   start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
         if flex is not None:
             from ..track.flexible_scenario import flexible_track_probes
-            probes += flexible_track_probes(contact=contact, handle=flex, model=model)
+            probes += flexible_track_probes(contact=contact, handle=flex, model=model, window=window)
         h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
     h.settings, h.solver_type = run.exudyn()

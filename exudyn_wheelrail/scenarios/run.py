@@ -190,7 +190,7 @@ def run_model(h, *, progress=None, view=None, label: str = ""):
         bar = ProgressBar(h.run.end_time_s, stream=None if show is True else show, label=label)
     try:
         outcome = run(h.mbs, h.run, h.contact, speed_m_s=h.speed_m_s, recorder=h.recorder, progress=bar,
-                      exu_settings=(h.settings, h.solver_type))
+                      exu_settings=(h.settings, h.solver_type), user_function=h.flexible_window)
     finally:
         if view is not None:
             view.close()
@@ -225,6 +225,13 @@ def _events(outcome, limit: int = 200, car_of_wheelset=None) -> list:
             d["car"] = car_of_wheelset[e.wheelset] + 1 if e.wheelset is not None else None
         out.append(d)
     return out
+
+
+def _flexible_track_summary(h: ScenarioModel):
+    if h.flexible_track is None:
+        return None
+    from ..track.flexible_scenario import flexible_track_summary
+    return flexible_track_summary(h.flexible_track.modes, h.flexible_window)
 
 
 def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> ScenarioResult:
@@ -290,6 +297,7 @@ def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> Sc
         "scalars": _scalars(ts, groups, pk, criteria, dt, deck),
         "criteria": criteria,
         "deck": deck,
+        "flexible_track": _flexible_track_summary(h),
         "notes": notes,
         "sign_conventions": {
             "Y": "Y_w<j>_<side>_N: track-frame y component (+ right) of the contact force of the rail on the wheel",

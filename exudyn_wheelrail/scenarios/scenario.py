@@ -101,8 +101,11 @@ entered with :func:`~..structures.bridge.add_bridge`):
     rails (:mod:`exudyn_wheelrail.track.flexible`, coupled like a deck, :mod:`exudyn_wheelrail.track.
     flexible_scenario`): ``file`` (a track file, default ``exudyn_wheelrail/data/track_60E1_ballasted.toml``),
     ``start_m`` and ``length_m`` of the modelled segment (both numbers or both ``"auto"`` (default): the segment the
-    run needs), ``modes_up_to_Hz`` (the modal reduction's cut-off).  An explicit solver needs a step the wheel on
-    the rail's modal mass allows (the build refuses a larger one, naming ``run.dt_s``; ``docs/track.md``).  Output
+    run needs; ``length_m = "window"``: a window travelling with the vehicle, whose cost does not grow with the
+    run, ``shift_bays`` the sleeper bays per move, default 1), ``modes_up_to_Hz`` (the modal reduction's cut-off;
+    the static flexibility of the modes above it acts in series with the contacts).  An explicit solver needs a
+    step the wheel on the rail's modal mass allows (the build refuses a larger one, naming ``run.dt_s``;
+    ``docs/track.md``).  Output
     group ``"flexible_track"``: rail displacements under each wheelset, the nearest sleeper's displacement, pad and
     ballast forces.
 

@@ -26,6 +26,7 @@ from numba import njit
 
 from ..analysis.safety import EN14363_WINDOW_M, prudhomme_limit_N
 from ..contact.layout import N_RES, N_SLOTS
+from ..multibody.connector_core import compiled_for
 from ..multibody.monitor import SIDES, Status
 from .recorder import wheel_force_yz
 
@@ -117,10 +118,13 @@ class FlangeClimbCheck:
         self._sums = np.zeros((2, n_w))                 # Y towards the field side, Q: sums over the window
         self._first = np.zeros(1 + self.n)              # time and axle loads of the first state
         self.max_quotient = np.zeros(n_w)  #: per wheel: the largest 2 m quotient seen
-        # load (or compile) the compiled window here, not inside a timed solve: one call on copies
-        window_quotient(0.0, np.zeros((n_w, N_SLOTS, N_RES)), 1.0, 1.0, self._idx.copy(), self._ring_t.copy(),
-                        self._ring_y.copy(), self._ring_q.copy(), self._sums.copy(), self.max_quotient.copy(),
-                        self._first.copy())
+        # load (or compile) the compiled window here, not inside a timed solve: one call on copies; then its
+        # specialization for exactly these argument types (no type dispatch per state; a grown ring keeps the types)
+        args = (0.0, np.zeros((n_w, N_SLOTS, N_RES)), 1.0, 1.0, self._idx.copy(), self._ring_t.copy(),
+                self._ring_y.copy(), self._ring_q.copy(), self._sums.copy(), self.max_quotient.copy(),
+                self._first.copy())
+        window_quotient(*args)
+        self._window = compiled_for(window_quotient, *args)
 
     def _grow(self):
         """Double the ring, the window's states kept in order from position 0."""
@@ -138,8 +142,8 @@ class FlangeClimbCheck:
             return None
         if self._idx[I_COUNT] >= self._ring_t.shape[0]:
             self._grow()
-        w = window_quotient(float(t), contact.results, self.window_s, self.nadal_limit, self._idx, self._ring_t,
-                            self._ring_y, self._ring_q, self._sums, self.max_quotient, self._first)
+        w = self._window(float(t), contact.results, self.window_s, self.nadal_limit, self._idx, self._ring_t,
+                         self._ring_y, self._ring_q, self._sums, self.max_quotient, self._first)
         if w < 0:
             return None
         k = w // 2

@@ -188,14 +188,24 @@ class _Wheels:
 
 
 class _WheelsetLateral:
-    """``y_rel_w<j>_m`` from the contact search's wheelset–rail pose."""
+    """``y_rel_w<j>_m`` from the contact search's wheelset–rail pose (the first column of
+    :meth:`~..multibody.connector.WheelRailContact.wheelset_rail_pose`: the right wheels' ``c_y`` plus the half
+    gauge, added into the row from views of the connector's arrays taken once)."""
 
     def __init__(self, contact, n_wheelsets: int):
         self.c = contact
         self.columns = [("wheelset_lateral", f"y_rel_w{j + 1}_m") for j in range(n_wheelsets)]
+        pose_arrays = getattr(contact, "rail_pose_arrays", None)
+        if pose_arrays is not None:
+            side_poses, half_gauge = pose_arrays()
+            self._c_y, self._half_gauge = side_poses[0::2, 0], half_gauge
+            self.fill = self._fill_views
 
     def fill(self, mbs, t, out):
         out[:] = self.c.wheelset_rail_pose()[:, 0]
+
+    def _fill_views(self, mbs, t, out):
+        np.add(self._c_y, self._half_gauge, out=out)
 
 
 @njit(cache=True)
@@ -262,7 +272,12 @@ class _CarBodyPoints:
             a = np.asarray(output(body, self._acceleration, loc))
             u = np.asarray(output(body, self._displacement, loc))
             f = R.T @ (a - self.gravity)
-            out[k:k + 6] = (a[1], a[2], f[1], f[2], u[1], u[2])
+            out[k] = a[1]
+            out[k + 1] = a[2]
+            out[k + 2] = f[1]
+            out[k + 3] = f[2]
+            out[k + 4] = u[1]
+            out[k + 5] = u[2]
             k += 6
 
     def _fill_flexible(self, mbs, t, out):

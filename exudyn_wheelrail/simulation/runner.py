@@ -173,6 +173,7 @@ class _Hook:
         self.user_function = user_function
         self.every = int(record_every)
         self.dt = float(dt_s)
+        self.t_tol = 1e-9 * self.dt         # a new step attempt ends more than this after the previous one
         self.t0 = float(t0_s)
         self.grid_check = grid_check
         self.t_pending = self.t0            # end time of the step attempted after the previous call
@@ -185,7 +186,7 @@ class _Hook:
 
     def __call__(self, mbs, t):
         t = float(t)
-        if self.t_state is None or t > self.t_pending + 1e-9 * self.dt:
+        if self.t_state is None or t > self.t_pending + self.t_tol:
             t_state = self.t_pending        # the previous attempt was accepted (or this is the first call)
         else:
             self.rejected += 1              # a retry: the state is the one already handled
@@ -207,7 +208,8 @@ class _Hook:
         if self.stop is not None or (self.monitor is not None and self.monitor.status is not None):
             return False
         k = (t_state - self.t0) / self.dt
-        on_grid = abs(k - round(k)) <= 1e-6
+        k_grid = int(round(k))
+        on_grid = abs(k - k_grid) <= 1e-6
         if self.grid_check and not on_grid and k > self.k_next + 1e-6:
             t_miss = self.t0 + self.k_next * self.dt
             self.stop = Status("step_rejected", t_miss, None, None,
@@ -217,7 +219,7 @@ class _Hook:
                                f"the last state on the grid")
             return False
         if on_grid:
-            self.k_next = int(round(k)) + 1
+            self.k_next = k_grid + 1
         if self.monitor is not None:
             st = self.monitor.check(mbs, t_state)
             if st is not None:
@@ -228,7 +230,7 @@ class _Hook:
                     self.stop = self.monitor.annotate(st)
                     self.monitor.events.append(self.stop)
                     return False
-        if self.recorder is not None and on_grid and int(round(k)) % self.every == 0:
+        if self.recorder is not None and on_grid and k_grid % self.every == 0:
             self.recorder.record(mbs, t_state)
             self.last_recorded = t_state
         if self.progress is not None:
@@ -342,6 +344,19 @@ def _completed(mbs, hook: _Hook, monitor, out: RunOutcome, events) -> Status:
     return Status("completed", t_end, None, None, "end time reached" + warn)
 
 
+def _check_flexible_track_step(contact, settings: RunSettings) -> None:
+    """A flexible track under the contact (:mod:`exudyn_wheelrail.track.flexible`): the explicit step against the
+    wheel on the rail's modal mass where the wheelsets stand now (the run monitor's estimate does not see that
+    mass), a ``TrackFileError`` naming ``run.dt_s`` before the solve."""
+    bridge = getattr(contact, "bridge", None)
+    if bridge is None or not hasattr(bridge.modes, "residual_table"):
+        return
+    from ..contact.layout import RES_S_TRACK
+    from ..track.flexible_scenario import check_explicit_step
+    s = [float(x) for x in contact.results[:, 0, RES_S_TRACK]]      # the wheelsets' track distance now
+    check_explicit_step(bridge.modes, settings.solver, float(settings.dt_s), min(s) - 1.0, max(s) + 1.0)
+
+
 def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None, progress=None,
         exu_settings=None, user_function=None) -> RunOutcome:
     """Run ``mbs`` (assembled) with ``settings`` (duration resolved), watched by a new
@@ -358,6 +373,7 @@ def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None,
     if contact is not None:
         t0 = float(sim.timeIntegration.startTime)
         omega = contact_omega_rad_s(mbs, contact, t0)
+        _check_flexible_track_step(contact, settings)
         monitor = RunMonitor(contact)
         guidance = FlangeClimbCheck(len(contact.nodes_exu), speed_m_s, monitor.nadal_limit)
     return solve(mbs, sim, solver_type, monitor, dt_s=float(settings.dt_s), solver=settings.solver,

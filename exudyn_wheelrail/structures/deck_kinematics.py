@@ -7,7 +7,7 @@ wheelset.  Frames and signs are those of :mod:`.bridge`: track frame, y right, z
 same s as the irregularity):
 
 * **deck state** ``(y_b, z_b, θ_b) = Φ(s_k) q`` and ``(ẏ_b, ż_b, θ̇_b) = Φ(s_k) q̇`` (:func:`deck_state_under`,
-  from :func:`~.bridge.rail_state_at`; zero when s_k is off the deck): displacement and material velocity of the
+  from :func:`~.bridge.modal_shape_at`; zero when s_k is off the deck): displacement and material velocity of the
   rails' centre line at rail-top level, roll of the rail pair about it — the rows of :data:`N_DECK_STATE`;
 * **rails** = the irregularity plus the ground motion plus the deck (:func:`rails_under`): centre line at
   ``y_r = y_irr + y_g + y_b``, ``z_r = z_irr + z_b``, rolled by ``θ_b``.  The contact search gets the wheelset pose
@@ -33,23 +33,45 @@ coordinates are the deck's motion relative to its supports, and the ground displ
 deck moves with the ground).  They depend on time only; the connector evaluates them once per call and writes them
 into the deck parameters (``DECK_GROUND_Y``, ``DECK_GROUND_VY``).
 
-The deck arrays of the compiled call (:func:`deck_arrays`): ``(par, elem_x0, elem_len, elem_nodes, node_shapes)``
-— ``par[DECK_*]`` and the :class:`~.bridge.ShapeTable` of the deck (empty arrays, no modes: no bridge).
+*Residual flexibility* (a structure whose modes carry a ``residual_table``, the flexible track's static correction,
+:attr:`~exudyn_wheelrail.track.flexible.FlexibleTrackModes.residual_table`): the static flexibility ``G_res(s)``
+(3 × 3 in ``y_rail, z_rail, θ_rail``) of the modes the reduction dropped, interpolated linearly between the table's
+points into the deck state (:data:`DS_RESIDUAL`).  It acts in series with each contact
+(:func:`series_contacts`): the normal forces ``N_r`` of a wheelset's contacts (both wheels, every region), at
+points p_r (rail-pair frame, relative to the rails' centre line) with rail normals n_r, move the rails by the
+generalized displacement ``u = −G_res Σ_r N_r a_r``, ``a_r = (n_y, n_z, n_z p_y − n_y p_z)`` (the force's
+generalized direction, the same lever as the moment on the deck), and every contact carries Hertz's force at its
+geometric penetration less the rail's motion along its normal, ``δ_r = δ_g,r + a_r·u``.  The quasi-static
+response of the dropped modes is exact for loads varying slowly against their frequencies; neglected: the
+coupling through ``G_res`` of different wheelsets (the pads' compression is local to the rail seats under a
+wheel) and the creep forces' share (they load the kept modes only).
+
+The deck arrays of the compiled call (:func:`deck_arrays`): ``(par, elem_x0, elem_len, elem_nodes, node_shapes,
+node_residual, rail_load_prediction)`` — ``par[DECK_*]``, the :class:`~.bridge.ShapeTable` of the deck, the
+residual flexibility at its points (n_points, 6) (empty arrays, no modes: no bridge; (0, 6): no residual) and per
+wheelset a prediction of its generalized force on the rails ``(F_y, F_z, M_x)`` (n_wheelsets, 3; zero unless set,
+e.g. the static wheel loads: the connector finds the contact geometry on rails already moved by the residual
+displacement ``G_res F`` it predicts, and again only where the solve moves them further).
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
 
-from .bridge import add_projected_force, rail_state_at
+from .bridge import _find_element, add_projected_force, modal_shape_at
 
-__all__ = ["N_DECK_STATE", "DECK_START", "DECK_RAIL_HEIGHT", "DECK_GROUND_Y", "DECK_GROUND_VY", "N_DECK_PAR",
-           "deck_arrays", "deck_state_under", "rails_under", "pose_relative_to_rails", "rail_pair_to_track",
-           "rail_material_velocity", "rail_moment_about_deck_line", "project_on_deck"]
+__all__ = ["N_DECK_STATE", "DS_RESIDUAL", "DECK_START", "DECK_RAIL_HEIGHT", "DECK_GROUND_Y", "DECK_GROUND_VY",
+           "N_DECK_PAR", "deck_arrays", "deck_state_under", "rails_under", "pose_relative_to_rails",
+           "rail_pair_to_track", "rail_material_velocity", "rail_moment_about_deck_line", "project_on_deck",
+           "series_contacts", "residual_at", "N_SC", "project_with"]
 
 #: rows of a wheelset's deck state: displacement y, z [m] and roll [rad] of the rails' centre line at rail top,
-#: material velocity ẏ, ż [m/s] and roll rate [rad/s], on-deck flag (1.0 on the deck, else 0.0; all zero off it)
-N_DECK_STATE = 7
+#: material velocity ẏ, ż [m/s] and roll rate [rad/s], on-deck flag (1.0 on the deck, else 0.0; all zero off it),
+#: then the residual flexibility there (:data:`DS_RESIDUAL`: ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ``; zero without)
+N_DECK_STATE = 13
+DS_RESIDUAL = 7
 
 # ---- deck parameters: par[DECK_*] -------------------------------------------------------------------------------
 DECK_START = 0        # track distance of the deck's start [m] (BridgeModel.start_m)
@@ -59,37 +81,168 @@ DECK_GROUND_VY = 3    # ground velocity ẏ_g [m/s]
 N_DECK_PAR = 4
 
 
-def deck_arrays(bridge) -> tuple[tuple, int]:
+def deck_arrays(bridge, n_wheelsets: int = 0) -> tuple[tuple, int]:
     """``(deck, n_modes)``: the deck arrays of the compiled call for an
     :class:`~.bridge.ExudynBridge` (module docstring), or for none (``bridge=None``: no modes); the ground entries
     of ``par`` start at zero."""
     if bridge is None:
         return (np.zeros(N_DECK_PAR), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64),
-                np.zeros((0, 5, 0))), 0
+                np.zeros((0, 5, 0)), np.zeros((0, 6)), np.zeros((n_wheelsets, 3))), 0
     tb = bridge.modes.table
     par = np.zeros(N_DECK_PAR)
     par[DECK_START] = tb.start_m
     par[DECK_RAIL_HEIGHT] = tb.rail_height_m
+    residual = getattr(bridge.modes, "residual_table", None)
+    residual = np.zeros((0, 6)) if residual is None else np.ascontiguousarray(residual, dtype=float)
+    if residual.shape[0] not in (0, tb.node_shapes.shape[0]) or residual.shape[1:] != (6,):
+        raise ValueError(f"residual_table of shape {residual.shape}: expected ({tb.node_shapes.shape[0]}, 6), one "
+                         f"row per point of the shape table")
     return (par, np.ascontiguousarray(tb.elem_x0, dtype=float), np.ascontiguousarray(tb.elem_len, dtype=float),
             np.ascontiguousarray(tb.elem_nodes, dtype=np.int64),
-            np.ascontiguousarray(tb.node_shapes, dtype=float)), int(bridge.modes.n_modes)
+            np.ascontiguousarray(tb.node_shapes, dtype=float), residual, np.zeros((n_wheelsets, 3))), \
+        int(bridge.modes.n_modes)
 
 
 @njit(cache=True)
 def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work_ds, work, state):
     """Deck state under a wheelset at track distance ``s_m`` into ``state`` (:data:`N_DECK_STATE`): ``Φ(s) q`` and
     ``Φ(s) q̇`` of the modal coordinates ``q_m``, ``q_m_t`` plus the increments ``delta`` (6; the Jacobian's
-    perturbation), zero off the deck.  ``phi`` (3, n_m) receives ``Φ(s)``; ``work_ds`` (3, n_m), ``work`` (9):
-    scratch.  Returns True on the deck."""
-    par, elem_x0, elem_len, elem_nodes, node_shapes = deck
+    perturbation), zero off the deck.  ``phi`` (3, n_m) receives ``Φ(s)`` (the connector projects the rail
+    forces with it, :func:`project_with`); ``work_ds`` (3, n_m), ``work`` (9): scratch.  Returns True on the
+    deck."""
+    par, elem_x0, elem_len, elem_nodes = deck[0], deck[1], deck[2], deck[3]
+    node_shapes, node_residual = deck[4], deck[5]
     on = False
-    if q_m.shape[0] > 0:
-        on = rail_state_at(s_m, speed_m_s, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len, elem_nodes,
-                           node_shapes, q_m, q_m_t, phi, work_ds, work)
+    n_m = q_m.shape[0]
+    if n_m > 0:
+        # Φ(s) (no slopes: the convective rate is not used here), then Φ q and Φ q̇ (as rail_state_at)
+        on = modal_shape_at(s_m, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len, elem_nodes,
+                            node_shapes, phi)
+        for i in range(3):
+            d = 0.0
+            v = 0.0
+            for k in range(n_m):
+                d += phi[i, k] * q_m[k]
+                v += phi[i, k] * q_m_t[k]
+            work[i] = d
+            work[3 + i] = v
     for i in range(6):
         state[i] = work[i] + delta[i] if on else 0.0
     state[6] = 1.0 if on else 0.0
+    if on:
+        residual_at(s_m, par[DECK_START], elem_x0, elem_len, elem_nodes, node_residual, state[DS_RESIDUAL:])
+    else:
+        for i in range(6):
+            state[DS_RESIDUAL + i] = 0.0
     return on
+
+
+@njit(cache=True)
+def residual_at(s_m, start_m, elem_x0, elem_len, elem_nodes, node_residual, out):
+    """The residual flexibility ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ`` at track distance ``s_m`` into ``out`` (6,):
+    linear between the table's points (zero off the table or without a residual table)."""
+    for i in range(6):
+        out[i] = 0.0
+    if node_residual.shape[0] == 0:
+        return
+    e = _find_element(s_m - start_m, elem_x0, elem_len)
+    if e < 0:
+        return
+    xi = min(max((s_m - start_m - elem_x0[e]) / elem_len[e], 0.0), 1.0)
+    a = elem_nodes[e, 0]
+    b = elem_nodes[e, 1]
+    for i in range(6):
+        out[i] = (1.0 - xi) * node_residual[a, i] + xi * node_residual[b, i]
+
+
+#: columns of a contact in :func:`series_contacts`: its generalized direction a (y, z, θ rows), the kernel's Hertz
+#: force, penetration and dN/dδ at the geometric penetration (inputs); the force, the ratio δ_H/δ_g of the Hertz
+#: approach to the geometric penetration and dN/dδ_g in series (outputs)
+SC_AY, SC_AZ, SC_AT, SC_N_G, SC_DELTA_G, SC_DN_G, SC_N, SC_RATIO, SC_DN = range(9)
+N_SC = 9
+
+
+@njit(cache=True)
+def _g_times(g, x0, x1, x2, out):
+    out[0] = g[0] * x0 + g[3] * x1 + g[4] * x2
+    out[1] = g[3] * x0 + g[1] * x1 + g[5] * x2
+    out[2] = g[4] * x0 + g[5] * x1 + g[2] * x2
+
+
+@njit(cache=True)
+def series_contacts(g, contacts, n, u0, work):
+    """The contacts ``contacts[:n]`` (rows :data:`N_SC`) of one wheelset on rails with the residual flexibility
+    ``g`` (6: ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ``; module docstring): the rails' residual displacement u (3,
+    generalized) with ``u = −G Σ_r N_r a_r`` and every contact at ``δ_r = δ_g,r + a_r·u``, ``N_r = N_g,r
+    (δ_r/δ_g,r)^1.5`` (Hertz at the kernel's curvatures; zero where δ_r ≤ 0).  Newton on ``u + G Σ N_r a_r = 0``
+    from u = 0: its Jacobian ``I + G Σ N'_r a_r a_rᵀ`` is non-singular (G and the sum positive semi-definite) and
+    the problem is the gradient of a convex potential, so the iteration converges (to round-off: |Δu| < 1e-14 m).
+    ``u0`` (3): the residual displacement the rails already had when the penetrations were found (the connector's
+    second pass, :func:`~exudyn_wheelrail.multibody.connector_core.series_compliance`): then ``δ_r = δ_g,r +
+    a_r·(u − u0)``, Newton from ``u0``.  ``dN/dδ_g`` of each contact is that of its own compliance ``a_rᵀ G a_r``
+    in series (the other contacts' share of it is neglected there).  ``work`` (7, 3) scratch; u is left in
+    ``work[0]``.  Returns the number of Newton iterations."""
+    u = work[0]
+    res = work[1]
+    gv = work[2]
+    du = work[3]
+    u[0] = u0[0]
+    u[1] = u0[1]
+    u[2] = u0[2]
+    it = 0
+    J = work[4:7]
+    for it in range(1, 51):
+        res[0] = u[0]
+        res[1] = u[1]
+        res[2] = u[2]
+        for i in range(3):
+            for j in range(3):
+                J[i, j] = 1.0 if i == j else 0.0
+        for r in range(n):
+            c = contacts[r]
+            d = c[SC_DELTA_G] + c[SC_AY] * (u[0] - u0[0]) + c[SC_AZ] * (u[1] - u0[1]) + c[SC_AT] * (u[2] - u0[2])
+            if d <= 0.0:
+                continue
+            x = d / c[SC_DELTA_G]
+            N = c[SC_N_G] * x * math.sqrt(x)
+            dN = 1.5 * N / d
+            _g_times(g, c[SC_AY], c[SC_AZ], c[SC_AT], gv)
+            for i in range(3):
+                res[i] += gv[i] * N
+                J[i, 0] += gv[i] * dN * c[SC_AY]
+                J[i, 1] += gv[i] * dN * c[SC_AZ]
+                J[i, 2] += gv[i] * dN * c[SC_AT]
+        # du = -J^-1 res (Cramer's rule, 3 x 3)
+        det = (J[0, 0] * (J[1, 1] * J[2, 2] - J[1, 2] * J[2, 1]) - J[0, 1] * (J[1, 0] * J[2, 2] - J[1, 2] * J[2, 0])
+               + J[0, 2] * (J[1, 0] * J[2, 1] - J[1, 1] * J[2, 0]))
+        for col in range(3):
+            m00, m01, m02 = J[0, 0], J[0, 1], J[0, 2]
+            m10, m11, m12 = J[1, 0], J[1, 1], J[1, 2]
+            m20, m21, m22 = J[2, 0], J[2, 1], J[2, 2]
+            if col == 0:
+                m00, m10, m20 = res[0], res[1], res[2]
+            elif col == 1:
+                m01, m11, m21 = res[0], res[1], res[2]
+            else:
+                m02, m12, m22 = res[0], res[1], res[2]
+            du[col] = -(m00 * (m11 * m22 - m12 * m21) - m01 * (m10 * m22 - m12 * m20)
+                        + m02 * (m10 * m21 - m11 * m20)) / det
+        u[0] += du[0]
+        u[1] += du[1]
+        u[2] += du[2]
+        if abs(du[0]) + abs(du[1]) + abs(du[2]) < 1e-14:
+            break
+    for r in range(n):
+        c = contacts[r]
+        d = c[SC_DELTA_G] + c[SC_AY] * (u[0] - u0[0]) + c[SC_AZ] * (u[1] - u0[1]) + c[SC_AT] * (u[2] - u0[2])
+        x = max(d, 0.0) / c[SC_DELTA_G]
+        c[SC_N] = c[SC_N_G] * x * math.sqrt(x)
+        c[SC_RATIO] = x
+        _g_times(g, c[SC_AY], c[SC_AZ], c[SC_AT], gv)
+        crr = c[SC_AY] * gv[0] + c[SC_AZ] * gv[1] + c[SC_AT] * gv[2]
+        dn_h = c[SC_DN_G] * math.sqrt(x)
+        c[SC_DN] = dn_h / (1.0 + crr * dn_h)
+    return it
 
 
 @njit(cache=True)
@@ -137,9 +290,17 @@ def rail_moment_about_deck_line(y_c, z_c, F_y, F_z, M_x, y_ground_m, state):
 
 
 @njit(cache=True)
+def project_with(phi, F_y, F_z, M_x, f_modal):
+    """``f_modal += Φᵀ (F_y, F_z, M_x)`` with ``Φ`` (3, n_m) the shapes at the force's track distance (those
+    :func:`deck_state_under` found for the wheelset): :func:`project_on_deck` without interpolating again."""
+    for k in range(phi.shape[1]):
+        f_modal[k] += phi[0, k] * F_y + phi[1, k] * F_z + phi[2, k] * M_x
+
+
+@njit(cache=True)
 def project_on_deck(s_m, F_y, F_z, M_x, deck, work, f_modal):
     """``f_modal += Φ(s)^T (F_y, F_z, M_x)``: the generalized modal forces of a force on the rails at track distance
     ``s_m`` (:func:`~.bridge.add_projected_force`); ``work`` (3, n_m) scratch.  Returns True on the deck."""
-    par, elem_x0, elem_len, elem_nodes, node_shapes = deck
+    par, elem_x0, elem_len, elem_nodes, node_shapes = deck[0], deck[1], deck[2], deck[3], deck[4]
     return add_projected_force(s_m, F_y, F_z, M_x, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len,
                                elem_nodes, node_shapes, work, f_modal)

@@ -63,13 +63,21 @@ cut-off (the rail-on-pad branch) are kept for the flexibility they carry to the 
 frequencies; the pinned–pinned resonance (1.42 kHz Euler–Bernoulli for 60E1 at 0.6 m, ~1 kHz measured) is
 neither kept nor valid here.
 
-What the truncation neglects (``benchmarks/bench_flexible_track.py``): the flexibility of the dropped modes — the
-static deflection under a wheelset is 3 % below the full model's at the default 800 Hz (21 % at 400 Hz: the
-rail-on-pad branch, which carries the pad compression, starts at ~420 Hz); the pinned–pinned resonance.  No static
-correction: the residual flexibility is local to the wheel and would have to act in series with the contact,
-inside the connector's solve.  Explicit RK44 is stable for ``ω dt < 2.83``; the wheel on the rail's modal mass is
-the highest coupled frequency (:func:`~.flexible_scenario.contact_mode_Hz`): 0.35 ms at most for the default
-track (0.25 ms used), checked before a scenario runs.
+Static correction (``modes(static_correction=True)``, the default). The dropped modes carry part of the track's
+static flexibility under a wheel — 3 % of it at the default 800 Hz, 21 % at 400 Hz (the rail-on-pad branch, which
+carries the pad compression, starts at ~420 Hz; ``benchmarks/bench_flexible_track.py``). Their static part is kept:
+:attr:`FlexibleTrackModes.residual_table` is the residual flexibility at the rails, ``G_res(s) = Ψ K⁻¹ Ψᵀ − Σ_kept φ
+φᵀ/ω²`` along the table, and the connector puts it in series with the contacts of each wheelset
+(:mod:`exudyn_wheelrail.structures.deck_kinematics`,
+:func:`~exudyn_wheelrail.multibody.connector_core.series_compliance`): the static deflection under a wheel is then
+the full model's at any cut-off, and the dropped modes respond quasi-statically (exact for loads well below their
+frequencies; the error of a load at f is ~(f/f_d)² of the residual part, f_d ≳ 420 Hz the lowest dropped mode).
+Neglected: the residual's coupling between wheelsets (0.2 % of the static deflection within a bogie at 400 Hz, 2.5 m
+apart) and the creep forces' share; the roll row of the kept shapes is linear between the table's points (0.8 % of
+the roll flexibility mid-element). Explicit RK44 is stable for ``ω dt < 2.83``; the wheel on the rail's modal mass,
+through the contact in series with the residual, is the highest coupled frequency
+(:func:`~.flexible_scenario.contact_mode_Hz`), checked before a scenario runs: 0.46 ms at most for the default track
+at 800 Hz, 0.79 ms at 400 Hz (0.35 and 0.42 ms without the correction).
 
 Cost: one modal coordinate per kept mode, their number proportional to the segment's length (9.4 per metre at
 800 Hz for the default track); the segment should carry the run (:func:`segment_for_run`) and no more.
@@ -82,13 +90,16 @@ from pathlib import Path
 
 import numpy as np
 import scipy.linalg
+from numba import njit
 import scipy.sparse as sp
+import scipy.sparse.linalg
 
 from ..structures.bridge import ExudynBridge, ShapeTable, modal_shape_at
 from ..validation import read_toml
 
 __all__ = ["DEFAULT_TRACK_FILE", "KINDS", "DAMPING_FORMS", "TrackFileError", "TrackParameters",
-           "FlexibleTrackModel", "FlexibleTrackModes", "add_flexible_track", "segment_for_run",
+           "FlexibleTrackModel", "FlexibleTrackModes", "add_flexible_track", "segment_for_run", "segment_margin_m",
+           "decay_length_m", "MARGIN_DECAY_LENGTHS",
            "zimmermann_deflection_m", "zimmermann_moment_Nm", "winkler_moving_load_deflection_m",
            "continuous_receptance_m_N"]
 
@@ -433,10 +444,12 @@ class FlexibleTrackModel:
         r2 = p.rail_I_vertical_m4 / (p.rail_mass_kg_m / 7850.0)
         return kappa, 1.0 - 1.0 / math.sqrt(1.0 + kappa ** 2 * r2 * (1.0 + E_over_G / shear_coefficient))
 
-    def modes(self, f_max_Hz: float | None = None, damping: str = "full", kinds=KINDS) -> "FlexibleTrackModes":
+    def modes(self, f_max_Hz: float | None = None, damping: str = "full", kinds=KINDS,
+              static_correction: bool = True) -> "FlexibleTrackModes":
         """The reduced model: the eigenmodes of the three beams up to ``f_max_Hz`` (default the parameters'
         ``modes_up_to_Hz``) with the projected damping (:data:`DAMPING_FORMS`); ``kinds``: the beams reduced (the
-        others keep no mode: rigid)."""
+        others keep no mode: rigid); ``static_correction``: the dropped modes' flexibility at the rails acts in
+        series with the contact (:attr:`FlexibleTrackModes.residual_table`, module docstring)."""
         if damping not in DAMPING_FORMS:
             raise ValueError(f"damping={damping!r}: expected one of {DAMPING_FORMS}")
         f_max = self.params.modes_up_to_Hz if f_max_Hz is None else float(f_max_Hz)
@@ -454,7 +467,7 @@ class FlexibleTrackModel:
             if damping == "diagonal":
                 D = np.diag(np.diag(D))
             blocks.append((kind, np.sqrt(np.maximum(w2, 0.0)), phi, D))
-        return FlexibleTrackModes(self, blocks, f_max, damping)
+        return FlexibleTrackModes(self, blocks, f_max, damping, static_correction)
 
 
 class FlexibleTrackModes:
@@ -464,10 +477,12 @@ class FlexibleTrackModes:
     Modal equations ``q̈ + D q̇ + diag(ω²) q = Q``; the same interface as
     :class:`~exudyn_wheelrail.structures.bridge.BridgeModes` where the deck machinery uses it."""
 
-    def __init__(self, model: FlexibleTrackModel, blocks, f_max_Hz: float, damping: str):
+    def __init__(self, model: FlexibleTrackModel, blocks, f_max_Hz: float, damping: str,
+                 static_correction: bool = True):
         self.model = model
         self.f_max_Hz = float(f_max_Hz)
         self.damping = damping
+        self.static_correction = bool(static_correction)
         self.omega_rad_s = np.concatenate([b[1] for b in blocks])
         self.frequencies_Hz = self.omega_rad_s / (2.0 * math.pi)
         self.kinds = tuple(k for b in blocks for k in [b[0]] * len(b[1]))
@@ -515,6 +530,67 @@ class FlexibleTrackModes:
                           np.column_stack([np.arange(n_el), np.arange(1, n_el + 1)]).astype(np.int64),
                           np.ascontiguousarray(ns))
 
+    @property
+    def residual_table(self) -> np.ndarray | None:
+        """The static flexibility of the dropped modes at the rails, per point of :attr:`table`: (n_points, 6),
+        columns ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ`` of the 3 × 3 matrix ``G_res(s) = Ψ(s) K⁻¹ Ψ(s)ᵀ − Σ_k
+        Φ_k(s) Φ_k(s)ᵀ/ω_k²`` ([m/N], [m/(N m)] = [rad/N], [rad/(N m)]; rows y_rail, z_rail, θ_rail; ``Ψ(s)`` the
+        finite-element interpolation of the rail field at s, ``K`` the full stiffness, the sum over the kept modes)
+        — what the reduced model lacks of the full model's static deflection under a force at s.  The connector
+        puts it in series with each contact (:mod:`exudyn_wheelrail.structures.deck_kinematics`); None without
+        ``static_correction``.  A beam kept rigid (no modes) has none."""
+        if not getattr(self, "static_correction", False):
+            return None
+        if "_residual" not in self.__dict__:
+            self._residual = self._residual_flexibility()
+        return self._residual
+
+    def residual_at(self, s_m) -> np.ndarray:
+        """``G_res(s)`` (..., 3, 3) at track distance(s) ``s_m`` (:attr:`residual_table`, linear between the
+        table's points as the connector reads it; zero off the segment or without the static correction)."""
+        from ..structures.deck_kinematics import residual_at
+        s = np.asarray(s_m, dtype=float)
+        out = np.zeros((s.size, 3, 3))
+        R = self.residual_table
+        if R is not None:
+            tb = self.table
+            g = np.empty(6)
+            for n, x in enumerate(s.ravel()):
+                residual_at(float(x), tb.start_m, tb.elem_x0, tb.elem_len, tb.elem_nodes, R, g)
+                out[n] = [[g[0], g[3], g[4]], [g[3], g[1], g[5]], [g[4], g[5], g[2]]]
+        return out.reshape(s.shape + (3, 3))
+
+    def _static_flexibility(self, s_pts: np.ndarray) -> np.ndarray:
+        """The full finite-element model's static flexibility at the rails, (n_points, 3, 3) at ``s_pts`` (rows
+        y_rail, z_rail, θ_rail; the three beams are independent: diagonal).  A beam without modes: zero."""
+        mdl = self.model
+        G = np.zeros((s_pts.size, 3, 3))
+        e, xi = mdl._locate(s_pts)
+        N, _ = _hermite(xi, mdl.h_m)
+        for kind, row in (("lateral", 0), ("vertical", 1), ("roll", 2)):
+            if self.shapes[kind].shape[1] == 0:
+                continue
+            _, K, _ = mdl.assemble(kind)
+            Psi = np.zeros((mdl.n_dof, s_pts.size))
+            cols = np.arange(s_pts.size)
+            for j in range(4):
+                Psi[2 * e + j, cols] = N[:, j]
+            X = sp.linalg.splu(K.tocsc()).solve(Psi)
+            G[:, row, row] = np.einsum("ij,ij->j", Psi, X)
+        return G
+
+    def _residual_flexibility(self) -> np.ndarray:
+        tb = self.table
+        s_pts = tb.start_m + np.concatenate([tb.elem_x0, [tb.elem_x0[-1] + tb.elem_len[-1]]])
+        G = self._static_flexibility(s_pts)
+        rows = tb.node_shapes[:, [_NS_V, _NS_W, _NS_TH], :]                  # (n_points, 3, n_modes) at the points
+        G -= np.einsum("pik,pjk->pij", rows / self.omega_rad_s, rows / self.omega_rad_s)
+        out = np.empty((s_pts.size, 6))
+        for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
+            out[:, c] = G[:, i, j]
+        out[:, :3] = np.maximum(out[:, :3], 0.0)        # round-off where the kept modes carry all of it
+        return np.ascontiguousarray(out)
+
     # modal matrices (the deck machinery's names)
     def modal_mass(self) -> np.ndarray:
         return np.eye(self.n_modes)
@@ -542,14 +618,17 @@ class FlexibleTrackModes:
         return Q / self.omega_rad_s ** 2
 
     def receptance(self, kind: str, s_m: float, f_Hz) -> np.ndarray:
-        """Point receptance of the reduced model (the row of ``kind`` at ``s_m``), with the kept damping."""
+        """Point receptance of the reduced model (the row of ``kind`` at ``s_m``), with the kept damping, plus the
+        residual flexibility of the static correction (frequency-independent: the dropped modes quasi-static)."""
         row = {"lateral": 0, "vertical": 1, "roll": 2}[kind]
         phi = self.shape_at(s_m)[row]
+        residual = float(self.residual_at(s_m)[row, row])
         out = np.empty(len(np.atleast_1d(f_Hz)), dtype=complex)
         W2 = np.diag(self.omega_rad_s ** 2)
         for i, fr in enumerate(np.atleast_1d(f_Hz)):
             w = 2.0 * math.pi * fr
-            out[i] = phi @ np.linalg.solve(W2 - w * w * np.eye(self.n_modes) + 1j * w * self.damping_matrix, phi)
+            out[i] = phi @ np.linalg.solve(W2 - w * w * np.eye(self.n_modes) + 1j * w * self.damping_matrix,
+                                           phi) + residual
         return out
 
     def beam_dofs(self, q) -> dict:
@@ -628,8 +707,19 @@ class _CouplingDamping:
     def force(self, mbs, t, itemIndex, q, q_t):
         q_t = np.asarray(q_t)
         for sl, D in self.blocks:
-            np.dot(D, q_t[sl], out=self.f[sl])
+            _matvec(D, q_t[sl], self.f[sl])
         return -self.f
+
+
+@njit(cache=True)
+def _matvec(D, v, out):
+    """``out = D v`` in one thread: inside the solve a threaded BLAS competes with Exudyn for the cores (measured
+    on 2 shared cores: a track of ~1300 modes solved 3-4.5 times slower with numpy's threaded BLAS)."""
+    for i in range(D.shape[0]):
+        acc = 0.0
+        for j in range(D.shape[1]):
+            acc += D[i, j] * v[j]
+        out[i] = acc
 
 
 def add_flexible_track(mbs, modes: FlexibleTrackModes, name: str = "flexible_track") -> ExudynBridge:
@@ -668,16 +758,30 @@ def add_flexible_track(mbs, modes: FlexibleTrackModes, name: str = "flexible_tra
     return ExudynBridge(modes, "modal", int(node), int(obj))
 
 
+#: the margin a segment keeps beyond the outermost wheelsets, in decay lengths 1/β of the vertical support: there a
+#: wheel load's static deflection ``e^{-βx}(cos βx + sin βx)`` is below 0.5 % of its peak
+MARGIN_DECAY_LENGTHS = 5.0
+
+
+def decay_length_m(params: TrackParameters) -> float:
+    """``1/β`` [m] of the vertical support, ``β = (k/(4EI))^¼`` with the single rail's EI and support stiffness
+    per metre (:meth:`TrackParameters.support_stiffness_per_rail_N_m2`)."""
+    k = params.support_stiffness_per_rail_N_m2()
+    return (4.0 * params.rail_E_Pa * params.rail_I_vertical_m4 / k) ** 0.25
+
+
+def segment_margin_m(params: TrackParameters) -> float:
+    """The default margin of a segment (or moving window) beyond the outermost wheelsets [m]:
+    :data:`MARGIN_DECAY_LENGTHS` decay lengths, at least two sleeper bays."""
+    return max(MARGIN_DECAY_LENGTHS * decay_length_m(params), 2.0 * params.sleeper_spacing_m)
+
+
 def segment_for_run(s_rear_start_m: float, s_front_end_m: float, params: TrackParameters,
                     margin_m: float | None = None) -> tuple[float, float]:
     """``(start_m, length_m)`` of a segment that carries every wheelset over a run, from the rearmost wheelset's
-    start to the leading wheelset's end, plus ``margin_m`` at both ends (default: five decay lengths 1/β of the
-    vertical support, where the static deflection of a wheel load has fallen below 1 % of its peak, and at least
-    two sleeper bays)."""
+    start to the leading wheelset's end, plus ``margin_m`` at both ends (default :func:`segment_margin_m`)."""
     if margin_m is None:
-        k = params.support_stiffness_per_rail_N_m2()
-        beta = (k / (4.0 * params.rail_E_Pa * params.rail_I_vertical_m4)) ** 0.25
-        margin_m = max(5.0 / beta, 2.0 * params.sleeper_spacing_m)
+        margin_m = segment_margin_m(params)
     d = params.sleeper_spacing_m
     start = math.floor((s_rear_start_m - margin_m) / d) * d
     return float(start), float(s_front_end_m + margin_m - start)

@@ -30,6 +30,8 @@ import math
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
 
 from ..structures.bridge import BridgeModel
 from .flexible import KINDS, FlexibleTrackModel, FlexibleTrackModes, TrackParameters, _hermite
@@ -114,15 +116,20 @@ class TrackOnDeckModel(FlexibleTrackModel):
                     A[sl_d, sl_d] += c * np.outer(g, g)
         return M, K, C, off
 
-    def modes(self, f_max_Hz: float | None = None, damping: str = "full", kinds=KINDS) -> "TrackOnDeckModes":
+    def modes(self, f_max_Hz: float | None = None, damping: str = "full", kinds=KINDS,
+              static_correction: bool = True) -> "TrackOnDeckModes":
         """The coupled modes of track and deck up to ``f_max_Hz`` (default the parameters' ``modes_up_to_Hz``) with
-        the full projected damping (``damping``, ``kinds``: as the ground model; only ``"full"`` and all beams)."""
+        the full projected damping (``damping``, ``kinds``: as the ground model; only ``"full"`` and all beams);
+        ``static_correction`` as the ground model's (the residual flexibility from the coupled stiffness)."""
         if damping != "full" or tuple(kinds) != KINDS:
             raise ValueError("the track on a deck is reduced with all beams and the full projected damping")
         f_max = self.params.modes_up_to_Hz if f_max_Hz is None else float(f_max_Hz)
         M, K, C, off = self.assemble_coupled()
         w2, phi = scipy.linalg.eigh(K, M, subset_by_value=(-np.inf, (2.0 * math.pi * f_max) ** 2))
-        return TrackOnDeckModes(self, np.sqrt(np.maximum(w2, 0.0)), phi, phi.T @ C @ phi, off, f_max)
+        modes = TrackOnDeckModes(self, np.sqrt(np.maximum(w2, 0.0)), phi, phi.T @ C @ phi, off, f_max)
+        modes.static_correction = bool(static_correction)
+        modes._stiffness = (K, off) if static_correction else None
+        return modes
 
 
 class TrackOnDeckModes(FlexibleTrackModes):
@@ -149,6 +156,25 @@ class TrackOnDeckModes(FlexibleTrackModes):
         return (f"TrackOnDeckModes({self.n_modes} coupled modes up to {self.f_max_Hz:g} Hz; {m.length_m:g} m, "
                 f"{int(m.on_deck.sum())} of {m.n_sleepers} sleepers on the deck)")
 
+    def _static_flexibility(self, s_pts: np.ndarray) -> np.ndarray:
+        """The coupled model's static flexibility at the rails, (n_points, 3, 3) at ``s_pts`` (rows y_rail, z_rail,
+        θ_rail: the lateral, vertical and roll beams' rail fields, coupled through the deck)."""
+        K, off = self._stiffness
+        mdl = self.model
+        e, xi = mdl._locate(s_pts)
+        N, _ = _hermite(xi, mdl.h_m)
+        lu = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(K))
+        G = np.empty((s_pts.size, 3, 3))
+        for c0 in range(0, s_pts.size, 128):                 # in chunks of points: the right-hand sides are dense
+            pts = np.arange(c0, min(c0 + 128, s_pts.size))
+            Psi = np.zeros((K.shape[0], pts.size, 3))
+            for row, kind in enumerate(("lateral", "vertical", "roll")):
+                for j in range(4):
+                    Psi[off[kind] + 2 * e[pts] + j, np.arange(pts.size), row] = N[pts, j]
+            X = lu.solve(Psi.reshape(K.shape[0], -1)).reshape(Psi.shape)
+            G[pts] = np.einsum("nia,nib->iab", Psi, X)
+        return G
+
     def deck_displacement(self, s_m, q) -> np.ndarray:
         """Deck ``(v, w, θx)`` on its axis at track distance(s) ``s_m`` (zero off the deck) for modal coordinates q."""
         s = np.atleast_1d(np.asarray(s_m, dtype=float))
@@ -160,23 +186,43 @@ class TrackOnDeckModes(FlexibleTrackModes):
                 out[i] = [m._deck_row(x, r) @ u for r in ("v", "w", "tx")]
         return out
 
+    def deck_shape_at(self, s_m) -> np.ndarray:
+        """The deck's ``(v, w, θx)`` on its axis at track distance(s) ``s_m`` as rows over the modal coordinates,
+        (k, 3, n_modes) (zero off the deck): ``deck_displacement(s, q) = deck_shape_at(s) @ q``, and the same rows
+        give the deck's velocity and acceleration from ``q̇``, ``q̈``."""
+        s = np.atleast_1d(np.asarray(s_m, dtype=float))
+        out = np.zeros((s.size, 3, self.n_modes))
+        m = self.model
+        for i, x in enumerate(s - m.deck.start_m):
+            if 0.0 <= x <= m.deck.length_m:
+                out[i] = np.array([m._deck_row(x, r) for r in ("v", "w", "tx")]) @ self.deck_shapes
+        return out
+
+    def _deck_support_rows(self) -> dict:
+        """The deck's ``w``, ``v``, ``θx`` under every on-deck sleeper as rows over the modal coordinates."""
+        rows = self.__dict__.get("_deck_rows")
+        if rows is None:
+            rows = self._deck_rows = {r: self.model._g[r] @ self.deck_shapes for r in ("w", "v", "tx")}
+        return rows
+
     def support_forces_N(self, q, q_t, sleepers=None) -> dict:
         """As :meth:`~.flexible.FlexibleTrackModes.support_forces_N`, the ballast of the sleepers on the deck acting
         on the sleeper's motion relative to the deck point under it."""
         out = super().support_forces_N(q, q_t, sleepers)
         m, p = self.model, self.model.params
         j = np.arange(m.n_sleepers) if sleepers is None else np.atleast_1d(np.asarray(sleepers))
-        idx = np.cumsum(m.on_deck) - 1                                       # row of each on-deck sleeper in _g
+        on = m.on_deck[j]
+        if not on.any():
+            return out
+        rows = self._deck_support_rows()
+        i = (np.cumsum(m.on_deck) - 1)[j[on]]                                # row of each on-deck sleeper in _g
+        q, q_t = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float)
+        d = {r: (rows[r][i] @ q, rows[r][i] @ q_t) for r in ("w", "v", "tx")}   # the deck under the sleepers
         b, e = p.rail_centre_distance_m, m.ballast_height_m
-        u, v = self.deck_shapes @ np.asarray(q, dtype=float), self.deck_shapes @ np.asarray(q_t, dtype=float)
-        for n_out, jj in enumerate(j):
-            if not m.on_deck[jj]:
-                continue
-            g = {r: m._g[r][idx[jj]] for r in ("w", "v", "tx")}
-            for side, sgn in (("left", -1.0), ("right", 1.0)):
-                d = g["w"] + sgn * 0.5 * b * g["tx"]
-                out[f"ballast_vertical_{side}_N"][n_out] -= (0.5 * p.ballast_k_vertical_N_m * (d @ u)
-                                                             + 0.5 * p.ballast_c_vertical_Ns_m * (d @ v))
-            d = g["v"] + e * g["tx"]
-            out["ballast_lateral_N"][n_out] -= p.ballast_k_lateral_N_m * (d @ u) + p.ballast_c_lateral_Ns_m * (d @ v)
+        for side, sgn in (("left", -1.0), ("right", 1.0)):
+            u, u_t = (d["w"][k] + sgn * 0.5 * b * d["tx"][k] for k in (0, 1))
+            out[f"ballast_vertical_{side}_N"][on] -= (0.5 * p.ballast_k_vertical_N_m * u
+                                                      + 0.5 * p.ballast_c_vertical_Ns_m * u_t)
+        u, u_t = (d["v"][k] + e * d["tx"][k] for k in (0, 1))
+        out["ballast_lateral_N"][on] -= p.ballast_k_lateral_N_m * u + p.ballast_c_lateral_Ns_m * u_t
         return out

@@ -8,7 +8,13 @@ Keys (all optional; the table's presence switches the flexible track on)
 * ``start_m``, ``length_m`` — the segment (first sleeper, length in m), or ``"auto"`` (default): from the rearmost
   wheelset at t = 0 to the leading wheelset at the end of the run, plus five decay lengths at both ends
   (:func:`~.flexible.segment_for_run`).  A given segment must carry every wheelset from start to end (else an
-  error naming the key: a wheel leaving the segment would meet a rigid rail);
+  error naming the key: a wheel leaving the segment would meet a rigid rail).  ``length_m = "window"``: a moving
+  window (:mod:`.flexible_window`) of :func:`~.flexible_window.window_length_m` that travels with the vehicle —
+  the modes and the cost per step do not depend on the run's length; ``start_m`` is then ``"auto"`` (or absent):
+  the window starts five decay lengths behind the rearmost wheelset; explicit solvers only;
+* ``shift_bays`` — with ``length_m = "window"``: the sleeper bays the window moves at a time (an integer >= 1,
+  default :data:`~.flexible_window.DEFAULT_SHIFT_BAYS`; the window is that many bays longer than the vehicle and
+  its margins need);
 * ``modes_up_to_Hz`` — the modal truncation, default the track file's ``model.modes_up_to_Hz``.
 
 The flexible track takes the contact's structure slot: it cannot be combined with a ``[structure]`` (the track on
@@ -25,6 +31,9 @@ Step check (explicit solvers, :func:`contact_mode_Hz`): the highest kept mode an
 must satisfy ``ω dt < 2.83``; a step beyond is an error naming ``run.dt_s`` (or ``flexible_track.modes_up_to_Hz``)
 before the run.
 
+Moving window (:func:`flexible_track_window`, after the contact is built): the runner's ``user_function``; the
+recorded columns and the sleeper under a wheelset follow the window's current start.
+
 Recorded columns (:func:`flexible_track_probes`, group ``flexible_track``; wheelset j = 1 leading): ``rail_z_w<j>_m``,
 ``rail_y_w<j>_m``, ``rail_roll_w<j>_rad`` (the rails' centre line under the wheelset, the contact's deck state),
 and at the sleeper nearest to it ``sleeper_z_w<j>_m``, ``pad_left_w<j>_N``, ``pad_right_w<j>_N``,
@@ -38,15 +47,19 @@ from pathlib import Path
 import numpy as np
 
 from .flexible import DEFAULT_TRACK_FILE, FlexibleTrackModel, TrackFileError, TrackParameters, segment_for_run
+from .flexible_window import DEFAULT_SHIFT_BAYS, FlexibleTrackWindow, window_length_m, window_margin_m, window_start_m
 
-__all__ = ["FLEXIBLE_TRACK_KEYS", "FLEXIBLE_TRACK_GROUP", "AUTO", "RK44_OMEGA_DT_LIMIT", "EXPLICIT_CHECKED",
-           "CONTACT_STIFFNESS_N_M", "normalise_flexible_track", "flexible_track_modes", "contact_mode_Hz",
-           "start_on_flexible_track", "flexible_track_probes", "flexible_track_summary"]
+__all__ = ["FLEXIBLE_TRACK_KEYS", "FLEXIBLE_TRACK_GROUP", "AUTO", "WINDOW", "RK44_OMEGA_DT_LIMIT", "EXPLICIT_CHECKED",
+           "CONTACT_STIFFNESS_N_M", "normalise_flexible_track", "flexible_track_modes", "flexible_track_window",
+           "contact_mode_Hz", "check_explicit_step", "start_on_flexible_track", "flexible_track_probes",
+           "flexible_track_summary"]
 
-FLEXIBLE_TRACK_KEYS = ("file", "start_m", "length_m", "modes_up_to_Hz")
+FLEXIBLE_TRACK_KEYS = ("file", "start_m", "length_m", "modes_up_to_Hz", "shift_bays")
 #: the recorder group of the flexible track's columns
 FLEXIBLE_TRACK_GROUP = "flexible_track"
 AUTO = "auto"
+#: ``length_m = "window"``: the moving window (:mod:`.flexible_window`)
+WINDOW = "window"
 #: explicit RK44: the undamped oscillator is stable for ω dt below 2√2; the highest kept mode must stay under it
 RK44_OMEGA_DT_LIMIT = 2.0 * math.sqrt(2.0)
 #: explicit solvers -> the largest ω dt on the imaginary axis for which they are stable (an undamped mode): RK44
@@ -83,14 +96,28 @@ def normalise_flexible_track(ft, error, base_dir: Path | None) -> dict:
     out = {"file": str(p.resolve())}
     for key in ("start_m", "length_m"):
         v = ft.get(key, AUTO)
+        if v == WINDOW and key == "length_m":
+            out[key] = v
+            continue
         if v != AUTO:
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise error(f"flexible_track.{key}", f"{v!r}: expected a number in m or 'auto'")
+                raise error(f"flexible_track.{key}", f"{v!r}: expected a number in m or 'auto'"
+                                                     + (" or 'window'" if key == "length_m" else ""))
             v = float(v)
         out[key] = v
-    if (out["start_m"] == AUTO) != (out["length_m"] == AUTO):
+    if out["length_m"] == WINDOW:
+        if out["start_m"] != AUTO:
+            raise error("flexible_track.start_m", f"{out['start_m']!r}: a moving window (length_m = 'window') places "
+                                                  "itself; leave start_m out (or 'auto')")
+        sb = ft.get("shift_bays", DEFAULT_SHIFT_BAYS)
+        if isinstance(sb, bool) or not isinstance(sb, int) or sb < 1:
+            raise error("flexible_track.shift_bays", f"{sb!r}: expected a whole number of sleeper bays >= 1")
+        out["shift_bays"] = sb
+    elif "shift_bays" in ft:
+        raise error("flexible_track.shift_bays", "only with length_m = 'window' (a fixed segment does not move)")
+    if (out["start_m"] == AUTO) != (out["length_m"] in (AUTO, WINDOW)):
         raise error("flexible_track.length_m", "give both start_m and length_m, or neither ('auto')")
-    if out["length_m"] != AUTO and out["length_m"] < 2.0 * params.sleeper_spacing_m:
+    if out["length_m"] not in (AUTO, WINDOW) and out["length_m"] < 2.0 * params.sleeper_spacing_m:
         raise error("flexible_track.length_m", f"{out['length_m']!r} m: shorter than two sleeper bays "
                                                f"({2.0 * params.sleeper_spacing_m:g} m)")
     fm = ft.get("modes_up_to_Hz", params.modes_up_to_Hz)
@@ -101,15 +128,29 @@ def normalise_flexible_track(ft, error, base_dir: Path | None) -> dict:
 
 
 def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s: float, end_time_s: float,
-                         solver: str, dt_s: float):
+                         solver: str, dt_s: float, moving_window: bool = False):
     """The :class:`~.flexible.FlexibleTrackModes` of a normalised ``[flexible_track]`` for a run: the segment
-    (given or ``auto``) checked to carry every wheelset from t = 0 to ``end_time_s``, and the highest kept mode
-    checked against the explicit solver's stability."""
+    (given or ``auto``) checked to carry every wheelset from t = 0 to ``end_time_s``, or the moving window
+    (``length_m = "window"``: its length for these wheelsets, placed behind the rearmost; the caller declares with
+    ``moving_window=True`` that it attaches :func:`flexible_track_window` to the run, else an error: without it
+    the wheels would leave the window), and the highest kept mode checked against the explicit solver's
+    stability."""
     params = TrackParameters.from_file(ft["file"])
     x = np.asarray(wheelset_x_m, dtype=float)
     s_rear0 = s_start_m + float(x.min())
     s_front1 = s_start_m + speed_m_s * end_time_s + float(x.max())
-    if ft["length_m"] == AUTO:
+    if ft["length_m"] == WINDOW:
+        if not moving_window:
+            raise TrackFileError("flexible_track.length_m = 'window': this build does not move the window with the "
+                                 "vehicle (flexible_track_modes(..., moving_window=True) and flexible_track_window)")
+        if EXPLICIT_CHECKED.get(solver) is None:
+            raise TrackFileError(f"flexible_track.length_m = 'window': run.solver = {solver!r}: the moving window "
+                                 "carries q and dq/dt over; use an explicit solver ('rk44')")
+        start = window_start_m(params, s_rear0)
+        length = window_length_m(params, x, ft["shift_bays"])
+        m = window_margin_m(params)
+        s_rear0, s_front1 = start + m, start + length - m             # the wheels' path within the window
+    elif ft["length_m"] == AUTO:
         start, length = segment_for_run(s_rear0, s_front1, params)
     else:
         start, length = ft["start_m"], ft["length_m"]
@@ -128,15 +169,39 @@ def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s:
                                  f"run.dt_s = {dt_s:g} s is unstable above {f_lim:.4g} Hz (omega dt = {limit:.3g}); "
                                  "use run.solver = 'newmark' or a smaller step")
     modes = FlexibleTrackModel(params, start, length).modes(f_max_Hz=ft["modes_up_to_Hz"])
-    if limit is not None:
-        f_c = contact_mode_Hz(modes, s_rear0, s_front1)
-        f_lim = limit / (2.0 * math.pi * dt_s)
-        if f_c >= f_lim:
-            raise TrackFileError(f"run.dt_s = {dt_s:g} s: the wheel on the flexible rail (contact stiffness "
-                                 f"{CONTACT_STIFFNESS_N_M:.0e} N/m on the rail's kept modal mass) vibrates at up to "
-                                 f"{f_c:.4g} Hz, beyond explicit {solver}'s stability ({f_lim:.4g} Hz at this step): "
-                                 f"use run.dt_s <= {limit / (2.0 * math.pi * f_c):.3g} s")
+    check_explicit_step(modes, solver, dt_s, s_rear0, s_front1)
     return modes
+
+
+def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None = None,
+                        s_to_m: float | None = None) -> None:
+    """Raise :class:`~.flexible.TrackFileError` (naming ``run.dt_s`` and the largest stable step) if the explicit
+    ``solver`` at ``dt_s`` cannot carry the wheel on the rail's kept modal mass over ``[s_from_m, s_to_m]``
+    (:func:`contact_mode_Hz`); nothing for an implicit solver.  The run monitor's own stability estimate does not
+    see the rail's modal mass: this check is the guard (the scenario build and the runner call it)."""
+    limit = EXPLICIT_CHECKED.get(solver)
+    if limit is None:
+        return
+    if limit == 0.0:
+        raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
+                             "(or 'newmark') with a flexible track")
+    f_c = contact_mode_Hz(modes, s_from_m, s_to_m)
+    f_lim = limit / (2.0 * math.pi * dt_s)
+    if f_c >= f_lim:
+        raise TrackFileError(f"run.dt_s = {dt_s:g} s: the wheel on the flexible rail (contact stiffness "
+                             f"{CONTACT_STIFFNESS_N_M:.0e} N/m, in series with the residual flexibility, on the "
+                             f"rail's kept modal mass) vibrates at up to {f_c:.4g} Hz, beyond explicit {solver}'s "
+                             f"stability ({f_lim:.4g} Hz at this step): use run.dt_s <= "
+                             f"{limit / (2.0 * math.pi * f_c):.3g} s")
+
+
+def flexible_track_window(ft: dict, *, contact, handle, t_start_s: float = 0.0, then=None):
+    """The :class:`~.flexible_window.FlexibleTrackWindow` of a normalised ``[flexible_track]`` with
+    ``length_m = "window"`` (None for a fixed segment): create after the contact, pass as the runner's
+    ``user_function`` (``then``: a further one called after it) and to :func:`flexible_track_probes`."""
+    if ft["length_m"] != WINDOW:
+        return None
+    return FlexibleTrackWindow(handle, contact, shift_bays=ft["shift_bays"], t_start_s=t_start_s, then=then)
 
 
 def contact_mode_Hz(modes, s_from_m: float | None = None, s_to_m: float | None = None) -> float:
@@ -144,19 +209,26 @@ def contact_mode_Hz(modes, s_from_m: float | None = None, s_to_m: float | None =
     contact spring :data:`CONTACT_STIFFNESS_N_M` (roll: times (b/2)²) on the rail's modal mass at the contact,
     ``m_eff = 1/Σ_k φ_k(s)²`` per row of the deck interface (y, z, roll), the smallest over the segment (the wheelset
     is much heavier than that mass) or over the wheels' path ``[s_from_m, s_to_m]`` (the free rail ends are
-    lighter).  Measured: RK44 at 0.5 ms with the default 800 Hz modes chatters in flange
-    contact (lateral force jumping 2–25 kN between steps while the run reports ok), at 0.25 ms it does not; this
-    estimate puts the limit at 0.35 ms."""
+    lighter).  With the static correction (``modes.residual_table``) the contact spring acts in series with the
+    residual flexibility of that row at that point, ``k_eff = 1/(1/k + G_res)``.  Measured (RTRI car, 250 km/h,
+    flange contact in the lateral deviation; the run reports ok either way): without the correction RK44 chatters
+    at 0.5 ms with modes to 800 Hz (lateral force jumping 2–25 kN between steps) and not at 0.25 ms (estimate:
+    0.35 ms); with it, 800 Hz chatters at 0.5 ms, 600 Hz diverges at 0.75 ms and is smooth at 0.5 ms, 400 Hz is
+    smooth at 1 ms."""
     tb = modes.table
     s_pts = tb.start_m + np.append(tb.elem_x0, tb.elem_x0[-1] + tb.elem_len[-1])
     sel = np.ones(s_pts.shape, dtype=bool)
     if s_from_m is not None:
         sel &= (s_pts >= s_from_m - tb.elem_len[0]) & (s_pts <= s_to_m + tb.elem_len[0])
     ns = tb.node_shapes[sel]                                          # (n_pts, 5, n_modes): v, dv, w, dw, θ
-    inv_m = [float(np.max(np.sum(ns[:, r, :] ** 2, axis=1))) for r in (0, 2, 4)]
+    residual = getattr(modes, "residual_table", None)
     b = modes.model.params.rail_centre_distance_m
     k = (CONTACT_STIFFNESS_N_M, CONTACT_STIFFNESS_N_M, CONTACT_STIFFNESS_N_M * (0.5 * b) ** 2)
-    f_c = max(math.sqrt(ki * im) for ki, im in zip(k, inv_m)) / (2.0 * math.pi)
+    f_c = 0.0
+    for i, (row, ki) in enumerate(zip((0, 2, 4), k)):                # y, z, roll rows; residual columns 0, 1, 2
+        inv_m = np.sum(ns[:, row, :] ** 2, axis=1)
+        k_eff = ki if residual is None else 1.0 / (1.0 / ki + residual[sel, i])
+        f_c = max(f_c, float(np.max(np.sqrt(k_eff * inv_m))) / (2.0 * math.pi))
     return max(f_c, float(modes.frequencies_Hz.max(initial=0.0)))
 
 
@@ -167,16 +239,20 @@ def _static_wheelset_forces(model, modes) -> np.ndarray:
     return np.column_stack([np.zeros(len(Q)), Q.sum(axis=1), 0.5 * b * (Q[:, 1] - Q[:, 0])])
 
 
-def start_on_flexible_track(mbs, model, track_handle) -> float:
+def start_on_flexible_track(mbs, model, track_handle, contact=None) -> float:
     """Starting state (module docstring): the track's modal coordinates and rates, and the vehicle's bodies moved
     by the static deflection of the rails (lateral and vertical), each body by the deflection interpolated at its
     centre of mass between the wheelsets (the deflections differ by micrometres between wheelsets: no pitch is
-    added).  Call after the vehicle is placed on the rails, before ``mbs.Assemble()``.  Returns the largest static
-    deflection under a wheelset [m]."""
+    added).  With the wheel–rail ``contact`` given, the static loads are also its prediction of the rail loads
+    (:meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.predict_rail_loads`: one contact-geometry pass
+    per call with the static correction).  Call after the vehicle is placed on the rails, before
+    ``mbs.Assemble()``.  Returns the largest static deflection under a wheelset [m]."""
     modes = track_handle.modes
     x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
     s = model.track_distance_m(x, 0.0)
     F = _static_wheelset_forces(model, modes)
+    if contact is not None:
+        contact.predict_rail_loads(F)
     phi, dphi = _shape_and_slope(modes, s)
     w2 = modes.omega_rad_s ** 2
     q0 = np.einsum("kij,ki->j", phi, F) / w2
@@ -184,6 +260,9 @@ def start_on_flexible_track(mbs, model, track_handle) -> float:
     mbs.SetNodeParameter(track_handle.modal_node, "initialCoordinates", q0.tolist())
     mbs.SetNodeParameter(track_handle.modal_node, "initialCoordinates_t", q0_t.tolist())
     d = phi @ q0                                                         # (n_ws, 3): y, z, roll under each
+    residual = getattr(modes, "residual_at", None)
+    if residual is not None:                                             # the static correction's deflection
+        d = d + np.einsum("kij,kj->ki", residual(s), F)
     order = np.argsort(x)
     for body in model.bodies:
         xc = float(body.p_cg_in_frame[0])
@@ -206,8 +285,8 @@ def _shape_and_slope(modes, s):
 class _TrackColumns:
     """Recorder probe of the ``flexible_track`` group (module docstring)."""
 
-    def __init__(self, contact, handle, model):
-        self.c, self.h, self.model = contact, handle, model
+    def __init__(self, contact, handle, model, window=None):
+        self.c, self.h, self.model, self.window = contact, handle, model, window
         self.modes = handle.modes
         self.x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
         n = len(self.x)
@@ -223,27 +302,54 @@ class _TrackColumns:
         st = self.c.deck_state()
         mdl = self.modes.model
         s = self.model.track_distance_m(self.x, t)
-        k = np.clip(np.rint((s - mdl.start_m) / mdl.params.sleeper_spacing_m).astype(int), 0, mdl.n_sleepers - 1)
-        z_s = self.modes.sleeper_state(q, k)["z_m"]
-        f = self.modes.support_forces_N(q, q_t, k)
+        if self.window is not None:                  # the sleepers of the window at its current position
+            k = self.window.sleeper_index(s)
+        else:
+            k = np.clip(np.rint((s - mdl.start_m) / mdl.params.sleeper_spacing_m).astype(int), 0, mdl.n_sleepers - 1)
         for j in range(len(self.x)):
-            out[8 * j:8 * j + 8] = (st[j, 1], st[j, 0], st[j, 2], z_s[j], f["pad_vertical_left_N"][j],
-                                    f["pad_vertical_right_N"][j], f["ballast_vertical_left_N"][j],
-                                    f["ballast_vertical_right_N"][j])
+            a, b = self._rows(int(k[j]))
+            out[8 * j:8 * j + 3] = (st[j, 1], st[j, 0], st[j, 2])
+            out[8 * j + 3:8 * j + 8] = a @ q + b @ q_t
+
+    #: the sleeper quantities of a row, in the columns' order: (method, key)
+    _SLEEPER_OUTPUTS = (("sleeper_state", "z_m"), ("support_forces_N", "pad_vertical_left_N"),
+                        ("support_forces_N", "pad_vertical_right_N"), ("support_forces_N", "ballast_vertical_left_N"),
+                        ("support_forces_N", "ballast_vertical_right_N"))
+
+    def _rows(self, j: int):
+        """``(A, B)`` (5, n_modes): sleeper j's displacement, pad and ballast forces = ``A q + B q̇`` — the modes'
+        own output functions (linear) applied to the identity once per sleeper the wheels meet."""
+        cache = self.__dict__.setdefault("_cache", {})
+        if j not in cache:
+            n = self.modes.n_modes
+            eye, zero = np.eye(n), np.zeros((n, n))
+            f_q = self.modes.support_forces_N(eye, zero, [j])
+            f_v = self.modes.support_forces_N(zero, eye, [j])
+            z = self.modes.sleeper_state(eye, [j])["z_m"]
+            a = np.array([z[0] if m == "sleeper_state" else f_q[key][0] for m, key in self._SLEEPER_OUTPUTS])
+            b = np.array([np.zeros(n) if m == "sleeper_state" else f_v[key][0] for m, key in self._SLEEPER_OUTPUTS])
+            cache[j] = (np.ascontiguousarray(a), np.ascontiguousarray(b))
+        return cache[j]
 
 
-def flexible_track_probes(*, contact, handle, model) -> list:
-    """The recorder probes of the flexible track (module docstring)."""
-    return [_TrackColumns(contact, handle, model)]
+def flexible_track_probes(*, contact, handle, model, window=None) -> list:
+    """The recorder probes of the flexible track (module docstring); ``window``: the moving window
+    (:func:`flexible_track_window`), whose current position the sleeper columns follow."""
+    return [_TrackColumns(contact, handle, model, window)]
 
 
-def flexible_track_summary(modes) -> dict:
-    """The segment and the reduced model, for a run's summary."""
+def flexible_track_summary(modes, window=None) -> dict:
+    """The segment and the reduced model, for a run's summary; with a moving ``window`` its moves and its final
+    position (``start_m``: where it starts now)."""
     mdl = modes.model
     n = {k: modes.slices[k].stop - modes.slices[k].start for k in modes.slices}
-    return {"file": mdl.params.source, "start_m": mdl.start_m, "length_m": mdl.length_m,
+    extra = {} if window is None else {"window": window.summary()}
+    return {**extra, "file": mdl.params.source, "start_m": mdl.start_m if window is None else window.start_m,
+            "length_m": mdl.length_m,
             "sleepers": mdl.n_sleepers, "modes_up_to_Hz": modes.f_max_Hz, "modes": modes.n_modes,
             "modes_by_kind": n, "damping": modes.damping,
+            "static_correction": bool(getattr(modes, "static_correction", False)),
             "not_represented": "gauge spreading (both rails move together laterally), rail torsion and roll on its "
-                               "pad, sleeper bending, modes above modes_up_to_Hz (pinned-pinned, P1 contact "
-                               "resonance); the track is rigid off the segment"}
+                               "pad, sleeper bending, the dynamics of the modes above modes_up_to_Hz (pinned-pinned, "
+                               "P1 contact resonance; with the static correction their static flexibility is kept "
+                               "in series with the contacts); the track is rigid off the segment"}

@@ -1,0 +1,97 @@
+"""The per-step shortcuts of a watched run change no number.
+
+* The evaluation the run monitor keeps for an explicit step's first stage (``WheelRailContact.evaluate_state``) stays
+  in place instead of being copied: the reference is the plain computation from the same warm start — forces,
+  results and the warm start it leaves must be those bit for bit, and while the evaluation is kept the warm start
+  the connector reports is the one it started from.
+* The wheelset poses the monitor and the recorder read from the connector's arrays (``rail_pose_arrays``, no copy)
+  against the connector's own ``wheelset_rail_pose`` (the right wheels' rows plus the half gauge).
+"""
+import numpy as np
+import pytest
+
+from exudyn_wheelrail.multibody import monitor_core as MC
+from exudyn_wheelrail.multibody.connector import ContactStateError
+from exudyn_wheelrail.scenarios.rtri import RtriCase
+from exudyn_wheelrail.scenarios.scenario import build_scenario
+from exudyn_wheelrail.simulation.presets import apply_preset
+
+
+@pytest.fixture(scope="module")
+def built():
+    base = RtriCase(span_m=20.0)
+    run, contact, _ = apply_preset("default", base.run, base.contact)
+    h = build_scenario(RtriCase(span_m=20.0, run=run, contact=contact, duration_s=0.01, record=True).scenario())
+    h.contact.warm_up(h.mbs, jacobian=False)
+    return h
+
+
+def _moved_state(h):
+    """A state off the initial one (wheelset 0 shifted and yawed, wheelset 2 rolled), so that the search moves."""
+    q, v = h.contact.coordinates(h.mbs)
+    q = q.copy()
+    q[1] += 1.5e-3
+    q[5] += 2e-4
+    q[6 * 2 + 3] += 1e-4
+    v = v.copy()
+    v[1] += 0.01
+    return q, v
+
+
+def test_a_kept_evaluation_is_the_plain_computation(built):
+    c = built.contact
+    q, v = _moved_state(built)
+    t = 0.0123
+    warm0 = c.save_warm_start()
+    # reference: the plain computation from warm0
+    f_ref = c.forces(q, v, t).copy()
+    res_ref = c.results.copy()
+    warm_ref = c.save_warm_start()
+    c.restore_warm_start(warm0)
+    calls, reused = c.n_calls, c.n_reused
+    c.evaluate_state(q, v, t)
+    np.testing.assert_array_equal(c.save_warm_start(), warm0)      # kept: the warm start it started from
+    f = c.forces(q.copy(), v.copy(), t)                              # equal bytes, other arrays: taken
+    assert (c.n_calls, c.n_reused) == (calls + 1, reused + 1)
+    np.testing.assert_array_equal(f, f_ref)
+    np.testing.assert_array_equal(c.results, res_ref)
+    np.testing.assert_array_equal(c.save_warm_start(), warm_ref)
+    # not taken by a call at another time: computed from warm0 again
+    c.restore_warm_start(warm0)
+    c.evaluate_state(q, v, t)
+    f_later = c.forces(q, v, t + 1e-3).copy()
+    c.restore_warm_start(warm0)
+    np.testing.assert_array_equal(f_later, c.forces(q, v, t + 1e-3))
+    c.restore_warm_start(warm0)
+
+
+def test_a_failed_evaluation_keeps_nothing_and_leaves_the_warm_start(built):
+    c = built.contact
+    q, v = _moved_state(built)
+    warm0 = c.save_warm_start()
+    bad = q.copy()
+    bad[6] = np.nan                                                    # wheelset 1
+    with pytest.raises(ContactStateError):
+        c.evaluate_state(bad, v, 0.0)
+    np.testing.assert_array_equal(c.save_warm_start(), warm0)
+    calls = c.n_calls
+    c.forces(q, v, 0.0)
+    assert c.n_calls == calls + 1                                      # computed: nothing was kept
+    c.restore_warm_start(warm0)
+
+
+def test_pose_readers_equal_the_connector_pose(built):
+    c = built.contact
+    q, v = _moved_state(built)
+    warm0 = c.save_warm_start()
+    c.forces(q, v, 0.0)
+    pose = c.wheelset_rail_pose()
+    out = np.full_like(pose, np.nan)
+    MC.rail_poses(*c.rail_pose_arrays(), out)                          # the monitor's
+    np.testing.assert_array_equal(out, pose)
+    lateral = next(p for p in built.recorder.probes if type(p).__name__ == "_WheelsetLateral")
+    row = np.full(len(lateral.columns), np.nan)
+    lateral.fill(built.mbs, 0.0, row)                                  # the recorder's
+    np.testing.assert_array_equal(row, pose[:, 0])
+    assert abs(pose[0, 0] - pose[1, 0]) > 1e-4                         # the state moved wheelset 0 only
+    c.restore_warm_start(warm0)
