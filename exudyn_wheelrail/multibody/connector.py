@@ -550,6 +550,14 @@ class WheelRailContact:
         flexibility there (``structures.deck_kinematics.DS_RESIDUAL``, zero without a static correction)."""
         return self._deck_state.copy()
 
+    def deck_shape_array(self) -> np.ndarray:
+        """Per wheelset the structure's mode shapes ``Φ(s)`` under it (n, 3, n_modes; rows y, z, θ of the rails,
+        zero off the structure) as of the last evaluation: the connector's own array (read-only view, updated by
+        every evaluation)."""
+        v = self._phi_ws.view()
+        v.flags.writeable = False
+        return v
+
     def predict_rail_loads(self, forces_N) -> None:
         """Per wheelset a prediction of its generalized force on the rails ``(F_y, F_z, M_x)`` (n_wheelsets, 3;
         track frame, z down, M_x about the rails' centre line), e.g. the static wheel loads: with a structure's

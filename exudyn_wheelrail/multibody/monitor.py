@@ -355,8 +355,10 @@ class RunMonitor:
         pose_arrays = getattr(contact, "rail_pose_arrays", None)
         self._pose_arrays = pose_arrays() if pose_arrays is not None else None
         # the per-state call's arguments that stay the same objects for the whole run (filled in place)
+        shapes = getattr(contact, "deck_shape_array", None)
+        self._phi_ws = shapes() if shapes is not None else np.zeros((n_ws, 3, 0))
         self._records = (self._par, self._ws_par, self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings,
-                         self._G, self._work)
+                         self._G, self._work, self._phi_ws)
         self._load_compiled()
 
     def _load_compiled(self):
@@ -366,7 +368,8 @@ class RunMonitor:
         records = [a.copy() for a in (self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
                                       self._work)]
         args = (0.0, np.zeros_like(self.contact.results), self._out, np.zeros((n_ws, 3)), np.zeros(6 * n_ws),
-                np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records, self._hist, -1)
+                np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records, self._phi_ws.copy(), self._hist,
+                -1)
         MC.monitor_state(*args)
         # the compiled specialization for exactly these argument types: no type dispatch per state
         self._monitor_state = compiled_for(MC.monitor_state, *args)
@@ -722,10 +725,12 @@ class RunMonitor:
         to or above RK44's limit): the highest frequency on its linearised contact stiffness (module docstring)."""
         h = self.rk44_step_s
         n_rows = int(self._wss[k, MC.WS_ROWS])
-        G = self._G[k, :n_rows].copy()
+        G = self._G[k, :n_rows, :6].copy()
         Mh = self._mass_scaling(k, q)
         A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
-        lam = float(np.linalg.eigvalsh(A @ A.T)[-1]) if n_rows > 1 else float(A[0] @ A[0])
+        B = A @ A.T
+        MC.rail_mobility(k, n_rows, self._G, self._phi_ws, B)     # the rails' modal mass on a structure
+        lam = float(np.linalg.eigvalsh(B)[-1]) if n_rows > 1 else float(B[0, 0])
         wh = math.sqrt(max(lam, 0.0)) * h
         self._wss[k, MC.WS_MAX_OMEGA_H] = max(float(self._wss[k, MC.WS_MAX_OMEGA_H]), wh)
         if wh > RK44_LIMIT and self.stability_exceeded is None:

@@ -3,7 +3,8 @@ the contact evaluation at that state, returning a code — 0: nothing happened; 
 
 :class:`~.monitor.RunMonitor` packs its constants and running records into the arrays below once and calls
 
-``monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, hist, hist_row)``
+``monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, phi_ws, hist,
+hist_row)``
 
 * ``res`` (2 n, N_SLOTS, N_RES), ``out`` (2 n, N_SLOTS, N_FIELDS): the connector's results and the kernel output of
   the evaluation (:mod:`exudyn_wheelrail.contact.layout`); ``ws_poses`` (n, 3): the wheelset pose relative to its
@@ -18,7 +19,8 @@ the contact evaluation at that state, returning a code — 0: nothing happened; 
   crossing times and peaks of the hunting detection;
 * written per state (read by Python only for a non-zero code): ``wq[w, WQ_*]`` the per-wheel quantities of the state
   and ``wflag[w]`` its ``WF_*`` bits; ``G[k, i, :]`` the contact rows of wheelset k's stability estimate
-  (:func:`contact_rows`, ``wss[k, WS_ROWS]`` of them); ``work`` scratch space;
+  (:func:`contact_rows`, ``wss[k, WS_ROWS]`` of them, :data:`N_G` columns); ``work`` scratch space; ``phi_ws`` (n,
+  3, n_m) the structure's mode shapes under each wheelset (the connector's; n_m = 0 without a structure);
 * ``hist[hist_row]`` gets the state's history row (``hist_row < 0``: none): time, then per wheel
   ``(c_y, c_z, roll, N, Y, gamma, delta)``.
 
@@ -34,9 +36,9 @@ import numpy as np
 from numba import njit
 
 from ..contact.kernel import FLAG_DEEP_PENETRATION, FLAG_PROFILE_END
-from ..contact.layout import (F_DN_DDELTA, F_NR_Y, F_NR_Z, F_PENETRATION, F_S_WHEEL, N_SLOTS, RES_DELTA,
-                              RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_FLAGS, RES_GAMMA, RES_N, RES_P_X,
-                              RES_P_Y, RES_P_Z, RES_STATUS, SLOT_FLANGE)
+from ..contact.layout import (F_DN_DDELTA, F_NR_Y, F_NR_Z, F_PENETRATION, F_S_WHEEL, N_SLOTS, RES_DECK_Y,
+                              RES_DECK_Z, RES_DELTA, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_FLAGS, RES_GAMMA,
+                              RES_N, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS, SLOT_FLANGE)
 from .rotations import rotation_from_vector
 
 # ---- constants: par[PAR_*] ---------------------------------------------------------------------------------------
@@ -142,6 +144,10 @@ WS_OMEGA_H = 6            # this state's omega h (the screening value)
 WS_ROWS = 7               # contact rows of this state's estimate
 WS_FLAGS = 8              # WSF_* bits of this state
 N_WS = 9
+
+#: columns of a contact row of the stability estimate ``G[k, i]``: the wheelset's 6 (translation, rotation), then
+#: the force's direction on the rails (y, z, θ: :func:`rail_mobility`)
+N_G = 9
 
 WSF_VELOCITY = 1          # implausible wheelset velocity or rate
 WSF_HUNTING = 2           # hunting detected (first time)
@@ -265,12 +271,18 @@ def contact_rows(k, q, res, out, ws_par, G):
             G[k, n_rows, 3] = sk * (ry * nz - rz * ny)
             G[k, n_rows, 4] = -sk * rx * nz
             G[k, n_rows, 5] = sk * rx * ny
+            # on the rails (a structure's modes): the force's generalized direction (y, z, θ about the rails'
+            # centre line, as the deck interface)
+            G[k, n_rows, 6] = sk * ny
+            G[k, n_rows, 7] = sk * nz
+            G[k, n_rows, 8] = sk * (nz * (res[w, j, RES_P_Y] - res[w, j, RES_DECK_Y])
+                                    - ny * (res[w, j, RES_P_Z] - res[w, j, RES_DECK_Z]))
             n_rows += 1
     return n_rows
 
 
 @njit(cache=True)
-def _omega_h(k, n_rows, q, ws_par, G, h, work):
+def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
     """ω h of wheelset k from its rows: the largest eigenvalue of A Aᵀ, A = G Mh, Mh = diag(I/√m, R I^(-1/2) Rᵀ)."""
     R = work[0, :3, :3]
     rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
@@ -305,12 +317,41 @@ def _omega_h(k, n_rows, q, ws_par, G, h, work):
             for m in range(6):
                 acc += A[i, m] * A[j, m]
             B[i, j] = acc
+    rail_mobility(k, n_rows, G, phi_ws, B)
     lam = largest_eigenvalue_psd(B, n_rows, work[5])
     return math.sqrt(max(lam, 0.0)) * h
 
 
 @njit(cache=True)
-def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, hist,
+def rail_mobility(k, n_rows, G, phi_ws, B):
+    """The rails' share of wheelset k's stability estimate on a structure's modes (mass-normalised, ``phi_ws[k]``
+    = Φ(s) under it, (3, n_m); nothing without modes): the contacts also move the rails, whose inverse modal mass
+    at s is ``W = Φ Φᵀ``, so ``B_ij += g_iᵀ W g_j`` with g the rows' rail directions (``G[k, :, 6:9]``).  On a
+    flexible track this is the wheel on the rail's small modal mass — the highest coupled frequency."""
+    n_m = phi_ws.shape[2]
+    if n_m == 0:
+        return
+    W = np.zeros((3, 3))
+    for a in range(3):
+        for b in range(a, 3):
+            acc = 0.0
+            for m in range(n_m):
+                acc += phi_ws[k, a, m] * phi_ws[k, b, m]
+            W[a, b] = acc
+            W[b, a] = acc
+    if W[0, 0] == 0.0 and W[1, 1] == 0.0 and W[2, 2] == 0.0:
+        return                                          # off the structure
+    for i in range(n_rows):
+        for j in range(n_rows):
+            acc = 0.0
+            for a in range(3):
+                for b in range(3):
+                    acc += G[k, i, 6 + a] * W[a, b] * G[k, j, 6 + b]
+            B[i, j] += acc
+
+
+@njit(cache=True)
+def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, phi_ws, hist,
                   hist_row):
     """One checked state (module docstring); returns ``CODE_*`` bits, 0 when nothing needs Python."""
     n_ws = ws_poses.shape[0]
@@ -329,7 +370,7 @@ def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, 
             n_rows = contact_rows(k, q, res, out, ws_par, G)
             wss[k, WS_ROWS] = n_rows
             if n_rows > 0:
-                wh = _omega_h(k, n_rows, q, ws_par, G, par[PAR_STEP], work)
+                wh = _omega_h(k, n_rows, q, ws_par, G, phi_ws, par[PAR_STEP], work)
                 wss[k, WS_OMEGA_H] = wh
                 if wh > par[PAR_STAB_SCREEN]:
                     flags |= WSF_STABILITY                  # near the limit: Python decides with the exact eigenvalue
@@ -547,6 +588,6 @@ def empty_arrays(n_ws: int, need: int):
     wflag = np.zeros(n_w, dtype=np.int64)
     wss = np.zeros((n_ws, N_WS))
     rings = np.zeros((n_ws, 2, max(1, need)))
-    G = np.zeros((n_ws, 2 * N_SLOTS, 6))
+    G = np.zeros((n_ws, 2 * N_SLOTS, N_G))
     work = np.zeros((6, 2 * N_SLOTS, 2 * N_SLOTS))
     return ext, iv, wq, wflag, wss, rings, G, work

@@ -116,7 +116,8 @@ def test_per_wheel_quantities_and_flags_match_numpy():
     hist = np.zeros((1, 1 + 7 * 2 * n_ws))
     for _ in range(300):
         res, out, poses = _random_state(rng, n_ws)
-        MC.monitor_state(0.1, res, out, poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, hist, 0)
+        MC.monitor_state(0.1, res, out, poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work,
+                         np.zeros((n_ws, 3, 0)), hist, 0)
         ref, loaded, wp = _numpy_quantities(res, out, poses)
         for field, values in ref.items():
             np.testing.assert_array_equal(wq[:, field], values)
@@ -170,7 +171,8 @@ def test_intervals_start_and_end_with_the_condition():
         if i in gaps:
             res[0, 0, L.RES_N] = 0.0
             out[0, :, L.F_PENETRATION] = -gaps[i]
-        MC.monitor_state(0.01 * i, res, out, poses, q, v, par, ws_par, *arrays, np.zeros((0, 15)), -1)
+        MC.monitor_state(0.01 * i, res, out, poses, q, v, par, ws_par, *arrays, np.zeros((1, 3, 0)), np.zeros((0, 15)),
+                         -1)
         flags.append(int(wflag[0]))
     starts = [i for i, f in enumerate(flags) if f & MC.WF_LIFT_START]
     ends = [i for i, f in enumerate(flags) if f & MC.WF_LIFT_END]
@@ -195,7 +197,7 @@ def test_hunting_is_detected_after_three_cycles_with_the_frequency(amplitude_m, 
     for i in range(1, 2001):
         t = i * dt
         poses = np.array([[amplitude_m * math.sin(2 * math.pi * f_hz * t), 0.0, 0.0]])
-        MC.monitor_state(t, res, out, poses, q, v, par, ws_par, *arrays, np.zeros((0, 15)), -1)
+        MC.monitor_state(t, res, out, poses, q, v, par, ws_par, *arrays, np.zeros((1, 3, 0)), np.zeros((0, 15)), -1)
         if int(wss[0, MC.WS_FLAGS]) & MC.WSF_HUNTING:
             t_found = t
             break
