@@ -146,8 +146,8 @@ def stage_wheel_forces(qs, vs, model, state, work, out_all, rot_all, wsd_all, f,
     out = state[1]
     for i in range(i0, i1):
         out[:] = out_all[i]
-        work[2][:] = rot_all[i]
-        work[3][:] = wsd_all[i]
+        work[1][:] = rot_all[i]
+        work[2][:] = wsd_all[i]
         f[:] = 0.0
         res[:] = 0.0
         wheel_forces(qs[i], vs[i], model, state, work, f, res)
@@ -159,8 +159,8 @@ def stage_copy_inputs(model, state, work, out_all, rot_all, wsd_all, f, res, i0,
     out = state[1]
     for i in range(i0, i1):
         out[:] = out_all[i]
-        work[2][:] = rot_all[i]
-        work[3][:] = wsd_all[i]
+        work[1][:] = rot_all[i]
+        work[2][:] = wsd_all[i]
         f[:] = 0.0
         res[:] = 0.0
 
@@ -271,16 +271,16 @@ def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
     out_all = np.empty((n,) + out.shape)
     res_all = np.empty((n,) + res.shape)
     sp_all = np.empty((n,) + c._side_poses.shape)
-    wsd_all = np.empty((n,) + work[3].shape)
-    rot_all = np.empty((n,) + work[2].shape)
+    wsd_all = np.empty((n,) + work[2].shape)
+    rot_all = np.empty((n,) + work[1].shape)
     for i in range(n):
         warm[...] = ws[i]
         c.forces(qs[i], vs[i], ts[i])
         out_all[i] = out
         res_all[i] = res
         sp_all[i] = c._side_poses
-        wsd_all[i] = work[3]
-        rot_all[i] = work[2]
+        wsd_all[i] = work[2]
+        rot_all[i] = work[1]
     out_tmp = np.empty_like(out_all)
     params = model[2][4]
     v_min = c.cp[CP_V_MIN]
@@ -290,8 +290,8 @@ def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
         "pose_irregularity": lambda a, b: stage_poses(qs, vs, ts, model, state, work, a, b),
         "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, a, b),
         "hertz": lambda a, b: stage_hertz(out_all, params, a, b),
-        "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[7], work[4],
-                                                  work[5], v_min, a, b),
+        "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[7], work[3],
+                                                  work[4], v_min, a, b),
         "creep_law": lambda a, b: stage_creep_law(res_all, model[3], a, b),
         "copies": lambda a, b: stage_copy_inputs(model, state, work, out_all, rot_all, wsd_all, f, res, a, b),
         "stage3": lambda a, b: stage_wheel_forces(qs, vs, model, state, work, out_all, rot_all, wsd_all, f, res, a,

@@ -180,7 +180,7 @@ def test_penetration_gradient_is_the_envelope_theorem(rtri_states, deck_state):
         contact.forces(q, v, t)
         res = contact.results.copy()
         out = contact.kernel_output().copy()
-        wsd = contact._work[3]
+        wsd = contact._work[2]
         for w in range(res.shape[0]):
             k, side = divmod(w, 2)
             R = Rotation.from_rotvec(q[6 * k + 3:6 * k + 6]).as_matrix()

@@ -280,7 +280,7 @@ class WheelRailContact:
                                                       (par, cz_ref, data)), creep.core, self._deck)
         self._state = (kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws, self._rail_f,
                        self._deck_state)
-        self._work = work_arrays(n_ws, self.n_modes)
+        self._work = work_arrays(n_ws)
         self._data = contact_data(self._model, self._state, self._work)
         n = 6 * n_ws + self.n_modes
         self.n_coordinates = n
@@ -589,7 +589,7 @@ class WheelRailContact:
         copies: for readers that take them once and must not allocate per state): the pose ``(c_y, c_z, roll)`` of
         each wheel relative to its rail (2 n, 3; wheel ``2k`` the right one, its rows are the wheelset's pose less
         the half gauge in ``c_y``) and per wheelset the half gauge (n,) [m]."""
-        return self._side_poses, self._work[3][:, WS_HALF_GAUGE]
+        return self._side_poses, self._work[2][:, WS_HALF_GAUGE]
 
     def geometry_statistics(self) -> dict:
         """Wheel evaluations answered by the geometry table and by the online search since the start (both count

@@ -33,12 +33,12 @@ in one call, and their Jacobian by structured forward differences.
   Jacobian perturbs it), and per wheelset ``Φ(s)`` (n, 3, n_m), the force on the rails ``(F_y, F_z, M_x)`` that is
   projected (n, 3) and the deck state (n, ``N_DECK_STATE``);
 * ``work`` — scratch the call overwrites, allocated once (:func:`work_arrays`; nothing is allocated per call):
-  ``(work_ds, deck_work, rot, wheelset, vec, frame, lay, residual, contacts, series, index)``: the deck's shape
-  scratch (3, n_m) and rail state (9,), per wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of
-  its pose (n, ``N_WS``), the vectors ``V_*`` of a contact (``N_VEC``, 3), the contact frame (3, 3), the layout
-  values at a wheelset (4,), and for a structure with residual flexibility (:func:`series_compliance`) per
-  wheelset the rails' residual displacement where the geometry was found and the solve's (n, 6), a wheelset's contacts
-  (2 ``N_SLOTS``, ``N_SC``), the solve's scratch (7, 3) and the contacts' wheel and region (2 ``N_SLOTS``, 2);
+  ``(deck_work, rot, wheelset, vec, frame, lay, residual, contacts, series, index)``: the deck's rail state (9,),
+  per wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of its pose (n, ``N_WS``), the vectors
+  ``V_*`` of a contact (``N_VEC``, 3), the contact frame (3, 3), the layout values at a wheelset (4,), and for a
+  structure with residual flexibility (:func:`series_compliance`) per wheelset the rails' residual displacement
+  where the geometry was found and the solve's (n, 6), a wheelset's contacts (2 ``N_SLOTS``, ``N_SC``), the
+  solve's scratch (7, 3) and the contacts' wheel and region (2 ``N_SLOTS``, 2);
 * ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
   ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
 
@@ -85,7 +85,7 @@ from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F
 from ..creep.registry import creep_forces
 from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, N_SC, SC_AT, SC_AY, SC_AZ,
                                           SC_DELTA_G, SC_DN, SC_DN_G, SC_N, SC_N_G, SC_RATIO, deck_state_under,
-                                          pose_relative_to_rails, project_with, rail_material_velocity,
+                                          pose_relative_to_rails, project_shapes, rail_material_velocity,
                                           rail_moment_about_deck_line, rail_pair_to_track, rails_under,
                                           series_contacts)
 from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, N_LAYOUT, layout_at
@@ -104,7 +104,7 @@ FRAME_CURVED = 3      # 1.0: the wheelsets follow a track layout (creepage terms
 FRAME_PITCH = 4       # the layout's gradient as a pitch angle θ [rad]
 N_FRAME = 5
 
-# ---- per wheelset quantities of the call: work[3][k, WS_*] ----------------------------------------------------------
+# ---- per wheelset quantities of the call: work[2][k, WS_*] ----------------------------------------------------------
 WS_S = 0              # track distance s of the axle centre [m]
 WS_ROLL = 1           # roll and yaw of the wheelset (from its axle direction) [rad]
 WS_YAW = 2
@@ -119,7 +119,7 @@ WS_SIN_TH = 10
 WS_HALF_GAUGE = 11    # half the gauge deviation: each rail's outward shift in its side frame [m]
 N_WS = 12
 
-# ---- vectors of one contact (track frame): work[4][V_*] -----------------------------------------------------------
+# ---- vectors of one contact (track frame): work[3][V_*] -----------------------------------------------------------
 V_P_CONTACT = 0       # contact point [m]
 V_N_RAIL = 1          # outward rail normal
 V_E_AXLE = 2          # wheelset axle direction
@@ -131,9 +131,9 @@ V_OMEGA_RAIL = 7      # rail angular velocity [rad/s]
 N_VEC = 8
 
 
-def work_arrays(n_wheelsets: int, n_modes: int) -> tuple:
-    """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets`` and ``n_modes``."""
-    return (np.zeros((3, n_modes)), np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
+def work_arrays(n_wheelsets: int) -> tuple:
+    """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets``."""
+    return (np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
             np.zeros((N_VEC, 3)), np.zeros((3, 3)), np.zeros(N_LAYOUT), np.zeros((n_wheelsets, 6)),
             np.zeros((2 * N_SLOTS, N_SC)), np.zeros((7, 3)), np.zeros((2 * N_SLOTS, 2), dtype=np.int64))
 
@@ -183,7 +183,7 @@ def wheelset_poses(q, q_t, t, model, state, work):
     frame_par = vehicle[1]
     irr_rows, irr_knots, irr_coefs = track
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
-    work_ds, deck_work, rot, wsd, vec, frame = work[0], work[1], work[2], work[3], work[4], work[5]
+    deck_work, rot, wsd = work[0], work[1], work[2]
     speed = frame_par[FRAME_SPEED]
     moving_frame = frame_par[FRAME_MOVING] != 0.0
     s_start = frame_par[FRAME_S_START]
@@ -224,8 +224,7 @@ def wheelset_poses(q, q_t, t, model, state, work):
         wk[WS_SIN_ROLL] = math.sin(roll)
         wk[WS_COS_YAW] = math.cos(yaw)
         wk[WS_SIN_YAW] = math.sin(yaw)
-        on = deck_state_under(s, speed, deck, q_m, q_m_t, rail_delta[k], phi_ws[k], work_ds, deck_work,
-                              deck_state[k])
+        on = deck_state_under(s, speed, deck, q_m, q_m_t, rail_delta[k], phi_ws[k], deck_work, deck_state[k])
         stats[STAT_ON_DECK if on else STAT_OFF_DECK] += 1
         # the pose relative to the rail pair (irregularity, ground motion and deck; without a bridge: p - p_irr),
         # rolled by the deck and the cross level
@@ -286,7 +285,7 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
     frame_par = vehicle[1]
     law, cp, t_nodes, coef, tab = creep
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
-    work_ds, deck_work, rot, wsd, vec, frame = work[0], work[1], work[2], work[3], work[4], work[5]
+    rot, wsd, vec, frame = work[1], work[2], work[3], work[4]
     n_ws = p_ref.shape[0]
     n_w6 = 6 * n_ws
     f_m = f_out[n_w6:]
@@ -339,7 +338,7 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
         omega_rail[0] = ds[5]
         if curved:
             om_x, om_y, om_z = _frame_rate(vehicle[2], vehicle[3], wk[WS_S], frame_par[FRAME_SPEED],
-                                           frame_par[FRAME_PITCH], work[6])
+                                           frame_par[FRAME_PITCH], work[5])
             omega_rail[0] = ds[5] - om_x
             omega_rail[1] = -om_y
             omega_rail[2] = -om_z
@@ -448,7 +447,7 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
         rail_f[k, 2] = rmx
         if ds[6] > 0.5:
             # generalized modal forces Φ(s)^T (Fy, Fz, Mx) of the force on the rails
-            project_with(phi_ws[k], rfy, rfz, rmx, f_m)
+            project_shapes(phi_ws[k], rfy, rfz, rmx, f_m)
 
 
 @njit(cache=True)
@@ -497,7 +496,7 @@ SERIES_REGEOMETRY_M = 2.0e-5
 def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
     """Move the rails under wheelset k by ``(du_y, du_z, du_th)`` (deck state and the wheels' poses)."""
     ds = state[7][k]
-    wk = work[3][k]
+    wk = work[2][k]
     ds[0] += du_y
     ds[1] += du_z
     ds[2] += du_th
@@ -509,11 +508,11 @@ def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
 def _predict_residual(q, model, state, work):
     """Before the geometry, with a residual flexibility: the rails of every wheelset on the structure moved by the
     residual displacement ``G_res F`` of its predicted rail load (deck arrays' ``rail_load_prediction``; zero: not
-    moved), kept in ``work[7][:, :3]``."""
+    moved), kept in ``work[6][:, :3]``."""
     deck = model[4]
     pred = deck[6]
     deck_state = state[7]
-    store = work[7]
+    store = work[6]
     p_ref = model[0][0]
     for k in range(deck_state.shape[0]):
         ds = deck_state[k]
@@ -538,9 +537,9 @@ def _predict_residual(q, model, state, work):
 
 @njit(cache=True)
 def _move_rails(q, model, state, work):
-    """Move the rails of every wheelset from where the geometry was found (``work[7][:, :3]``) to the solve's
-    residual displacement (``work[7][:, 3:]``)."""
-    store = work[7]
+    """Move the rails of every wheelset from where the geometry was found (``work[6][:, :3]``) to the solve's
+    residual displacement (``work[6][:, 3:]``)."""
+    store = work[6]
     p_ref = model[0][0]
     for k in range(store.shape[0]):
         du_y = store[k, 3] - store[k, 0]
@@ -558,8 +557,8 @@ def series_compliance(state, work, final):
     """Stage 2b, after the geometry, with a structure's residual flexibility
     (:mod:`~exudyn_wheelrail.structures.deck_kinematics`): the contacts of every wheelset on the structure in series
     with the rails' residual flexibility there (:func:`~exudyn_wheelrail.structures.deck_kinematics.series_contacts`),
-    from the penetrations found on the rails at their residual displacement ``work[7][:, :3]`` (the prediction of
-    :func:`_predict_residual`, or zero); the solution u into ``work[7][:, 3:]``.  Not ``final``: returns True if a
+    from the penetrations found on the rails at their residual displacement ``work[6][:, :3]`` (the prediction of
+    :func:`_predict_residual`, or zero); the solution u into ``work[6][:, 3:]``.  Not ``final``: returns True if a
     wheelset's u lies more than :data:`SERIES_REGEOMETRY_M` from where its geometry was found (the caller then
     moves the rails there, :func:`_move_rails`, and finds the geometry again: on the undeflected rail head a
     penetration deeper by the pads' compression shows a second, spurious tread maximum) and changes nothing else.
@@ -568,11 +567,11 @@ def series_compliance(state, work, final):
     approach)."""
     out = state[1]
     deck_state = state[7]
-    wsd = work[3]
-    store = work[7]
-    contacts = work[8]
-    scratch = work[9]
-    index = work[10]
+    wsd = work[2]
+    store = work[6]
+    contacts = work[7]
+    scratch = work[8]
+    index = work[9]
     n_reg = out.shape[1]
     again = False
     for k in range(deck_state.shape[0]):

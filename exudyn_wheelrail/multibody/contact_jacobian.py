@@ -139,10 +139,10 @@ def contact_tangent_blocks(q, q_t, data, res, Kq, Cv):
     y_g = model[4][0][DECK_GROUND_Y]
     out = state[1]
     deck_state = state[7]
-    rot = work[2]
-    wsd = work[3]
-    vec = work[4]
-    fr = work[5]
+    rot = work[1]
+    wsd = work[2]
+    vec = work[3]
+    fr = work[4]
     n_ws = p_ref.shape[0]
     v_min = cp[CP_V_MIN]
     params = model[2][4]
@@ -383,7 +383,7 @@ def semi_analytic_jacobian(q, q_t, data, f0, res, f_odeq, f_odev, jac, Kq, Cv):
         for c in range(n):
             jac[r, c] = 0.0
     contact_tangent_blocks(q, q_t, data, res, Kq, Cv)
-    rot = data.work[2]
+    rot = data.work[1]
     phi_ws = data.state[5]
     deck_state = data.state[7]
     n_ws = Kq.shape[0]

@@ -101,7 +101,8 @@ GenericODE2 over a Lie-group rigid node and a NodeGenericODE2 (explicit RK44 and
 ``tests/test_bridge.py::test_coupling_*`` against the closed-form linear solution); the modal node is the same for
 both formulations, so the coupling does not depend on the choice.  How the deck moves the rails under a wheel
 (displacement ``Φ(s) q``, material velocity ``Φ(s) q̇``, roll) and where the rail forces go (``Q += Φ(s)^T (F_y,
-F_z, M_x)``) is :mod:`.deck_kinematics`, built on :func:`rail_state_at` and :func:`add_projected_force`.  The rate
+F_z, M_x)``) is :mod:`.deck_kinematics`, built on :func:`modal_shape_at`, :func:`shapes_times` and
+:func:`project_shapes`.  The rate
 of the rail geometry under the moving wheel, ``Φ(s) q̇ + V Φ'(s) q`` (:func:`modal_shape_and_slope_at`), enters
 the contact through the position dependence only; the creepages see the material velocity.
 
@@ -143,6 +144,7 @@ from numba import njit
 __all__ = [
     "DeckSection", "BridgeModel", "BridgeModes", "ShapeTable", "ExudynBridge", "MovingForces", "FORMULATIONS",
     "add_bridge", "modal_shape_at", "modal_shape_and_slope_at", "rail_state_at", "add_projected_force",
+    "shapes_times", "project_shapes",
     "fryba_moving_force", "simulate_moving_forces", "benchmark_formulations",
 ]
 
@@ -712,19 +714,36 @@ def rail_state_at(s_m, speed_m_s, start_m, rail_height_m, elem_x0, elem_len, ele
     ``[6:9]`` rate seen by a point moving along the track at ``speed_m_s``: ``Φ q̇ + V Φ' q``.  ``work``,
     ``work_ds``: scratch (3, n_modes).  Returns True on the deck (all zero off it)."""
     on = _interp(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, work, work_ds, True)
+    shapes_times(work, q, q_t, out)
     n_modes = node_shapes.shape[2]
+    for i in range(3):
+        g = 0.0
+        for k in range(n_modes):
+            g += work_ds[i, k] * q[k]
+        out[6 + i] = out[3 + i] + speed_m_s * g
+    return on
+
+
+@njit(cache=True)
+def shapes_times(phi, q, q_t, out):
+    """``out[0:3] = Φ q`` and ``out[3:6] = Φ q̇`` for the shapes ``phi`` (3, n_modes) at one point (rows y_rail,
+    z_rail, θ_rail): the rails' displacement and material velocity there."""
     for i in range(3):
         d = 0.0
         v = 0.0
-        g = 0.0
-        for k in range(n_modes):
-            d += work[i, k] * q[k]
-            v += work[i, k] * q_t[k]
-            g += work_ds[i, k] * q[k]
+        for k in range(phi.shape[1]):
+            d += phi[i, k] * q[k]
+            v += phi[i, k] * q_t[k]
         out[i] = d
         out[3 + i] = v
-        out[6 + i] = v + speed_m_s * g
-    return on
+
+
+@njit(cache=True)
+def project_shapes(phi, Fy, Fz, Mx, f_modal):
+    """``f_modal += Φᵀ (Fy, Fz, Mx)`` for the shapes ``phi`` (3, n_modes) at the force's point: the generalized
+    modal forces of a force on the rails' centre line at rail-top level and a moment about it."""
+    for k in range(phi.shape[1]):
+        f_modal[k] += phi[0, k] * Fy + phi[1, k] * Fz + phi[2, k] * Mx
 
 
 @njit(cache=True)
@@ -735,8 +754,7 @@ def add_projected_force(s_m, Fy, Fz, Mx, start_m, rail_height_m, elem_x0, elem_l
     Returns True if s is on the deck (nothing is added otherwise)."""
     on = _interp(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, work, work, False)
     if on:
-        for k in range(node_shapes.shape[2]):
-            f_modal[k] += work[0, k] * Fy + work[1, k] * Fz + work[2, k] * Mx
+        project_shapes(work, Fy, Fz, Mx, f_modal)
     return on
 
 

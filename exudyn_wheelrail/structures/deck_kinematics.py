@@ -22,8 +22,8 @@ same s as the irregularity):
   F_z``, ``M_rx = -Σ [(p_y - y_g - y_b) F_z - (p_z - z_b) F_y] - Σ M_spin n_x`` (sums over both wheels and all
   contact regions; moments about the deck's deflected rail-top centre line, :func:`rail_moment_about_deck_line`;
   the spin moment's x component, zero on a straight track), and ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)``
-  (:func:`project_on_deck`) — the virtual work of the rail forces on the rail displacement the kinematics used, so
-  the coupling is energy-consistent.  Longitudinal forces are not projected (the bridge model has no x row).
+  (:func:`~.bridge.project_shapes` with the shapes the deck state used) — the virtual work of the rail forces on
+  the rail displacement the kinematics used, so the coupling is energy-consistent.  Longitudinal forces are not projected (the bridge model has no x row).
 
 Wheels off the deck see the rigid track (``Φ = 0``; their results are identical to a model without bridge).
 
@@ -60,12 +60,12 @@ import math
 import numpy as np
 from numba import njit
 
-from .bridge import _find_element, add_projected_force, modal_shape_at
+from .bridge import _find_element, modal_shape_at, project_shapes, shapes_times
 
 __all__ = ["N_DECK_STATE", "DS_RESIDUAL", "DECK_START", "DECK_RAIL_HEIGHT", "DECK_GROUND_Y", "DECK_GROUND_VY",
            "N_DECK_PAR", "deck_arrays", "deck_state_under", "rails_under", "pose_relative_to_rails",
-           "rail_pair_to_track", "rail_material_velocity", "rail_moment_about_deck_line", "project_on_deck",
-           "series_contacts", "residual_at", "N_SC", "project_with"]
+           "rail_pair_to_track", "rail_material_velocity", "rail_moment_about_deck_line", "project_shapes",
+           "series_contacts", "residual_at", "N_SC"]
 
 #: rows of a wheelset's deck state: displacement y, z [m] and roll [rad] of the rails' centre line at rail top,
 #: material velocity ẏ, ż [m/s] and roll rate [rad/s], on-deck flag (1.0 on the deck, else 0.0; all zero off it),
@@ -104,28 +104,20 @@ def deck_arrays(bridge, n_wheelsets: int = 0) -> tuple[tuple, int]:
 
 
 @njit(cache=True)
-def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work_ds, work, state):
+def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work, state):
     """Deck state under a wheelset at track distance ``s_m`` into ``state`` (:data:`N_DECK_STATE`): ``Φ(s) q`` and
     ``Φ(s) q̇`` of the modal coordinates ``q_m``, ``q_m_t`` plus the increments ``delta`` (6; the Jacobian's
     perturbation), zero off the deck.  ``phi`` (3, n_m) receives ``Φ(s)`` (the connector projects the rail
-    forces with it, :func:`project_with`); ``work_ds`` (3, n_m), ``work`` (9): scratch.  Returns True on the
-    deck."""
+    forces with it, :func:`~.bridge.project_shapes`); ``work`` (9): scratch.  Returns True on the deck."""
     par, elem_x0, elem_len, elem_nodes = deck[0], deck[1], deck[2], deck[3]
     node_shapes, node_residual = deck[4], deck[5]
     on = False
     n_m = q_m.shape[0]
     if n_m > 0:
-        # Φ(s) (no slopes: the convective rate is not used here), then Φ q and Φ q̇ (as rail_state_at)
+        # Φ(s) (no slopes: the convective rate is not used here), then Φ q and Φ q̇
         on = modal_shape_at(s_m, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len, elem_nodes,
                             node_shapes, phi)
-        for i in range(3):
-            d = 0.0
-            v = 0.0
-            for k in range(n_m):
-                d += phi[i, k] * q_m[k]
-                v += phi[i, k] * q_m_t[k]
-            work[i] = d
-            work[3 + i] = v
+        shapes_times(phi, q_m, q_m_t, work)
     for i in range(6):
         state[i] = work[i] + delta[i] if on else 0.0
     state[6] = 1.0 if on else 0.0
@@ -287,20 +279,3 @@ def rail_moment_about_deck_line(y_c, z_c, F_y, F_z, M_x, y_ground_m, state):
     """Moment about +x [N m] of the force ``(F_y, F_z)`` [N] at ``(y_c, z_c)`` [m] about the deck's deflected
     rail-top centre line (at ``y_g + y_b``, ``z_b``), plus the moment ``M_x`` (track frame)."""
     return (y_c - (y_ground_m + state[0])) * F_z - (z_c - state[1]) * F_y + M_x
-
-
-@njit(cache=True)
-def project_with(phi, F_y, F_z, M_x, f_modal):
-    """``f_modal += Φᵀ (F_y, F_z, M_x)`` with ``Φ`` (3, n_m) the shapes at the force's track distance (those
-    :func:`deck_state_under` found for the wheelset): :func:`project_on_deck` without interpolating again."""
-    for k in range(phi.shape[1]):
-        f_modal[k] += phi[0, k] * F_y + phi[1, k] * F_z + phi[2, k] * M_x
-
-
-@njit(cache=True)
-def project_on_deck(s_m, F_y, F_z, M_x, deck, work, f_modal):
-    """``f_modal += Φ(s)^T (F_y, F_z, M_x)``: the generalized modal forces of a force on the rails at track distance
-    ``s_m`` (:func:`~.bridge.add_projected_force`); ``work`` (3, n_m) scratch.  Returns True on the deck."""
-    par, elem_x0, elem_len, elem_nodes, node_shapes = deck[0], deck[1], deck[2], deck[3], deck[4]
-    return add_projected_force(s_m, F_y, F_z, M_x, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len,
-                               elem_nodes, node_shapes, work, f_modal)

@@ -409,6 +409,13 @@ class FlexibleTrackModel:
         d2N = np.array([(-6 + 12 * x) / h ** 2, (-4 + 6 * x) / h, (6 - 12 * x) / h ** 2, (6 * x - 2) / h])
         return float(-EI * d2N @ np.asarray(u)[2 * e[0] + np.arange(4)])
 
+    def nearest_sleeper(self, s_m, start_m: float | None = None) -> np.ndarray:
+        """Index of the sleeper nearest to each track distance in ``s_m``, clipped to the segment; ``start_m``: where
+        the segment starts now (a moving window's current start; default :attr:`start_m`)."""
+        start = self.start_m if start_m is None else float(start_m)
+        j = np.rint((np.asarray(s_m, dtype=float) - start) / self.params.sleeper_spacing_m).astype(int)
+        return np.clip(j, 0, self.n_sleepers - 1)
+
     def _locate(self, s, left=False):
         x = (np.asarray(s, dtype=float) - self.start_m) / self.h_m
         if np.any(x < -1e-9) or np.any(x > self.n_nodes - 1 + 1e-9):

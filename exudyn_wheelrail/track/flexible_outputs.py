@@ -55,8 +55,7 @@ def nearest_sleepers(modes, s_m) -> tuple[np.ndarray, np.ndarray]:
     mdl = modes.model
     s = np.atleast_1d(np.asarray(s_m, dtype=float))
     on = (s >= mdl.start_m - 1e-9) & (s <= mdl.start_m + mdl.length_m + 1e-9)
-    j = np.clip(np.rint((s - mdl.start_m) / mdl.params.sleeper_spacing_m).astype(int), 0, mdl.n_sleepers - 1)
-    return j, on
+    return mdl.nearest_sleeper(s), on
 
 
 def track_under_wheels(modes, s_m, q, q_t) -> dict:

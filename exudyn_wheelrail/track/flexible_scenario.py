@@ -305,7 +305,7 @@ class _TrackColumns:
         if self.window is not None:                  # the sleepers of the window at its current position
             k = self.window.sleeper_index(s)
         else:
-            k = np.clip(np.rint((s - mdl.start_m) / mdl.params.sleeper_spacing_m).astype(int), 0, mdl.n_sleepers - 1)
+            k = mdl.nearest_sleeper(s)
         for j in range(len(self.x)):
             a, b = self._rows(int(k[j]))
             out[8 * j:8 * j + 3] = (st[j, 1], st[j, 0], st[j, 2])

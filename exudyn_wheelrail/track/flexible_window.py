@@ -293,8 +293,7 @@ class FlexibleTrackWindow:
 
     def sleeper_index(self, s_m) -> np.ndarray:
         """Index (in the window now) of the sleeper nearest to each track distance ``s_m``, clipped to the window."""
-        j = np.rint((np.asarray(s_m, dtype=float) - self.start_m) / self.d_m).astype(int)
-        return np.clip(j, 0, self.model.n_sleepers - 1)
+        return self.model.nearest_sleeper(s_m, self.start_m)
 
     # -- the move ----------------------------------------------------------------------------------------------
     def shift_matrix(self, k: int) -> np.ndarray:
