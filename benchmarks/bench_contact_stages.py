@@ -118,12 +118,12 @@ def stage_poses(qs, vs, ts, model, state, work, i0, i1):
 
 @njit
 def stage_geometry(sp_all, ws, warm, model, state, out_all, i0, i1):
-    nodes, meta, mono, curve_ids, params, gtab = model[2]
+    nodes, meta, mono, curve_ids, params, gtab, scan = model[2]
     stats = state[3]
     for i in range(i0, i1):
         warm[:] = ws[i]
         GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, sp_all[i], warm,
-                                     params, out_all[i], stats)
+                                     params, out_all[i], stats, scan)
 
 
 @njit

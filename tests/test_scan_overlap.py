@@ -106,3 +106,36 @@ def test_scan_matches_brute_force(setup, y, roll):
             assert not missed, (reg, got, missed)
         if reg == 0:
             assert n >= 1          # the tread overlaps by 50 µm: at least one peak
+
+
+@pytest.mark.parametrize("y, roll", _poses())
+def test_cached_scan_points_change_nothing(setup, y, roll):
+    """The kernel's cached scan points (``WheelsetContact.scan``, ``kernel.scan_array``) are the wheel curve's own
+    evaluations at the scan's arc lengths: the peaks and the whole kernel output are bitwise those of the scan that
+    evaluates the curve (whose peaks are checked against brute force above)."""
+    pair, c = setup
+    _, ov0, _ = _reference_overlaps(pair, c, 0, (y, -0.46, roll))
+    pose = (y, -0.46 + 3e-4 - np.max(ov0), roll)      # the tread's deepest sample 300 µm into the rail
+    assert c.scan.shape == (c.meta.shape[0], N_SCAN, 2)
+    cos_r, sin_r = np.cos(roll), np.sin(roll)
+    for reg in (0, 1):
+        cid = int(c.curve_ids[0, 1 + reg])
+        lo = c.nodes[int(c.meta[cid, 0]), 0]
+        hi = c.nodes[int(c.meta[cid, 0] + c.meta[cid, 1]) - 1, 0]
+        peaks = []
+        for points in (K.NO_SCAN[0], c.scan[cid]):
+            out_sw = np.full(K.MAX_STARTS, np.nan)
+            out_sr = np.full(K.MAX_STARTS, np.nan)
+            n = overlap_peaks(c.nodes, c.meta, c.mono, 0, cid, y, pose[1], cos_r, sin_r, lo, hi, N_SCAN, K_MAX,
+                              out_sw, out_sr, points)
+            peaks.append((n, out_sw[:n].tobytes(), out_sr[:n].tobytes()))
+        assert peaks[0] == peaks[1], reg
+        assert peaks[0][0] >= 1 or reg == 1
+    outs = []
+    for scan in (K.NO_SCAN, c.scan):
+        warm = np.full_like(c.warm, np.nan)
+        out = np.zeros_like(c.out)
+        K.evaluate_wheels(c.nodes, c.meta, c.mono, c.curve_ids[:1], np.array([pose]), warm[:1], c.params, out[:1],
+                          scan)
+        outs.append(out[:1].tobytes())
+    assert outs[0] == outs[1]

@@ -481,11 +481,13 @@ def _count_online(out, w0, w1, stats):
 
 
 @njit(cache=True)
-def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats):
+def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats,
+                              scan=K.NO_SCAN):
     """:func:`~.kernel.evaluate_wheels` with the table (``par[T_USE] != 0``) where the pose is inside it; the
-    online kernel elsewhere (or for every wheel when ``par[T_USE] == 0``).  ``stats`` counts (STAT_*)."""
+    online kernel elsewhere (or for every wheel when ``par[T_USE] == 0``; ``scan`` its cached scan points,
+    :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*)."""
     if par[T_USE] == 0.0:
-        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out)
+        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
         stats[STAT_FALLBACK] += poses.shape[0]
         _count_online(out, 0, poses.shape[0], stats)
         return
@@ -514,7 +516,7 @@ def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, p
             stats[STAT_TABLE] += 1
         else:
             K.evaluate_wheels(nodes, meta, mono, curve_ids[w:w + 1], poses[w:w + 1], warm[w:w + 1], params,
-                              out[w:w + 1])
+                              out[w:w + 1], scan)
             stats[STAT_FALLBACK] += 1
             _count_online(out, w, w + 1, stats)
 

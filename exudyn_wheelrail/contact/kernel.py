@@ -68,7 +68,7 @@ from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, pa
     W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
 from .normal import hertz_from_penetration
 from .search import (_overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start, normal_foot,
-                     normal_penetration_ascent, overlap_peaks, vertical_overlap_search, wheel_point)
+                     normal_penetration_ascent, overlap_peaks, scan_points, vertical_overlap_search, wheel_point)
 
 # ---- flags (F_FLAGS bits) and status (F_STATUS) ------------------------------------------------------------------
 FLAG_PROFILE_END = 1        # the wheel or rail point is at an end of its profile: the contact may lie beyond the data
@@ -194,11 +194,27 @@ N_SCRATCH_ROWS = 6
 MAX_STARTS = 8          # Newton starts and tracked candidates per region
 
 
+#: no cached scan points (:func:`evaluate_wheels` evaluates the wheel curves at every scan sample)
+NO_SCAN = np.zeros((1, 0, 2))
+
+
+def scan_array(nodes, meta, n_scan: int) -> np.ndarray:
+    """The coarse scan's wheel points of every packed curve, (n_curves, n_scan, 2) (:func:`~.search.scan_points`),
+    for the ``scan`` argument of :func:`evaluate_wheels`: a scan then places stored points instead of evaluating the
+    wheel curve, with the same result.  Used while ``params[P_N_SCAN]`` equals ``n_scan``."""
+    n_scan = int(n_scan)
+    if n_scan < 2:
+        return NO_SCAN
+    return np.ascontiguousarray([scan_points(nodes, meta, c, n_scan) for c in range(meta.shape[0])])
+
+
 @njit(cache=True)
-def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, k_max, out_sw, out_sr):
-    """Newton starts: the deepest local maxima of a coarse vertical-overlap scan, or the nearest sample pair."""
+def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, k_max, out_sw, out_sr,
+                 points):
+    """Newton starts: the deepest local maxima of a coarse vertical-overlap scan, or the nearest sample pair;
+    ``points`` the scan's cached wheel points of the whole region (or none, :func:`scan_array`)."""
     n = overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                      min(k_max, MAX_STARTS), out_sw, out_sr)
+                      min(k_max, MAX_STARTS), out_sw, out_sr, points)
     if n == 0:
         # a Newton start only: 50 rail samples (2-3 mm apart) are plenty
         out_sw[0], out_sr[0] = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
@@ -229,14 +245,15 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     ``slot2`` >= 0: the output slot for the region's second, separate contact zone (filled when a distinct convex
     optimum also penetrates and the surfaces separate between the two points), else left untouched."""
     _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, np.cos(roll), np.sin(roll), warm, params, out, w,
-                  reg, slot2, np.empty((N_SCRATCH_ROWS, MAX_STARTS)))
+                  reg, slot2, np.empty((N_SCRATCH_ROWS, MAX_STARTS)), NO_SCAN)
 
 
 @njit(cache=True)
 def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, warm, params, out, w, reg, slot2,
-                  scratch):
-    """:func:`solve_region` with the cosine and sine of the roll given and a scratch array (``N_SCRATCH_ROWS``,
-    ``MAX_STARTS``) for the Newton starts and candidates (no allocation per call)."""
+                  scratch, scan):
+    """:func:`solve_region` with the cosine and sine of the roll given, a scratch array (``N_SCRATCH_ROWS``,
+    ``MAX_STARTS``) for the Newton starts and candidates (no allocation per call) and the cached scan points
+    (:func:`scan_array` or :data:`NO_SCAN`)."""
     if wheel < 0:                                   # the profile has no such region (e.g. a flangeless cone)
         _no_overlap(out, w, reg)
         return
@@ -247,6 +264,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
     r_lo = nodes[r_first, 0]
     r_hi = nodes[r_first + int(meta[rail, 1]) - 1, 0]
     n_scan = int(params[P_N_SCAN])
+    points = scan[wheel] if wheel < scan.shape[0] else scan[0]    # used by the scan when it has n_scan rows
     warm_mode = params[P_GLOBAL] == 0.0
     s_r = warm[w, reg, W_S_RAIL]
     s_w = warm[w, reg, W_S_WHEEL]
@@ -269,7 +287,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
     n_starts = 1
     if scanned:
         n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                                int(params[P_N_STARTS]), starts_sw, starts_sr)
+                                int(params[P_N_STARTS]), starts_sw, starts_sr, points)
         warm[w, reg, W_SCAN_Y] = c_y
     else:
         starts_sw[0] = s_w
@@ -374,7 +392,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
         if scanned:
             break
         n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                                int(params[P_N_STARTS]), starts_sw, starts_sr)
+                                int(params[P_N_STARTS]), starts_sw, starts_sr, points)
         scanned = True
     # 2. concave search (maximum vertical overlap); its point is polished by Newton where the pair is convex there
     found, c_sw, c_sr, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
@@ -454,7 +472,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
 
 
 @njit(cache=True)
-def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
+def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN):
     """Contact geometry and Hertz for every wheel.
 
     Parameters (arrays)
@@ -466,6 +484,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
     warm : (n_wheels, 2, N_WARM) — warm-start state (W_* fields; s NaN for none); updated in place.
     params : :func:`default_params`.
     out : (n_wheels, N_SLOTS, N_FIELDS) — filled: slots tread, flange and the tread's second zone.
+    scan : the coarse scan's wheel points (:func:`scan_array`); optional, the results are the same without.
     """
     n_wheels = poses.shape[0]
     scratch = np.empty((N_SCRATCH_ROWS, MAX_STARTS))
@@ -481,7 +500,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out):
         sin_r = np.sin(roll)
         for reg in range(2):
             _solve_region(nodes, meta, mono, rail, curve_ids[w, 1 + reg], poses[w, 0], poses[w, 1], roll, cos_r, sin_r,
-                          warm, params, out, w, reg, SLOT_TREAD_2 if reg == 0 else -1, scratch)
+                          warm, params, out, w, reg, SLOT_TREAD_2 if reg == 0 else -1, scratch, scan)
         t2 = out[w, SLOT_TREAD_2]
         if t2[F_STATUS] > 0 and out[w, 1, F_STATUS] > 0 and np.hypot(
                 t2[F_PW_Y] - out[w, 1, F_PW_Y], t2[F_PW_Z] - out[w, 1, F_PW_Z]) < params[P_DEDUP_DISTANCE]:

@@ -449,9 +449,30 @@ def _scan_overlap(nodes, meta, rail, row_lo, row_hi, wy, wz, a):
     return True, wz - z_foot, a
 
 
+#: no cached scan points (:func:`overlap_peaks` evaluates the wheel curve at every sample)
+NO_SCAN_POINTS = np.zeros((0, 2))
+
+
+@njit(cache=True)
+def scan_points(nodes, meta, curve, n_wheel):
+    """The wheel points ``(p_y, p_z)`` (wheel frame, before the pose) of :func:`overlap_peaks`'s ``n_wheel`` samples
+    over the whole of ``curve``, as an (n_wheel, 2) array: the same numbers the scan evaluates (same arc lengths,
+    same arithmetic), so a scan given them returns exactly what it returns without."""
+    first = int(meta[curve, 0])
+    s_w_lo = nodes[first, 0]
+    s_w_hi = nodes[first + int(meta[curve, 1]) - 1, 0]
+    h = (s_w_hi - s_w_lo) / (n_wheel - 1)
+    pts = np.empty((n_wheel, 2))
+    for k in range(n_wheel):
+        py, pz, ty, tz, ny, nz, kw = curve_eval(nodes, meta, curve, s_w_lo + h * k)
+        pts[k, 0] = py
+        pts[k, 1] = pz
+    return pts
+
+
 @njit(cache=True)
 def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, k_max, out_sw,
-                  out_sr):
+                  out_sr, points=NO_SCAN_POINTS):
     """Up to ``k_max`` local maxima of the sampled vertical overlap along the wheel region, deepest first.
 
     Writes their (s_w, s_r) into ``out_sw``/``out_sr`` and returns how many were found.  Starting Newton from
@@ -460,7 +481,10 @@ def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo
     counts as -inf); among equal depths the first sample ranks first.  The samples are evaluated by
     :func:`_scan_overlap` in one pass keeping the ``k_max`` deepest maxima (no array allocated; ``out_sr`` holds
     their depths meanwhile), then the rail point of each kept maximum is projected as :func:`_overlap_at_wheel` does.
+    ``points``: the samples' wheel points of :func:`scan_points` when ``[s_w_lo, s_w_hi]`` is the whole curve (used
+    when it has ``n_wheel`` rows; the wheel curve is then not evaluated), else :data:`NO_SCAN_POINTS`.
     """
+    cached = points.shape[0] == n_wheel
     row_lo = mono[rail, 0]
     row_hi = mono[rail, 1]
     h = (s_w_hi - s_w_lo) / (n_wheel - 1)
@@ -471,7 +495,12 @@ def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo
     for k in range(n_wheel + 1):
         right = -np.inf
         if k < n_wheel:
-            wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w_lo + h * k, c_y, c_z, cos_r, sin_r)
+            if cached:          # wheel_point's placement of the same curve point
+                wy = c_y + cos_r * points[k, 0] - sin_r * points[k, 1]
+                wz = c_z + sin_r * points[k, 0] + cos_r * points[k, 1]
+            else:
+                wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w_lo + h * k, c_y, c_z, cos_r,
+                                                             sin_r)
             ok, d, row = _scan_overlap(nodes, meta, rail, row_lo, row_hi, wy, wz, row)
             if ok:
                 right = d

@@ -101,6 +101,8 @@ class WheelsetContact:
         self.params = K.default_params(self.E_star, global_search=global_search, n_scan=n_scan,
                                        n_concave_wheel=n_concave_wheel, n_concave_rail=n_concave_rail, refine=refine,
                                        wheel_lever_m=lever, curvature_bound=1.25 * kappa_max)
+        #: the coarse scan's wheel points (the kernel places them instead of evaluating the wheel curve)
+        self.scan = K.scan_array(self.nodes, self.meta, self.params[K.P_N_SCAN])
         self.warm = np.full((n_wheels, 2, K.N_WARM), np.nan)
         self.out = np.zeros((n_wheels, K.N_SLOTS, K.N_FIELDS))
         self._side_poses = np.zeros((n_wheels, 3))
@@ -148,7 +150,7 @@ class WheelsetContact:
         """Raw kernel output (2n, N_SLOTS, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
         poses = self.checked_poses(poses)
         K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self._fill_side_poses(poses), self.warm,
-                          self.params, self.out)
+                          self.params, self.out, self.scan)
         self.poses[:] = poses
         return self.out
 

@@ -277,7 +277,7 @@ class WheelRailContact:
         kc = self._kc
         # the compiled call's packed arguments (connector_core): model data, updated arrays, scratch: one object
         self._model = ((self.p_ref, self._frame) + lay, irr, (kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params,
-                                                      (par, cz_ref, data)), creep.core, self._deck)
+                                                      (par, cz_ref, data), kc.scan), creep.core, self._deck)
         self._state = (kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws, self._rail_f,
                        self._deck_state)
         self._work = work_arrays(n_ws)

@@ -20,9 +20,10 @@ in one call, and their Jacobian by structured forward differences.
     when ``frame[FRAME_CURVED]`` is set);
   - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)`` (:func:`~.track.irregularity_channels_at`:
     alignment, vertical level, cross level and gauge deviation);
-  - ``geometry = (nodes, meta, mono, curve_ids, params, table)``: the profiles and kernel parameters of a
-    :class:`~exudyn_wheelrail.contact.WheelsetContact` and the geometry table's ``(par, cz_ref, data)``
-    (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`);
+  - ``geometry = (nodes, meta, mono, curve_ids, params, table, scan)``: the profiles and kernel parameters of a
+    :class:`~exudyn_wheelrail.contact.WheelsetContact`, the geometry table's ``(par, cz_ref, data)``
+    (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`) and the coarse scan's cached
+    wheel points (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
   - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
   - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
     ``par``);
@@ -468,19 +469,19 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     res[:, :, :] = 0.0
     if bad >= 0:
         return bad
-    nodes, meta, mono, curve_ids, params, gtab = model[2]
+    nodes, meta, mono, curve_ids, params, gtab, scan = model[2]
     residual = model[4][5].shape[0] > 0
     if residual:
         _predict_residual(q, model, state, work)
     GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0], params,
-                                 state[1], state[3])
+                                 state[1], state[3], scan)
     if residual:
         if series_compliance(state, work, False):
             # a solve moved its rails further than the geometry's linearization is trusted: move them there and
             # find the geometry again
             _move_rails(q, model, state, work)
             GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0],
-                                         params, state[1], state[3])
+                                         params, state[1], state[3], scan)
         series_compliance(state, work, True)
     wheel_forces(q, q_t, model, state, work, f_out, res)
     return -1
