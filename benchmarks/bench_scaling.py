@@ -126,7 +126,7 @@ def build(n_wheelsets: int, coupling: str, record: bool):
             start_on_track(mbs, model, trk)
             if record:
                 recorder = Recorder(vehicle_probes(model=model, contact=contacts[0], track=trk, speed_m_s=V,
-                                                   s_leading0_m=S_START_M), n_rows_hint=STEPS + 2)
+                                                   s_leading0_m=S_START_M, mbs=mbs), n_rows_hint=STEPS + 2)
         mbs.Assemble()
         for c in contacts:
             c.warm_up(mbs)
@@ -155,7 +155,7 @@ def build(n_wheelsets: int, coupling: str, record: bool):
         lead = max(consist.cars[0].vehicle.wheelset_x_m())
         points = [{"name": name, "x_m": x, "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}
                   for name, x in (("rear", "rear_bogie"), ("front", "front_bogie"))]
-        recorder = Recorder(train_probes(train, contacts[0], trk, V, S_START_M + lead, points),
+        recorder = Recorder(train_probes(train, contacts[0], trk, V, S_START_M + lead, points, mbs=mbs),
                             n_rows_hint=STEPS + 2)
     mbs.Assemble()
     for c in contacts:

@@ -6,6 +6,8 @@
   the connector reports is the one it started from.
 * The wheelset poses the monitor and the recorder read from the connector's arrays (``rail_pose_arrays``, no copy)
   against the connector's own ``wheelset_rail_pose`` (the right wheels' rows plus the half gauge).
+* The car-body points a scenario records through Exudyn's sensors stored in memory (filled once, after the solve)
+  against the same probe reading the body's outputs at every recorded state in the same run.
 """
 import numpy as np
 import pytest
@@ -95,3 +97,31 @@ def test_pose_readers_equal_the_connector_pose(built):
     np.testing.assert_array_equal(row, pose[:, 0])
     assert abs(pose[0, 0] - pose[1, 0]) > 1e-4                         # the state moved wheelset 0 only
     c.restore_warm_start(warm0)
+
+
+def test_car_body_points_from_sensors_are_the_per_state_outputs():
+    from exudyn_wheelrail.simulation.recorder import Recorder, _CarBodyPoints
+    from exudyn_wheelrail.scenarios.run import run_model
+    base = RtriCase(span_m=20.0)
+    run, contact, _ = apply_preset("default", base.run, base.contact)
+    h = build_scenario(RtriCase(span_m=20.0, run=run, contact=contact, duration_s=0.06, record=True).scenario())
+    stored = [p for p in h.recorder.probes if isinstance(p, _CarBodyPoints)]
+    assert len(stored) == 1 and stored[0].sensors is not None
+    stored = stored[0]
+    cb = h.model.car_body
+    points = [(f"p{i}", np.asarray(loc) + cb.p_cg_in_frame) for i, loc in enumerate(stored.local)]
+    reference = _CarBodyPoints(h.model, points)           # no mbs: reads the outputs at every recorded state
+    assert reference.sensors is None
+    h.recorder = rec = Recorder(h.recorder.probes + [reference], n_rows_hint=8)
+    outcome = run_model(h, progress=False)
+    assert outcome.status.kind == "ok"
+    data = rec.data[:rec.n]
+    assert rec.n == h.run.steps + 1
+    sl_stored, sl_ref = rec._slices[-2], rec._slices[-1]
+    assert sl_stored.stop - sl_stored.start == 6 * len(points)
+    assert np.isfinite(data[:, sl_ref]).all()
+    np.testing.assert_array_equal(data[:, sl_stored], data[:, sl_ref])
+    assert np.ptp(data[:, sl_ref][:, 0]) > 0.0              # the run moves the car body: the columns are not constant
+    # a state the sensors did not store (off the step grid) is an error naming the setting, not a NaN
+    with pytest.raises(RuntimeError, match="sensorsWritePeriod"):
+        stored.fill_rows(np.array([0.5 * float(h.run.dt_s)]), np.zeros((1, 6 * len(points))))

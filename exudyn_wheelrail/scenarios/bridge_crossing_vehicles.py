@@ -117,7 +117,7 @@ def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
     contact = train.contact
     points = [{"name": name, "x_m": x, "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}
               for name, x in (("rear", "rear_bogie"), ("front", "front_bogie"))]
-    probes = train_probes(train, contact, track, V, case.deck_start_m, points)
+    probes = train_probes(train, contact, track, V, case.deck_start_m, points, mbs=mbs)
     static = {f"w{j + 1}_{side}": float(w[0 if side == "left" else 1])
               for j, w in enumerate(train.static_wheel_loads_N()) for side in ("right", "left")}
 

@@ -233,13 +233,13 @@ def build_scenario(scenario) -> ScenarioModel:
         st = scn.get("structure", {})
         if train:
             probes = train_probes(model, contact, track, V, s_lead0, scn["outputs"]["carbody_points"], bridge, modes,
-                                  st)
+                                  st, mbs=mbs)
         else:
             points = [(p["name"], [_carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
                       for p in scn["outputs"]["carbody_points"]]
             probes = vehicle_probes(model=model, contact=contact, track=track, speed_m_s=V, s_leading0_m=s_lead0,
                                     carbody_points=points, bridge=bridge, modes=modes,
-                                    deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"))
+                                    deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"), mbs=mbs)
         if bridge is not None:
             probes += deck_probes(contact=contact, bridge=bridge, modes=modes, spans_m=st["spans_m"],
                                   start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
@@ -255,11 +255,12 @@ def build_scenario(scenario) -> ScenarioModel:
 
 
 def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, carbody_points, bridge=None,
-                 modes=None, structure=None) -> list:
+                 modes=None, structure=None, mbs=None) -> list:
     """The recorder's probes of a train (:class:`~..multibody.train.TrainModel`): the wheels, wheelsets and track of
     :func:`~..simulation.recorder.vehicle_probes` for all wheelsets (train order: ``w<j>`` numbers the wheelsets of
     the whole train, car after car), the deck's with a bridge, and every car's car-body points (``outputs.
-    carbody_points``, x from that car's centre), named ``<point>_c<k>`` (k = 1 the leading car)."""
+    carbody_points``, x from that car's centre), named ``<point>_c<k>`` (k = 1 the leading car); ``mbs`` (not yet
+    assembled) as for :func:`~..simulation.recorder.vehicle_probes`: the car-body points read by sensors."""
     import dataclasses
 
     from ..multibody.train import car_suffix
@@ -275,7 +276,8 @@ def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, c
         # the car-body probe is the last of vehicle_probes without a bridge; the model lists every wheelset of the
         # connector (the wheel probes built alongside are checked against it and dropped)
         probes.append(vehicle_probes(model=dataclasses.replace(car, wheelsets=wheelsets), contact=contact, track=track,
-                                     speed_m_s=speed_m_s, s_leading0_m=s_leading0_m, carbody_points=points)[-1])
+                                     speed_m_s=speed_m_s, s_leading0_m=s_leading0_m, carbody_points=points,
+                                     mbs=mbs)[-1])
     return probes
 
 

@@ -22,7 +22,9 @@ z down):
 * ``carbody`` per car-body point p: ``carbody_lateral_acceleration_<p>_m_s2``, ``carbody_vertical_acceleration_
   <p>_m_s2`` (track frame, kinematic: no gravity; Exudyn's rigid-body ``Acceleration`` output at the point; a
   flexible car body: its frame's and modes' motion at the point, :class:`~..multibody.flexible_body.
-  BodyPointKinematics`, the accelerometer then in the axes of the deformed section),
+  BodyPointKinematics`, the accelerometer then in the axes of the deformed section; a rigid car body's points are
+  read by Exudyn sensors stored in memory when the probes are built with the model's ``mbs``: the same outputs,
+  no Python call per state),
   ``carbody_lateral_accelerometer_<p>_m_s2``, ``carbody_vertical_accelerometer_<p>_m_s2`` (the specific force
   a − g in the car body's own axes: what a floor accelerometer reads; ≈ −9.81 vertical at rest),
   ``carbody_lateral_displacement_<p>_m``, ``carbody_vertical_displacement_<p>_m`` (track frame);
@@ -56,8 +58,9 @@ PROGRESS_MIN_STEPS = 200
 class Recorder:
     """Rows of the ``probes``' columns, one per :meth:`record` call; ``time_s`` first.  A probe has ``columns``
     (a list of ``(group, name)``) and either ``fill(mbs, t, row)`` writing its slice of the row of a state, or —
-    for columns that are a function of the time alone — ``fill_rows(t, rows)`` writing its columns of many rows at
-    once (``t`` (m,), ``rows`` (m, k)); those are filled when the table is read (:attr:`data`)."""
+    for columns that are a function of the time alone, or that Exudyn's sensors stored during the run —
+    ``fill_rows(t, rows)`` writing its columns of many rows at once (``t`` (m,), ``rows`` (m, k)); those are filled
+    by :meth:`complete` (the runner calls it at the end of a solve; reading :attr:`data` does too)."""
 
     def __init__(self, probes, n_rows_hint: int = 64):
         self.probes = list(probes)
@@ -89,15 +92,19 @@ class Recorder:
         self._data[self.n] = row
         self.n += 1
 
-    @property
-    def data(self) -> np.ndarray:
-        """The table (rows ``[:n]`` are the recorded states), every column filled."""
+    def complete(self) -> None:
+        """Fill the ``fill_rows`` columns of the rows recorded since the last call."""
         if self._n_complete < self.n:
             rows = slice(self._n_complete, self.n)
             t = self._data[rows, 0]
             for p, sl in self._time_only:
                 p.fill_rows(t, self._data[rows, sl])            # a view: written in place
             self._n_complete = self.n
+
+    @property
+    def data(self) -> np.ndarray:
+        """The table (rows ``[:n]`` are the recorded states), every column filled."""
+        self.complete()
         return self._data
 
     @property
@@ -241,9 +248,15 @@ class _Track:
 
 
 class _CarBodyPoints:
-    """Accelerations, accelerometer readings and displacements of points fixed to the car body."""
+    """Accelerations, accelerometer readings and displacements of points fixed to the car body.
 
-    def __init__(self, model, points):
+    Given ``mbs`` (before ``mbs.Assemble()``), a rigid car body's points are read by Exudyn sensors stored in memory
+    (``SensorBody``: per point ``Acceleration`` and ``Displacement``, and the body's ``RotationMatrix``; the same
+    outputs as ``GetObjectOutputBody``, evaluated by Exudyn after every step), and the columns are filled when the
+    table is read (``fill_rows``) — no Python call per recorded state.  Otherwise (or a flexible car body)
+    every recorded state reads the body's outputs (:meth:`fill`)."""
+
+    def __init__(self, model, points, mbs=None):
         import exudyn as exu
         ovt = exu.OutputVariableType
         self._rotation, self._acceleration, self._displacement = (ovt.RotationMatrix, ovt.Acceleration,
@@ -253,10 +266,21 @@ class _CarBodyPoints:
         self.gravity = np.array([0.0, 0.0, model.gravity_m_s2])
         self.local = [(np.asarray(pos, dtype=float) - cb.p_cg_in_frame).tolist() for _, pos in points]
         self.flexible = None
+        self.sensors = None
         if getattr(cb, "flexible", None) is not None:     # flexible car body: frame + modal motion at the points
             from ..multibody.flexible_body import BodyPointKinematics
             self.flexible = BodyPointKinematics(cb, self.local)
             self.fill = self._fill_flexible
+        elif mbs is not None:
+            from exudyn.itemInterface import SensorBody
+
+            def sensor(variable, loc=(0.0, 0.0, 0.0)):
+                return mbs.AddSensor(SensorBody(bodyNumber=self.body, localPosition=list(loc),
+                                                outputVariableType=variable, storeInternal=True))
+            self.mbs = mbs
+            self.sensors = ([(sensor(self._acceleration, loc), sensor(self._displacement, loc)) for loc in self.local],
+                            sensor(self._rotation))
+            self.fill_rows = self._fill_stored
         self.columns = []
         for name, _ in points:
             self.columns += [("carbody", f"carbody_{d}_{q}_{name}_{u}")
@@ -279,6 +303,35 @@ class _CarBodyPoints:
             out[k + 4] = u[1]
             out[k + 5] = u[2]
             k += 6
+
+    def _fill_stored(self, t, rows):
+        """The columns of the states at the times ``t`` (m,) into ``rows`` (m, k) from the sensors' stored data
+        (same numbers as :meth:`fill` at those states; every time must have its sensor row)."""
+        get = self.mbs.GetSensorStoredData
+        points, rotation = self.sensors
+        data = get(rotation)
+        rot = data[:, 1:10].reshape(-1, 3, 3)
+        idx = np.searchsorted(data[:, 0], t - 1e-9)
+        idx_ok = np.minimum(idx, len(data) - 1)
+        missing = (idx >= len(data)) | (np.abs(data[idx_ok, 0] - t) > 1e-9)
+        if np.any(missing):
+            t_bad = float(t[np.argmax(missing)])
+            raise RuntimeError(f"car-body points: the sensors stored no state at t = {t_bad:.9g} s (stored: "
+                               f"{len(data)} states from {data[0, 0]:.9g} to {data[-1, 0]:.9g} s; Exudyn stores "
+                               f"one every simulationSettings.solutionSettings.sensorsWritePeriod: set it to the "
+                               f"time step)")
+        R = rot[idx]
+        for i, (s_acc, s_disp) in enumerate(points):
+            a = get(s_acc)[idx, 1:4]
+            u = get(s_disp)[idx, 1:4]
+            # R^T (a - g), component by component
+            v = a - self.gravity
+            rows[:, 6 * i] = a[:, 1]
+            rows[:, 6 * i + 1] = a[:, 2]
+            rows[:, 6 * i + 2] = R[:, 0, 1] * v[:, 0] + R[:, 1, 1] * v[:, 1] + R[:, 2, 1] * v[:, 2]
+            rows[:, 6 * i + 3] = R[:, 0, 2] * v[:, 0] + R[:, 1, 2] * v[:, 1] + R[:, 2, 2] * v[:, 2]
+            rows[:, 6 * i + 4] = u[:, 1]
+            rows[:, 6 * i + 5] = u[:, 2]
 
     def _fill_flexible(self, mbs, t, out):
         R, a, u, theta = self.flexible.state(mbs)
@@ -313,14 +366,15 @@ class _DeckMidSpans:
 
 
 def vehicle_probes(*, model, contact, track, speed_m_s: float, s_leading0_m: float, carbody_points=(),
-                   bridge=None, modes=None, deck_spans_m=None, deck_start_m=None) -> list:
+                   bridge=None, modes=None, deck_spans_m=None, deck_start_m=None, mbs=None) -> list:
     """The probes of a vehicle model with the wheel–rail connector, in :data:`GROUPS` order: ``carbody_points``
-    a list of ``(name, position in the vehicle frame [m], z down)`` (needs a car body); the deck's with a bridge."""
+    a list of ``(name, position in the vehicle frame [m], z down)`` (needs a car body; given ``mbs``, not yet
+    assembled, a rigid car body's points are read by sensors stored in memory); the deck's with a bridge."""
     n = len(model.wheelsets)
     probes = [_TrackDistance(s_leading0_m, speed_m_s), _Wheels(contact, n), _WheelsetLateral(contact, n),
               _Track(model, track)]
     if carbody_points:
-        probes.append(_CarBodyPoints(model, carbody_points))
+        probes.append(_CarBodyPoints(model, carbody_points, mbs))
     if bridge is not None:
         probes.append(_DeckMidSpans(contact, bridge, modes, deck_spans_m, deck_start_m))
     return probes

@@ -296,6 +296,8 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
     onset = monitor.stability_exceeded if monitor is not None else None
     if recorder is not None and onset is not None and out.stop.kind in ("invalid_state", "solver_failure"):
         out.rows_dropped = recorder.keep_until(onset.time_s)     # unstable integration from that state on
+    if recorder is not None:
+        recorder.complete()             # columns read from what Exudyn stored during this solve
     if progress is not None:
         progress.update(hook.t_state if hook.t_state is not None else t0)
     return out
