@@ -319,6 +319,9 @@ def table_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, t_
     fx = 0.0
     fy = 0.0
     mz = 0.0
+    # a zero weight of t or r skips its node (it may lie outside the table: t has no ghosts, r none above r_max);
+    # theta and psi always have all four nodes (ghosts at both ends): no test in the inner loops, which run
+    # branch-free (twice as fast along a run, measured; the sum is the same, term by term in the same order)
     for p in range(4):
         w1 = wt[p]
         if w1 == 0.0:
@@ -331,17 +334,12 @@ def table_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, t_
             k2 = ir - 1 + q
             for u in range(4):
                 w3 = w2 * wth[u]
-                if w3 == 0.0:
-                    continue
-                k3 = ith - 1 + u
+                v = values[k1, k2, ith - 1 + u]
                 for m in range(4):
                     w4 = w3 * wps[m]
-                    if w4 == 0.0:
-                        continue
-                    k4 = ips - 1 + m
-                    fx += w4 * values[k1, k2, k3, k4, 0]
-                    fy += w4 * values[k1, k2, k3, k4, 1]
-                    mz += w4 * values[k1, k2, k3, k4, 2]
+                    fx += w4 * v[ips - 1 + m, 0]
+                    fy += w4 * v[ips - 1 + m, 1]
+                    mz += w4 * v[ips - 1 + m, 2]
     muN = mu * normal_force
     return sx * fx * muN, sy * fy * muN, sy * mz * muN * math.sqrt(a * b)
 
