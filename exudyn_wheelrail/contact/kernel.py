@@ -118,9 +118,18 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 200
 def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params):
     """Evaluate geometry at (s_w, s_r) and Hertz; write one output row."""
     qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheelset frame
+    ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
+    _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, kr, nodes, meta, rail, wheel, c_y, c_z,
+             cos_r, sin_r, iters, params)
+
+
+@njit(cache=True)
+def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, kr, nodes, meta, rail, wheel, c_y, c_z,
+             cos_r, sin_r, iters, params):
+    """:func:`_fill` with the curves already evaluated at (s_w, s_r): the wheel's point, normal z and curvature in
+    the wheelset frame (``qy, qz, qnz, kw``), the rail's point, normal and curvature (``ry ... kr``)."""
     wy = c_y + cos_r * qy - sin_r * qz                                      # placed by the pose (wheel_point)
     wz = c_z + sin_r * qy + cos_r * qz
-    ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
     delta = -((wy - ry) * rny + (wz - rz) * rnz)
     r_roll = qz
     k_w_roll = qnz / r_roll        # Meusnier: normal curvature of the parallel circle, cos(psi)/r
@@ -225,18 +234,24 @@ def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s
 
 @njit(cache=True)
 def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, s_lo, s_hi, r_lo, r_hi, params):
-    """Convex search from (s_r, s_w).  Returns (valid, convex, s_r, s_w, penetration, iterations): valid = converged
-    inside both ranges with opposing normals; convex = valid and kappa_w + kappa_r >= P_CONVEX_MIN_CURVATURE."""
+    """Convex search from (s_r, s_w).  Returns (valid, convex, s_r, s_w, penetration, iterations, geometry):
+    valid = converged inside both ranges with opposing normals; convex = valid and kappa_w + kappa_r >=
+    P_CONVEX_MIN_CURVATURE; geometry = the curves at the point as :func:`_fill_at` takes them (valid only)."""
     conv, s_r, s_w, it = convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w,
                                        int(params[P_NEWTON_MAX_ITER]), params[P_NEWTON_TOL])
     if not (conv and s_lo <= s_w <= s_hi and r_lo <= s_r <= r_hi):
-        return False, False, s_r, s_w, 0.0, it
-    wy, wz, wty, wtz, wny, wnz, kw = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        return False, False, s_r, s_w, 0.0, it, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheel_point, unplaced values kept
+    wy = c_y + cos_r * qy - sin_r * qz
+    wz = c_z + sin_r * qy + cos_r * qz
+    wny = cos_r * qny - sin_r * qnz
+    wnz = sin_r * qny + cos_r * qnz
     ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
+    geometry = (qy, qz, qnz, kw, ry, rz, rny, rnz, kr)
     if wny * rny + wnz * rnz >= 0.0:
-        return False, False, s_r, s_w, 0.0, it
+        return False, False, s_r, s_w, 0.0, it, geometry
     delta = -((wy - ry) * rny + (wz - rz) * rnz)
-    return True, kw + kr >= params[P_CONVEX_MIN_CURVATURE], s_r, s_w, delta, it
+    return True, kw + kr >= params[P_CONVEX_MIN_CURVATURE], s_r, s_w, delta, it, geometry
 
 
 @njit(cache=True)
@@ -317,12 +332,13 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
     best_delta = 0.0        # deepest convex contact among the starts
     best_sw = 0.0
     best_sr = 0.0
+    best_geometry = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)    # the curves there (_fill_at)
     # 1. convex search: warm start first; a failure, a concave point or (warm) a lifted-off point -> global starts
     for attempt in range(2):
         for k in range(n_starts):
-            valid, convex, s_r, s_w, delta, it = _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
-                                                                   starts_sr[k], starts_sw[k], s_lo, s_hi, r_lo,
-                                                                   r_hi, params)
+            valid, convex, s_r, s_w, delta, it, geometry = _newton_candidate(
+                nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, starts_sr[k], starts_sw[k], s_lo, s_hi, r_lo, r_hi,
+                params)
             iters += it
             if valid and n_cand < MAX_STARTS:       # any converged optimum marks a zone worth tracking
                 cand_sw[n_cand] = s_w
@@ -334,6 +350,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                 best_delta = delta
                 best_sw = s_w
                 best_sr = s_r
+                best_geometry = geometry
             elif valid and convex and scanned and -delta < sep_gap:
                 sep_ok = True
                 sep_sw = s_w
@@ -376,8 +393,9 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
             elif scanned or abs(warm[w, reg, W_ALT_S_WHEEL] - best_sw) <= dedup:
                 warm[w, reg, W_ALT_S_WHEEL] = np.nan       # no other zone (or it merged into this one)
                 warm[w, reg, W_ALT_S_RAIL] = np.nan
-            _fill(out, w, reg, STATUS_CONVEX, best_sw, best_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
-                  iters, params)
+            g = best_geometry       # the curves at the point, as the search evaluated them: not evaluated again
+            _fill_at(out, w, reg, STATUS_CONVEX, best_sw, best_sr, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7],
+                     g[8], nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params)
             if fill2:
                 _fill(out, w, slot2, STATUS_CONVEX, alt_sw, alt_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r,
                       sin_r, 0, params)
@@ -399,15 +417,15 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                                                     int(params[P_N_CONCAVE_WHEEL]), int(params[P_N_CONCAVE_RAIL]),
                                                     params[P_REFINE] > 0.0)
     if found and dv > 0.0:
-        p_valid, p_convex, p_sr, p_sw, p_delta, it = _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r,
-                                                                       sin_r, c_sr, c_sw, s_lo, s_hi, r_lo, r_hi,
-                                                                       params)
+        p_valid, p_convex, p_sr, p_sw, p_delta, it, g = _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r,
+                                                                          sin_r, c_sr, c_sw, s_lo, s_hi, r_lo, r_hi,
+                                                                          params)
         iters += it
         if p_valid and p_convex and p_delta > 0.0 and abs(p_sw - c_sw) < 1e-3:
             warm[w, reg, W_S_RAIL] = p_sr
             warm[w, reg, W_S_WHEEL] = p_sw
-            _fill(out, w, reg, STATUS_CONVEX, p_sw, p_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
-                  params)
+            _fill_at(out, w, reg, STATUS_CONVEX, p_sw, p_sr, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8],
+                     nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params)
             return
         # the penetration is a normal distance: take the deepest wheel point (by its normal distance to the rail)
         # within P_CONCAVE_NORMAL_WINDOW of the vertical-overlap maximum; its rail point is the normal foot
