@@ -2,7 +2,8 @@
 
 solve_seconds = wall time inside ``mbs.SolveDynamic`` (model building, table loading, numba warm-up outside);
 minimum of ``--repeats`` fresh runs, interleaved (the machine may be shared); ``record=False`` (the pure simulation)
-and ``record=True`` (the CLI's configuration: one more contact evaluation and the outputs per step).  The peak
+and ``record=True`` (the CLI's configuration: the outputs of every step, read from the run monitor's contact
+evaluation and Exudyn's stored sensors).  The peak
 lateral-force error of each preset is taken from ``benchmarks/results/work_precision.csv`` (same configuration,
 against the RK44 0.05 ms reference); the preset targets: ``simulation.presets.TARGETS``.
 

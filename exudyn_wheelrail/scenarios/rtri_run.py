@@ -21,9 +21,9 @@ shift the rails by V h, up to 69 mm at 250 km/h).  A run of n steps has n + 1 ro
 
 * ``carbody_lateral_acceleration_rear_m_s2`` — track-frame (y right) acceleration of the car-body point above the
   rear bogie centre at floor level (``floor_height_m`` above the rail top, an assumption), from Exudyn's
-  rigid-body output ``OutputVariableType.Acceleration`` at that local position (``GetObjectOutputBody``: the
-  node's translational acceleration plus the angular-acceleration and centripetal terms — what a ``SensorBody``
-  on that point returns).  Kinematic acceleration, without gravity.  ``carbody_lateral_accelerometer_rear_m_s2``
+  rigid-body output ``OutputVariableType.Acceleration`` at that local position (a ``SensorBody`` on that point,
+  stored in memory: the node's translational acceleration plus the angular-acceleration and centripetal terms,
+  the same numbers as ``GetObjectOutputBody``).  Kinematic acceleration, without gravity.  ``carbody_lateral_accelerometer_rear_m_s2``
   is what an accelerometer fixed to the floor reads: the specific force (a − g) in the car body's own y axis,
   which includes g times the car-body roll.
 * ``lateral_contact_force_w1_right_N`` — y component (track frame, y to the right) of the total contact force

@@ -7,9 +7,10 @@ summary states the preset, what it set and what was overridden (:func:`apply_pre
 work–precision study (``benchmarks/work_precision.py``, RTRI 20 m at 250 km/h against a converged RK44 0.05 ms
 reference; table and reasons in ``benchmarks/README.md``).  Targets (one core): ``default`` at least 6x faster than
 real time with at most 1 % error in the peak lateral contact force; ``fast`` at least 15x with at most 5 %.
-Measured (``benchmarks/bench_presets.py``, 2 shared cores, load 1.1-1.4; real-time factor without / with recording,
-peak lateral force error): accurate 1.2x / 1.1x, 0.05 %; default 4.0x / 3.7x, 0.57 %; fast 5.4x / 4.6x, 1.8 % — the
-error targets are met, the speed targets are not (benchmarks/README.md says why).
+Measured (``benchmarks/bench_presets.py``, 2 shared cores, load 0.9; real-time factor without / with recording,
+peak lateral force error): accurate 0.56x / 0.56x, 0.05 %; default 2.1x / 2.0x, 0.57 %; fast 2.6x / 2.5x, 1.8 %
+(on that machine the vehicle on linear rail springs runs at 8.7x) — the error targets are met, the speed targets
+are not (benchmarks/README.md says why).
 
 Without a preset a front end keeps its own settings (``rtri``: the paper's Newmark β = 1/4, γ = 1/2, 1 ms, online
 geometry).  A preset does not set the simulated duration.
