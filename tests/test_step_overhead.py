@@ -100,6 +100,8 @@ def test_pose_readers_equal_the_connector_pose(built):
 
 
 def test_car_body_points_from_sensors_are_the_per_state_outputs():
+    import exudyn as exu
+
     from exudyn_wheelrail.simulation.recorder import Recorder, _CarBodyPoints
     from exudyn_wheelrail.scenarios.run import run_model
     base = RtriCase(span_m=20.0)
@@ -113,6 +115,15 @@ def test_car_body_points_from_sensors_are_the_per_state_outputs():
     reference = _CarBodyPoints(h.model, points)           # no mbs: reads the outputs at every recorded state
     assert reference.sensors is None
     h.recorder = rec = Recorder(h.recorder.probes + [reference], n_rows_hint=8)
+    # the car body rolling and yawing from the start, so that its rotation matrix is far from symmetric (a
+    # transposed rotation would otherwise go unnoticed in the accelerometer columns)
+    sd = h.mbs.systemData
+    initial = exu.ConfigurationType.Initial
+    v0 = np.array(sd.GetODE2Coordinates_t(configuration=initial))
+    i0 = h.mbs.GetNodeODE2Index(cb.node)
+    v0[i0 + 3] += 0.05                                      # roll rate [rad/s]
+    v0[i0 + 5] += 0.02                                      # yaw rate
+    sd.SetODE2Coordinates_t(v0, configuration=initial)
     outcome = run_model(h, progress=False)
     assert outcome.status.kind == "ok"
     data = rec.data[:rec.n]
@@ -122,6 +133,8 @@ def test_car_body_points_from_sensors_are_the_per_state_outputs():
     assert np.isfinite(data[:, sl_ref]).all()
     np.testing.assert_array_equal(data[:, sl_stored], data[:, sl_ref])
     assert np.ptp(data[:, sl_ref][:, 0]) > 0.0              # the run moves the car body: the columns are not constant
+    R = h.mbs.GetSensorStoredData(stored.sensors[1])[-1, 1:10].reshape(3, 3)
+    assert abs(R[1, 2] - R[2, 1]) > 1e-3 and abs(R[0, 1] - R[1, 0]) > 1e-4     # rolled and yawed: R != R^T
     # a state the sensors did not store (off the step grid) is an error naming the setting, not a NaN
     with pytest.raises(RuntimeError, match="sensorsWritePeriod"):
         stored.fill_rows(np.array([0.5 * float(h.run.dt_s)]), np.zeros((1, 6 * len(points))))
