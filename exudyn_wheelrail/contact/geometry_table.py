@@ -56,7 +56,7 @@ from .layout import (  # noqa: F401  (the table's node fields, grid, counters; r
     G_QY, G_QZ, G_S_RAIL, G_S_WHEEL, G_STATUS, N_G, N_STATS, N_T, STAT_CONCAVE, STAT_FALLBACK, STAT_FLANGE_SKIPPED,
     STAT_OFF_DECK, STAT_ON_DECK, STAT_TABLE, STAT_TREAD_SKIPPED, T_DR, T_DY, T_NR, T_NY, T_R0, T_USE, T_Y0)
 from .normal import hertz_from_penetration
-from .search import _overlap_at_wheel
+from .search import _overlap_at_wheel, place_point
 
 #: fields interpolated between the nodes (the penetration is combined from each node's own prediction instead)
 _INTERPOLATED = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
@@ -238,8 +238,9 @@ def _node_delta(d, c_y, c_z, cos_r, sin_r):
     second-order term."""
     qy = d[G_QY]
     qz = d[G_QZ]
-    dy = c_y + cos_r * qy - sin_r * qz - d[G_PW_Y]
-    dz = c_z + sin_r * qy + cos_r * qz - d[G_PW_Z]
+    wy, wz = place_point(qy, qz, c_y, c_z, cos_r, sin_r)
+    dy = wy - d[G_PW_Y]
+    dz = wz - d[G_PW_Z]
     lin = d[G_DELTA] - (d[G_NR_Y] * dy + d[G_NR_Z] * dz)
     c2 = d[G_C2]
     if dz > QUADRATIC_RANGE_M:
@@ -383,8 +384,7 @@ def _row(o, v, delta, status, flags, c_y, c_z, cos_r, sin_r, params):
     nz /= nn
     o[K.F_S_WHEEL] = v[G_S_WHEEL]
     o[K.F_S_RAIL] = v[G_S_RAIL]
-    o[K.F_PW_Y] = c_y + cos_r * qy - sin_r * qz
-    o[K.F_PW_Z] = c_z + sin_r * qy + cos_r * qz
+    o[K.F_PW_Y], o[K.F_PW_Z] = place_point(qy, qz, c_y, c_z, cos_r, sin_r)
     o[K.F_PR_Y] = v[G_PR_Y]
     o[K.F_PR_Z] = v[G_PR_Z]
     o[K.F_NR_Y] = ny

@@ -67,8 +67,9 @@ from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, pa
     SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_GAP, W_POSE_ROLL, W_POSE_Y, W_POSE_Z,
     W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
 from .normal import hertz_from_penetration
-from .search import (_overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start, normal_foot,
-                     normal_penetration_ascent, overlap_peaks, scan_points, vertical_overlap_search, wheel_point)
+from .search import (NO_SCAN, _overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start,
+                     normal_foot, normal_penetration_ascent, overlap_peaks, place_point, place_wheel_point,
+                     scan_points, vertical_overlap_search, wheel_point)
 
 # ---- flags (F_FLAGS bits) and status (F_STATUS) ------------------------------------------------------------------
 FLAG_PROFILE_END = 1        # the wheel or rail point is at an end of its profile: the contact may lie beyond the data
@@ -128,8 +129,7 @@ def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, k
              cos_r, sin_r, iters, params):
     """:func:`_fill` with the curves already evaluated at (s_w, s_r): the wheel's point, normal z and curvature in
     the wheelset frame (``qy, qz, qnz, kw``), the rail's point, normal and curvature (``ry ... kr``)."""
-    wy = c_y + cos_r * qy - sin_r * qz                                      # placed by the pose (wheel_point)
-    wz = c_z + sin_r * qy + cos_r * qz
+    wy, wz = place_point(qy, qz, c_y, c_z, cos_r, sin_r)
     delta = -((wy - ry) * rny + (wz - rz) * rnz)
     r_roll = qz
     k_w_roll = qnz / r_roll        # Meusnier: normal curvature of the parallel circle, cos(psi)/r
@@ -203,10 +203,6 @@ N_SCRATCH_ROWS = 6
 MAX_STARTS = 8          # Newton starts and tracked candidates per region
 
 
-#: no cached scan points (:func:`evaluate_wheels` evaluates the wheel curves at every scan sample)
-NO_SCAN = np.zeros((1, 0, 2))
-
-
 def scan_array(nodes, meta, n_scan: int) -> np.ndarray:
     """The coarse scan's wheel points of every packed curve, (n_curves, n_scan, 2) (:func:`~.search.scan_points`),
     for the ``scan`` argument of :func:`evaluate_wheels`: a scan then places stored points instead of evaluating the
@@ -242,10 +238,7 @@ def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w
     if not (conv and s_lo <= s_w <= s_hi and r_lo <= s_r <= r_hi):
         return False, False, s_r, s_w, 0.0, it, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheel_point, unplaced values kept
-    wy = c_y + cos_r * qy - sin_r * qz
-    wz = c_z + sin_r * qy + cos_r * qz
-    wny = cos_r * qny - sin_r * qnz
-    wnz = sin_r * qny + cos_r * qnz
+    wy, wz, wty, wtz, wny, wnz, kw = place_wheel_point(qy, qz, qty, qtz, qny, qnz, kw, c_y, c_z, cos_r, sin_r)
     ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
     geometry = (qy, qz, qnz, kw, ry, rz, rny, rnz, kr)
     if wny * rny + wnz * rnz >= 0.0:

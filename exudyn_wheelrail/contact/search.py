@@ -25,12 +25,24 @@ NEWTON_MAX_STEP_M = 3e-3
 
 
 @njit(cache=True, inline="always")
+def place_point(p_y, p_z, c_y, c_z, cos_r, sin_r):
+    """A point of the wheelset frame placed by the pose (c_y, c_z, roll): its side-frame (y, z)."""
+    return c_y + cos_r * p_y - sin_r * p_z, c_z + sin_r * p_y + cos_r * p_z
+
+
+@njit(cache=True, inline="always")
+def place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r):
+    """A wheel curve's ``curve_eval`` output placed by the pose: (p_y, p_z, t_y, t_z, n_y, n_z, kappa), side frame."""
+    wy, wz = place_point(py, pz, c_y, c_z, cos_r, sin_r)
+    return (wy, wz, cos_r * ty - sin_r * tz, sin_r * ty + cos_r * tz,
+            cos_r * ny - sin_r * nz, sin_r * ny + cos_r * nz, k)
+
+
+@njit(cache=True, inline="always")
 def wheel_point(nodes, meta, curve, s, c_y, c_z, cos_r, sin_r):
     """Wheel curve point at ``s`` placed by the pose: (p_y, p_z, t_y, t_z, n_y, n_z, kappa) in the side frame."""
     py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, curve, s)
-    return (c_y + cos_r * py - sin_r * pz, c_z + sin_r * py + cos_r * pz,
-            cos_r * ty - sin_r * tz, sin_r * ty + cos_r * tz,
-            cos_r * ny - sin_r * nz, sin_r * ny + cos_r * nz, k)
+    return place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r)
 
 
 @njit(cache=True)
@@ -451,6 +463,8 @@ def _scan_overlap(nodes, meta, rail, row_lo, row_hi, wy, wz, a):
 
 #: no cached scan points (:func:`overlap_peaks` evaluates the wheel curve at every sample)
 NO_SCAN_POINTS = np.zeros((0, 2))
+#: the same for every curve: the ``scan`` argument of :func:`~.kernel.evaluate_wheels` without cached points
+NO_SCAN = NO_SCAN_POINTS[np.newaxis]
 
 
 @njit(cache=True)
@@ -496,8 +510,7 @@ def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo
         right = -np.inf
         if k < n_wheel:
             if cached:          # wheel_point's placement of the same curve point
-                wy = c_y + cos_r * points[k, 0] - sin_r * points[k, 1]
-                wz = c_z + sin_r * points[k, 0] + cos_r * points[k, 1]
+                wy, wz = place_point(points[k, 0], points[k, 1], c_y, c_z, cos_r, sin_r)
             else:
                 wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w_lo + h * k, c_y, c_z, cos_r,
                                                              sin_r)
