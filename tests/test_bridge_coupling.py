@@ -102,7 +102,7 @@ def test_wheelset_standing_at_mid_span_deflects_the_deck_by_PL3_over_48EI():
     Qm = contact.modal_forces_N()
     np.testing.assert_allclose(modes.omega_rad_s ** 2 * q, Qm, atol=1e-3 * np.abs(Qm).max())
     s_w = res[0, 0, C.RES_S_TRACK]
-    assert abs(s_w - L / 2) < 0.06 and res[0, 0, C.RES_ON_DECK] == 1.0
+    assert abs(s_w - L / 2) < 0.06 and res[0, 0, C.RES_ON_DECK] == 1.0  # a 0/1 flag: exact
     assert res[0, 0, C.RES_DECK_Z] == pytest.approx(float(modes.shape_at(s_w)[1] @ q), rel=1e-12)
     assert abs(res[0, 0, C.RES_DECK_Y]) < 1e-9 and abs(res[0, 0, C.RES_DECK_ROLL]) < 1e-9   # symmetric load
 
@@ -181,7 +181,7 @@ def test_modal_forces_are_the_projection_of_minus_the_contact_forces():
     f = contact.forces(q, v, 0.0).copy()
     r = contact.results
     on = r[:, :, C.RES_STATUS] > 0
-    assert on.sum() >= 8 and np.all(r[:, :, C.RES_ON_DECK] == 1.0)
+    assert on.sum() >= 8 and np.all(r[:, :, C.RES_ON_DECK] == 1.0)  # 0/1 flags: exact
     F = r[..., C.RES_F_TRACK_X:C.RES_F_TRACK_Z + 1][on]                   # on the wheels
     P = r[..., C.RES_P_X:C.RES_P_Z + 1][on]
     yb, zb = r[..., C.RES_DECK_Y][on], r[..., C.RES_DECK_Z][on]
@@ -262,14 +262,14 @@ def test_wheels_off_the_deck_see_the_rigid_track():
     mbs, contact, modes, q, v = _vehicle_on_deck(deck_start_m=0.0, s_start_m=8.0, track=track)
     f = contact.forces(q, v, 0.0).copy()
     on = contact.results[::2, 0, C.RES_ON_DECK]
-    np.testing.assert_array_equal(on, [1.0, 1.0, 0.0, 0.0])
+    np.testing.assert_array_equal(on, [1.0, 1.0, 0.0, 0.0])  # 0/1 flags: exact
     mbs0, contact0, _, q0, v0 = _vehicle_on_deck(deck_start_m=0.0, s_start_m=8.0, track=track, with_bridge=False)
     f0 = contact0.forces(q0, v0, 0.0).copy()
     # exact by construction: off the deck the bridge path adds exact zero offsets and rotates by the identity, and
     # each wheel is evaluated on its own by the same compiled code
     np.testing.assert_array_equal(f[12:24], f0[12:24])
     np.testing.assert_array_equal(contact.results[4:, :, :C.RES_DECK_Y], contact0.results[4:, :, :C.RES_DECK_Y])
-    assert np.all(contact.results[4:, :, C.RES_DECK_Y:] == 0.0)
+    assert np.all(contact.results[4:, :, C.RES_DECK_Y:] == 0.0)  # off the deck: zero shapes, exact zeros
     assert np.abs(f[:12] - f0[:12]).max() > 100.0                 # the deck does act on the front wheelsets
     # dynamics: a wheelset running towards a deck 100 m ahead, with and without the bridge
     out = []

@@ -93,12 +93,12 @@ def test_sine_burst_is_c2_starts_and_ends_at_rest_and_has_the_stated_peak():
     np.testing.assert_allclose(np.gradient(v, t)[1:-1], a[1:-1], atol=1e-5 * np.abs(a).max())
     assert np.abs(np.diff(a)).max() < 1e-3 * np.abs(a).max()
     for k in (y, v, a):
-        assert k[0] == 0.0 and k[-1] == 0.0
+        assert k[0] == 0.0 and k[-1] == 0.0  # before the start and after the end: exact zeros
     assert np.abs(a).max() == pytest.approx(1.5, rel=1e-5)                    # the stated peak acceleration
     plateau = (t > 0.2 + m.ramp_s) & (t < 0.2 + m.ramp_s + m.plateau_s)
     assert np.abs(a[plateau]).max() == pytest.approx(m.plateau_acceleration_m_s2, rel=1e-6)
     assert m.amplitude_m == pytest.approx(m.plateau_acceleration_m_s2 / (2 * math.pi * 1.5) ** 2)
-    assert smoothstep5(0.5) == (0.5, 1.875, 0.0)
+    assert smoothstep5(0.5) == (0.5, 1.875, 0.0)  # dyadic values: exact in any order
     # a steady sine without ramps: ÿ_g = -a sin Ωt exactly
     s = SmoothHarmonicSupportMotion(2.0, 3.0, ramp_cycles=0.0, plateau_cycles=math.inf)
     np.testing.assert_allclose(s.acceleration_m_s2(t[1:]), -2.0 * np.sin(6 * math.pi * t[1:]), atol=1e-12)
@@ -205,7 +205,7 @@ def test_ground_and_wheelsets_moved_together_change_no_contact_force():
     res0 = contact.results.copy()
     rail0 = contact.rail_forces_N()
     pose0 = contact.wheelset_rail_pose()
-    np.testing.assert_array_equal(contact.results[::2, 0, C.RES_ON_DECK], [1.0, 1.0, 0.0, 0.0])
+    np.testing.assert_array_equal(contact.results[::2, 0, C.RES_ON_DECK], [1.0, 1.0, 0.0, 0.0])  # 0/1 flags: exact
     st0 = contact.save_warm_start()
     J0 = contact._jacobian_uf(mbs, 0.0, 0, q, v, 1.0, 0.5).copy()
     Y, VY = 0.012, -0.15
@@ -222,6 +222,7 @@ def test_ground_and_wheelsets_moved_together_change_no_contact_force():
     np.testing.assert_allclose(f1, f0, rtol=1e-7, atol=1e-7 * np.abs(f0).max())
     np.testing.assert_allclose(contact.rail_forces_N(), rail0, rtol=1e-7, atol=1e-7 * np.abs(rail0).max())
     np.testing.assert_allclose(contact.wheelset_rail_pose(), pose0, rtol=0, atol=1e-12)
+    # the ground state stored as given: exact
     assert np.all(contact.results[:, :, C.RES_GROUND_Y] == Y) and np.all(contact.results[:, :, C.RES_GROUND_VY] == VY)
     # everything else reported is the same; contact points shift by Y
     for i in range(C.N_RES):
@@ -232,12 +233,12 @@ def test_ground_and_wheelsets_moved_together_change_no_contact_force():
     # the relative pose is the same to rounding (1e-18 m) and every contact here is a convex one, located by Newton
     # (to ~1e-15 m): 1e-9 m.  (A point from the concave search would be located only to sqrt(2e-15 m / kappa_rel),
     # ~5e-8 m on a flat tread: see test_geometry_sweep.py.)
-    assert np.all(res0[..., C.RES_STATUS][on] == K.STATUS_CONVEX)
+    assert np.all(res0[..., C.RES_STATUS][on] == K.STATUS_CONVEX)  # a status code: exact
     np.testing.assert_allclose(contact.results[..., C.RES_P_Y][on], res0[..., C.RES_P_Y][on] + Y, atol=1e-9)
     contact.restore_warm_start(st0)
     J1 = contact._jacobian_uf(mbs, 0.0, 0, q1, v1, 1.0, 0.5).copy()
     np.testing.assert_allclose(J1, J0, rtol=1e-5, atol=1e-5 * np.abs(J0).max())
-    assert contact.ground_state(0.0) == (Y, VY)
+    assert contact.ground_state(0.0) == (Y, VY)  # stored as given: exact
     # without moving the wheelsets, the ground offset does act (a lateral shift of 12 mm: flange contact)
     contact.restore_warm_start(st0)
     f2 = contact.forces(q, v, 0.0)

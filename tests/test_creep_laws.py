@@ -55,6 +55,7 @@ def test_small_creepage_slopes_equal_kalker(law, ab, nu):
     assert Fp[1] == pytest.approx(lin_p[1], rel=1e-6)           # C23
     assert Fe[2] == pytest.approx(lin_e[2], rel=1e-6)           # Mz/eta: G c³ C23
     assert Fp[2] == pytest.approx(lin_p[2], rel=1e-6)           # Mz/phi: -G c⁴ C33* (simplified theory)
+    # products with zero creepages: exact zeros
     assert Fx[1] == 0.0 and Fx[2] == 0.0 and Fe[0] == 0.0 and Fp[0] == 0.0
     # and the references are Kalker's coefficients themselves
     C11, C22, C23 = kalker_coefficients(ab, nu)
@@ -338,6 +339,7 @@ def test_force_opposes_pure_creepage(law, m):
     a, b, c = _geom(ab)
     x1, e1, p1 = _unit_creepages(ab)
     Fx, Fy, Mz = law(a, b, m * x1, 0, 0, N, MU, G, NU)
+    # the other creepages zero: products with exact zeros, exact
     assert Fx < 0 and Fy == 0.0 and Mz == 0.0
     Fx, Fy, Mz = law(a, b, 0, m * e1, 0, N, MU, G, NU)
     assert Fy < 0 and Fx == 0.0 and Mz > 0          # Kalker: Mz = +G c³ C23 eta
@@ -435,6 +437,7 @@ def test_compare_fastsim_partial_slip_pure_creepage(law):
 # --------------------------------------------------------------------------------------------------------------
 @pytest.mark.parametrize("law", LAWS, ids=LAW_IDS)
 def test_zero_normal_force_friction_and_creepage(law):
+    # zero load, friction or creepage: exact zeros (returned as such)
     assert law(6e-3, B, 1e-3, 1e-3, 1.0, 0.0, MU, G, NU) == (0.0, 0.0, 0.0)
     assert law(6e-3, B, 1e-3, 1e-3, 1.0, N, 0.0, G, NU) == (0.0, 0.0, 0.0)
     assert law(6e-3, B, 0.0, 0.0, 0.0, N, MU, G, NU) == (0.0, 0.0, 0.0)

@@ -239,6 +239,7 @@ def test_table_symmetries(table):
 
 def test_zero_creepage_zero_load_zero_friction(table):
     a, b = _ab(1.0)
+    # zero creepage, load or friction: exact zeros (returned as such)
     assert table_forces(a, b, 0.0, 0.0, 0.0, N_REF, MU_REF, G, NU, table=table) == (0.0, 0.0, 0.0)
     assert table_forces(a, b, 1e-3, 2e-3, 0.5, 0.0, MU_REF, G, NU, table=table) == (0.0, 0.0, 0.0)
     assert table_forces(a, b, 1e-3, 2e-3, 0.5, N_REF, 0.0, G, NU, table=table) == (0.0, 0.0, 0.0)
@@ -395,7 +396,7 @@ def test_build_is_deterministic_and_resumable(tmp_path):
     p3 = build_table(tmp_path / "t1.npz", generator="fastsim", grid=g, workers=1, progress=None)
     t3 = load_table(p3)
     assert t3.metadata["resumed_chunks"] == n_chunks - len(parts[::2])
-    assert np.array_equal(t1.values, t3.values)
+    assert np.array_equal(t1.values, t3.values)  # resumed: the same chunks by the same code, bit-equality
     assert not (tmp_path / "t1.npz.parts").exists()
     # a different generator option must not reuse the parts of another build
     p4 = build_table(tmp_path / "t4.npz", generator="fastsim", grid=g, workers=1, progress=None,

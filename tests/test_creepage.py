@@ -200,7 +200,7 @@ def test_standstill_guard():
     p, n = coned_contact("right", 0.05, R0)
     c = creepages(p, np.zeros(3), np.zeros(3), np.zeros(3), n, E_Y)
     assert c.status == CREEP_STANDSTILL and c.standstill
-    assert (c.xi, c.eta, c.phi_per_m, c.rolling_speed_m_s) == (0.0, 0.0, 0.0, 0.0)
+    assert (c.xi, c.eta, c.phi_per_m, c.rolling_speed_m_s) == (0.0, 0.0, 0.0, 0.0)  # standstill: assigned zeros
     # a slow lateral slide at standstill: relative velocity over v_min, flagged
     c = creepages(p, np.zeros(3), [0, 1e-3, 0], np.zeros(3), n, E_Y, v_min_m_s=0.05)
     assert c.standstill and c.eta == pytest.approx(1e-3 * math.cos(0.05) / 0.05, rel=1e-12)

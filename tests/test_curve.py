@@ -56,7 +56,7 @@ def test_extension_beyond_the_ends_is_straight():
     end = curve.evaluate([curve.s_max])[0]
     beyond = curve.evaluate([curve.s_max + 1e-3])[0]
     assert np.allclose(beyond[0:2], end[0:2] + 1e-3 * end[2:4], atol=1e-12)
-    assert beyond[6] == 0.0
+    assert beyond[6] == 0.0  # straight extension: zero curvature, exact
 
 
 def test_bad_input():

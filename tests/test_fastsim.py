@@ -91,6 +91,7 @@ def test_odd_symmetries(flex):
         Fp = fastsim(a, B, xi, 0, 0, N, MU, G, NU, flexibility=flex)
         Fm = fastsim(a, B, -xi, 0, 0, N, MU, G, NU, flexibility=flex)
         assert Fm[0] == pytest.approx(-Fp[0], rel=1e-12)
+        # eta = phi = 0: every lateral traction an exact zero
         assert Fp[1] == 0.0 and Fm[1] == 0.0                     # no lateral force for pure xi
         assert abs(Fp[2]) < 1e-9 * abs(Fp[0]) * a
     for eta, phi in [(1e-3, 0.0), (1e-3, 0.5), (-2e-3, 1.0), (0.0, 2.0)]:
@@ -127,6 +128,7 @@ def test_grid_convergence_partial_slip():
 
 
 def test_zero_normal_force_and_zero_friction():
+    # zero load, friction or creepage: exact zeros
     assert fastsim(6e-3, B, 1e-3, 1e-3, 1.0, 0.0, MU, G, NU) == (0.0, 0.0, 0.0)
     assert fastsim(6e-3, B, 1e-3, 1e-3, 1.0, N, 0.0, G, NU) == (0.0, 0.0, 0.0)
     assert fastsim(6e-3, B, 0, 0, 0, N, MU, G, NU) == (0.0, 0.0, 0.0)

@@ -232,7 +232,7 @@ def test_interface_kinematics_and_projection(params):
     q = modes.static_coordinates([s0], [[0.0, P_WHEEL_N, 0.5 * b * P_WHEEL_N]])
     y, z, th = modes.shape_at(s0) @ q
     w_right, w_left = z + 0.5 * b * th, z - 0.5 * b * th
-    assert y == 0.0
+    assert y == 0.0  # decoupled beams: each term phi_y,k q_k is an exact zero
     # the vertical and roll beams are the same beam scaled (sleeper roll inertia = m_s b²/4 within 0.2 %):
     # a load on one rail deflects that rail as a wheelset load of P on both, the other rail not at all
     q_sym = modes.static_coordinates([s0], [[0.0, 2.0 * P_WHEEL_N, 0.0]])

@@ -113,10 +113,11 @@ def test_outside_the_table_falls_back_to_the_online_search(setup):
     for pose in ((0.0, -0.4597, 0.05), (0.04, -0.47, 0.0)):
         on, tb, st = _both(kc, tab, pose)
         assert st[GT.STAT_FALLBACK] == 1 and st[GT.STAT_TABLE] == 0
+        # the same compiled kernel, global search (no memory), same pose: bit-equality
         np.testing.assert_array_equal(np.nan_to_num(on, nan=-7.0), np.nan_to_num(tb, nan=-7.0))
     # a NaN pose: the kernel's invalid-pose status, never a number
     on, tb, st = _both(kc, tab, (float("nan"), -0.46, 0.0))
-    assert np.all(tb[:, K.F_STATUS] == K.STATUS_INVALID_POSE)
+    assert np.all(tb[:, K.F_STATUS] == K.STATUS_INVALID_POSE)  # a status code: exact
 
 
 def test_flange_contact_from_the_table(setup):

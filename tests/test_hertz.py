@@ -255,6 +255,7 @@ def test_no_contact():
     Es = 1e11
     for d in (0.0, -1e-5, float("nan")):
         N, dN, a, b, status = hertz_from_penetration(1.0, 2.0, Es, d)
+        # no contact: assigned zeros (exact), likewise below
         assert (N, dN, a, b) == (0.0, 0.0, 0.0, 0.0) and status & STATUS_NO_CONTACT
     delta, a, b, status = hertz_from_force(1.0, 2.0, Es, -3.0)
     assert (delta, a, b) == (0.0, 0.0, 0.0) and status == STATUS_NO_CONTACT

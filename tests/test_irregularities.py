@@ -121,6 +121,7 @@ def test_zero_channels_change_nothing(pair):
     b, _sc2 = _contact(pair, base + zeros)
     for t in (0.0, 0.1, 0.2):
         state = _state(a, 1e-3, -0.46 + 2e-4, 1e-4)
+        # zero channels add exact zeros to the same numbers, the same compiled code follows: bit-equality
         assert np.array_equal(a.forces(*state, t), b.forces(*state, t))
         assert np.array_equal(a.results, b.results)
 
@@ -141,7 +142,7 @@ def test_per_rail_sums_and_table_from_rails():
     out = channel_values(table, [-10.0, 80.0])
     assert out.alignment_m[0] == pytest.approx(0.5 * (yr[0] + yl[0]), abs=1e-16)
     assert out.level_m[1] == pytest.approx(0.5 * (zr[-1] + zl[-1]), abs=1e-16)
-    assert np.all(out.d_gauge == 0.0)
+    assert np.all(out.d_gauge == 0.0)  # held ends: assigned zero slopes
 
 
 @pytest.mark.parametrize("shape, closed_form", [
@@ -161,7 +162,7 @@ def test_isolated_defects_on_one_rail(shape, closed_form, rail, direction):
         expected = shape_ref if rail in (side, "both") else 0.0 * s
         np.testing.assert_allclose(r[f"{axis}_{side}_m"], expected, rtol=0, atol=1e-15)
         other = "y" if axis == "z" else "z"
-        assert np.all(r[f"{other}_{side}_m"] == 0.0)
+        assert np.all(r[f"{other}_{side}_m"] == 0.0)  # the other direction: exact zeros
     # derivatives against central differences of the values (away from the kinks)
     v = channel_values(defect, s)
     name = "level" if direction == "vertical" else "alignment"
@@ -182,9 +183,9 @@ def test_harmonic_per_channel():
     # the phase is computed as (2π/λ) s instead of 2π s/λ: rounding of the argument (< 1e-14 rad here) x amplitude
     np.testing.assert_allclose(v.cross_level_m, 1e-3 * np.sin(2 * np.pi * s / 10.0 + 0.3), rtol=0, atol=1e-17)
     np.testing.assert_allclose(v.gauge_m, 2e-3 * np.sin(2 * np.pi * s / 5.0), rtol=0, atol=2e-17)
-    assert np.all(v.alignment_m == 0.0) and np.all(v.level_m == 0.0)
+    assert np.all(v.alignment_m == 0.0) and np.all(v.level_m == 0.0)  # channels not given: exact zeros
     # the whole-track evaluation (alignment, level) ignores the other channels
-    assert np.all(h.evaluate(s).y_m == 0.0) and np.all(h.evaluate(s).z_m == 0.0)
+    assert np.all(h.evaluate(s).y_m == 0.0) and np.all(h.evaluate(s).z_m == 0.0)  # exact zeros
 
 
 def test_bad_inputs():
@@ -274,6 +275,7 @@ def test_scenario_track_entries_build_the_same_irregularity(tmp_path):
     s = np.linspace(-5.0, 210.0, 2001)
     got, want = channel_values(build_track(scn).irregularity, s), channel_values(ref, s)
     for name in ("alignment_m", "level_m", "cross_level_m", "gauge_m"):
+        # the same components evaluated by the same code: bit-equality
         assert np.array_equal(getattr(got, name), getattr(want, name))
 
 

@@ -192,6 +192,7 @@ def test_warm_start_reaches_the_same_solution_with_fewer_sweeps():
 
 
 def test_zero_load_or_friction_gives_zero_and_bad_input_raises():
+    # zero load or friction: exact zeros (returned as such)
     assert kalker_exact(5e-3, 4e-3, 1e-3, 0, 0, 0.0, MU, G, NU) == (0.0, 0.0, 0.0)
     assert kalker_exact(5e-3, 4e-3, 1e-3, 0, 0, N, 0.0, G, NU) == (0.0, 0.0, 0.0)
     with pytest.raises(ValueError, match="semi-axes"):

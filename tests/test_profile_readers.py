@@ -201,7 +201,7 @@ def test_simpack_weights_and_units_len_name(tmp_path):
         text[first + k] += f"\t{1.0 + k}"
     path.write_text("\n".join(text) + "\n")
     _, _, meta = read_simpack_profile(path)
-    np.testing.assert_array_equal(meta["weights"], 1.0 + np.arange(len(y)))
+    np.testing.assert_array_equal(meta["weights"], 1.0 + np.arange(len(y)))  # small integers, parsed: exact
 
 
 # ------------------------------------------------------------------------------------------------ error cases

@@ -109,6 +109,7 @@ def test_prescribed_pitch_rate_and_bad_input(s1002):
     _, contact = s1002
     res = solve(contact, 0.003, pitch_rate_rad_s=-V / 0.46)
     assert res.converged and not res.free_rolling
+    # the rate given and its negation: exact
     assert res.pitch_rate_rad_s == -V / 0.46 and res.spin_speed_rad_s == V / 0.46
     assert abs(res.residual_moment_Nm) > 1.0                  # not free rolling: a driving/braking moment remains
     with pytest.raises(ValueError, match="global_search"):

@@ -290,6 +290,7 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
     ts = r.timeseries
     w, a = ts["deck_mid_deflection_s1_m"], ts["deck_mid_acceleration_s1_m_s2"]
     before = ts["s_leading_m"] < scn["structure"]["start_m"]
+    # deck at rest, no load: exact zeros
     assert before.any() and np.all(w[before] == 0.0) and np.all(a[before] == 0.0)
     vehicle = load_vehicle("manchester_vehicle1")
     P = static_load_path(vehicle).wheel.sum(axis=1)
@@ -321,6 +322,7 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
     # EN 1990 A2.4.4.2.1(4)P: the largest of the nine points' accelerations against 3.5 m/s2 (ballasted track)
     pts = np.array([ts[f"deck_acceleration_s1_p{k}_m_s2"] for k in range(1, 10)])
     en = s["deck"]["EN1990_A2_deck_acceleration"]
+    # the summary's peak is the maximum of these columns (a selection): exact
     assert en["peak_m_s2"] == np.max(np.abs(pts)) and en["passed"] == (en["peak_m_s2"] <= 3.5)
     np.testing.assert_allclose(pts[4], a, rtol=0.0, atol=1e-12 * np.max(np.abs(a)))            # x = L/2
     # the deck under each wheelset: zero before it reaches the deck; the mid-span deflection when it passes there
@@ -328,12 +330,13 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
     for j, xj in enumerate(x):
         under = ts[f"deck_deflection_w{j + 1}_m"]
         s_j = scn["vehicle"]["start_s_m"] - x.max() + V * t + xj
-        assert np.all(under[s_j < scn["structure"]["start_m"] - 1e-3] == 0.0)
+        assert np.all(under[s_j < scn["structure"]["start_m"] - 1e-3] == 0.0)  # zero shapes off the deck: exact
         t_mid = (scn["structure"]["start_m"] + 20.0 - (s_j[0] - V * t[0])) / V
         assert np.interp(t_mid, t, under) == pytest.approx(np.interp(t_mid, t, w), abs=1e-5 * np.max(w))
     # the wheel unloading against the static wheel loads of the vehicle's load path
     Q0 = static_load_path(vehicle).wheel                                             # (n_ws, 2): left, right
     np.testing.assert_allclose(ts["dQQ_w2_left"], (Q0[1, 0] - ts["Q_w2_left_N"]) / Q0[1, 0], rtol=1e-12)
+    # a maximum (selection): exact
     assert s["scalars"]["max_dQQ_any_wheel"] == max(np.max(ts[c]) for c in s["columns"]["unloading"])
 
 
@@ -462,6 +465,7 @@ def test_sweep_on_a_dask_cluster_is_identical_to_serial(serial_sweep):
         via_executor = sweep(_tiny_base(), TINY_PARAMS, client.get_executor(), out_dir=None, progress=None)
         via_client = sweep(_tiny_base(), TINY_PARAMS, client, out_dir=None, progress=None)
     ref = _comparable(serial_sweep[0].table)
+    # the same deterministic computation in other processes (same machine and libraries): exact
     assert _comparable(via_executor.table) == ref
     assert _comparable(via_client.table) == ref
 

@@ -141,6 +141,7 @@ def test_vehicle_in_a_train_gets_the_forces_of_the_vehicle_alone(case, states, m
         for k, c in enumerate(alone):
             sl = slice(24 * k, 24 * k + 24)
             fk = c.forces(np.concatenate([q[sl], qm]), np.concatenate([v[sl], vm]), t)
+            # per wheel the same compiled code on the same inputs (module docstring): bit-equality
             np.testing.assert_array_equal(f[sl], fk[:24], err_msg=f"vehicle {k + 1} at t = {t:g} s")
             np.testing.assert_array_equal(res[8 * k:8 * k + 8], c.results, err_msg=f"vehicle {k + 1} at t = {t:g} s")
             if n_m:

@@ -84,11 +84,12 @@ def test_same_seed_same_track_other_seed_other_track():
     b = SpectralIrregularity("german_high", 600.0, seed=5)
     c = SpectralIrregularity("german_high", 600.0, seed=6)
     for ch in a.channels:
-        assert np.array_equal(a.channels[ch], b.channels[ch])
+        assert np.array_equal(a.channels[ch], b.channels[ch])  # same seed, same code: bit-equality
         assert not np.allclose(a.channels[ch], c.channels[ch])
     # a subset of channels keeps each channel's phases; channels are independent (uncorrelated)
     only = SpectralIrregularity("german_high", 600.0, seed=5, channels=("cross_level",))
     assert list(only.channels) == ["cross_level"]
+    # the same phases through the same code: bit-equality
     assert np.array_equal(only.channels["cross_level"], a.channels["cross_level"])
     big = SpectralIrregularity("fra_class_5", 12_000.0, seed=2)
     r = np.corrcoef(big.channels["level"], big.channels["alignment"])[0, 1]

@@ -52,9 +52,10 @@ def test_a_kept_evaluation_is_the_plain_computation(built):
     c.restore_warm_start(warm0)
     calls, reused = c.n_calls, c.n_reused
     c.evaluate_state(q, v, t)
-    np.testing.assert_array_equal(c.save_warm_start(), warm0)      # kept: the warm start it started from
+    np.testing.assert_array_equal(c.save_warm_start(), warm0)      # kept: the warm start it started from (a copy)
     f = c.forces(q.copy(), v.copy(), t)                              # equal bytes, other arrays: taken
     assert (c.n_calls, c.n_reused) == (calls + 1, reused + 1)
+    # same code path (the same compiled evaluation from the same warm start and state): bit-equality
     np.testing.assert_array_equal(f, f_ref)
     np.testing.assert_array_equal(c.results, res_ref)
     np.testing.assert_array_equal(c.save_warm_start(), warm_ref)
@@ -63,7 +64,7 @@ def test_a_kept_evaluation_is_the_plain_computation(built):
     c.evaluate_state(q, v, t)
     f_later = c.forces(q, v, t + 1e-3).copy()
     c.restore_warm_start(warm0)
-    np.testing.assert_array_equal(f_later, c.forces(q, v, t + 1e-3))
+    np.testing.assert_array_equal(f_later, c.forces(q, v, t + 1e-3))   # same code path, same inputs: bit-equality
     c.restore_warm_start(warm0)
 
 
@@ -75,7 +76,7 @@ def test_a_failed_evaluation_keeps_nothing_and_leaves_the_warm_start(built):
     bad[6] = np.nan                                                    # wheelset 1
     with pytest.raises(ContactStateError):
         c.evaluate_state(bad, v, 0.0)
-    np.testing.assert_array_equal(c.save_warm_start(), warm0)
+    np.testing.assert_array_equal(c.save_warm_start(), warm0)          # left untouched: bit-equality
     calls = c.n_calls
     c.forces(q, v, 0.0)
     assert c.n_calls == calls + 1                                      # computed: nothing was kept
@@ -90,11 +91,12 @@ def test_pose_readers_equal_the_connector_pose(built):
     pose = c.wheelset_rail_pose()
     out = np.full_like(pose, np.nan)
     MC.rail_poses(*c.rail_pose_arrays(), out)                          # the monitor's
+    # copies and one IEEE addition c_y + half gauge of the same two doubles (correctly rounded on any CPU): bit-equality
     np.testing.assert_array_equal(out, pose)
     lateral = next(p for p in built.recorder.probes if type(p).__name__ == "_WheelsetLateral")
     row = np.full(len(lateral.columns), np.nan)
     lateral.fill(built.mbs, 0.0, row)                                  # the recorder's
-    np.testing.assert_array_equal(row, pose[:, 0])
+    np.testing.assert_array_equal(row, pose[:, 0])                     # the same addition: bit-equality
     assert abs(pose[0, 0] - pose[1, 0]) > 1e-4                         # the state moved wheelset 0 only
     c.restore_warm_start(warm0)
 
@@ -131,7 +133,22 @@ def test_car_body_points_from_sensors_are_the_per_state_outputs():
     sl_stored, sl_ref = rec._slices[-2], rec._slices[-1]
     assert sl_stored.stop - sl_stored.start == 6 * len(points)
     assert np.isfinite(data[:, sl_ref]).all()
-    np.testing.assert_array_equal(data[:, sl_stored], data[:, sl_ref])
+    stored_cols, ref_cols = data[:, sl_stored].reshape(rec.n, -1, 6), data[:, sl_ref].reshape(rec.n, -1, 6)
+    # accelerations and displacements: the same Exudyn outputs, stored by the sensors or read per state (bit-equality)
+    np.testing.assert_array_equal(stored_cols[:, :, [0, 1, 4, 5]], ref_cols[:, :, [0, 1, 4, 5]])
+    # accelerometer f_j = sum_i R_ij (a - g)_i: written out term by term, or NumPy's R.T @ (a - g) (SIMD/BLAS order,
+    # maybe fused): two orders of a 3-term dot product, |difference| <= 3 eps sum_i |R_ij (a - g)_i|
+    rot = h.mbs.GetSensorStoredData(stored.sensors[1])
+    idx = np.searchsorted(rot[:, 0], data[:, 0] - 1e-9)
+    np.testing.assert_allclose(rot[idx, 0], data[:, 0], rtol=0, atol=1e-9)       # the states the columns are of
+    R = rot[idx, 1:10].reshape(-1, 3, 3)
+    eps = np.finfo(float).eps
+    for i, (s_acc, _) in enumerate(stored.sensors[0]):
+        v = h.mbs.GetSensorStoredData(s_acc)[idx, 1:4] - stored.gravity
+        bound = 3 * eps * np.einsum("mij,mi->mj", np.abs(R), np.abs(v))[:, 1:]       # (m, 2): lateral, vertical
+        # (a bound per element: assert_allclose takes only a scalar atol on NumPy 2)
+        diff = np.abs(stored_cols[:, i, 2:4] - ref_cols[:, i, 2:4])
+        assert np.all(diff <= bound), (i, diff.max(), diff[diff > bound], bound[diff > bound])   # per element
     assert np.ptp(data[:, sl_ref][:, 0]) > 0.0              # the run moves the car body: the columns are not constant
     R = h.mbs.GetSensorStoredData(stored.sensors[1])[-1, 1:10].reshape(3, 3)
     assert abs(R[1, 2] - R[2, 1]) > 1e-3 and abs(R[0, 1] - R[1, 0]) > 1e-4     # rolled and yawed: R != R^T

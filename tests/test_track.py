@@ -47,6 +47,7 @@ def test_without_transition_the_kink_is_there():
     """l_t = 0 reproduces the kinked shape: slope jumps from 0 to πδ/L at the span start."""
     span = SpanDeflection(20.0, 0.01, start_m=3.0)
     v = span.evaluate([3.0 - 1e-9, 3.0 + 1e-9])
+    # before the span: an assigned zero slope (exact)
     assert v.dy_ds[0] == 0.0 and v.dy_ds[1] == pytest.approx(math.pi * 0.01 / 20.0)
     assert RTRI.end_rotation_rad(20.0) == pytest.approx((span.evaluate(3.0 + 1e-6).y_m) / 1e-6, rel=1e-6)
 
@@ -63,7 +64,7 @@ def test_amplitude_symmetry_zero_outside_and_sine_inside(span):
     assert np.allclose(left[2], right[2], atol=1e-15)
     outside = np.concatenate([np.linspace(s0 - h - 50, s0 - h, 200), np.linspace(s0 + L + h, s0 + L + h + 50, 200)])
     for c in col(outside):
-        assert np.all(c == 0.0)
+        assert np.all(c == 0.0)  # outside the span: assigned zeros
     inner = np.linspace(s0 + h, s0 + L - h, 500)
     w = math.pi / L
     y, y1, y2 = col(inner)
@@ -118,7 +119,7 @@ def test_sum_is_the_sum_of_the_parts():
     for field in ("y_m", "dy_ds", "d2y_ds2", "z_m", "dz_ds", "d2z_ds2"):
         assert np.allclose(getattr(total, field), sum(getattr(p, field) for p in parts), rtol=0, atol=1e-16)
     assert len((a + b + c).components) == 3
-    assert np.all(NoIrregularity().evaluate(s).y_m == 0.0)
+    assert np.all(NoIrregularity().evaluate(s).y_m == 0.0)  # zeros by construction
     assert (a + b).evaluate(np.zeros((3, 4))).y_m.shape == (3, 4)
 
 
@@ -137,7 +138,7 @@ def test_sampled_table_interpolates_and_holds(tmp_path):
     out = table.evaluate([-3.0, 9.0])
     assert np.allclose(out.y_m, [y[0], y[-1]], rtol=0, atol=1e-17)
     assert np.allclose(out.z_m, [z[0], z[-1]], rtol=0, atol=1e-17)
-    assert np.all(out.dy_ds == 0.0) and np.all(out.d2z_ds2 == 0.0)
+    assert np.all(out.dy_ds == 0.0) and np.all(out.d2z_ds2 == 0.0)  # held ends: assigned zeros
     # C2 at the inner samples (cubic spline), C1 at the table ends
     for knot in s[1:-1]:
         lo_hi = table.evaluate([knot - 1e-9, knot + 1e-9])

@@ -34,6 +34,7 @@ def test_clothoid_curvature_linear_and_cant_ramp(entry):
     assert entry.cant_angle([LEAD + LT + 100])[0] == pytest.approx(math.asin(H / RAIL_CENTRE_DISTANCE_M), rel=1e-15)
     mid_exit = LEAD + LT + 300 + LT / 2
     assert entry.curvature([mid_exit])[0] == pytest.approx(0.5 / R, rel=1e-12)
+    # back to straight and level: exact zeros
     assert entry.curvature([entry.end_m + 10])[0] == 0.0 and entry.cant_m([entry.end_m + 10])[0] == 0.0
 
 
@@ -76,6 +77,7 @@ def test_left_curve_mirrors_right():
     right = TrackLayout([Straight(10.0), Transition(40.0), Curve(100.0, 500.0, 0.1, "right")])
     left = TrackLayout([Straight(10.0), Transition(40.0), Curve(100.0, 500.0, 0.1, "left")])
     s = np.linspace(-5.0, 200.0, 57)
+    # the same operations on negated inputs (rounding symmetric under negation, asin odd, cos even): exact
     np.testing.assert_array_equal(left.evaluate(s), -right.evaluate(s))
     np.testing.assert_allclose(left.position(s)[:, 1], -right.position(s)[:, 1], atol=1e-12)
     a_r = right.unbalanced_lateral_acceleration(s, 25.0, 9.81)
@@ -114,8 +116,9 @@ def test_compiled_evaluation_matches_and_clamps_outside(entry):
     p = entry.packed()
     out = np.zeros(4)
     layout_at(p.pieces, p.par, -100.0, out)
-    assert np.all(out == 0.0)
+    assert np.all(out == 0.0)  # before the first piece: straight and level, exact zeros
     layout_at(p.pieces, p.par, LEAD + LT / 4, out)
+    # evaluate runs the same compiled layout_at: bit-equality
     np.testing.assert_array_equal(out, entry.evaluate([LEAD + LT / 4])[0])
 
 

@@ -190,6 +190,7 @@ def test_off_segment_and_bad_state():
     modes = mdl.modes(f_max_Hz=400.0)
     q = np.zeros(modes.n_modes)
     got = track_under_wheels(modes, [mdl.start_m - 1.0], q, q)
+    # off the segment: assigned zero (exact)
     assert not got["on_segment"][0] and got["rail_z_right_m"][0] == 0.0 and np.isnan(got["pad_vertical_left_N"][0])
     with pytest.raises(ValueError, match="modal coordinates"):
         track_under_wheels(modes, [0.0], q[:-1], q)

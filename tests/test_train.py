@@ -125,6 +125,7 @@ def test_two_car_train_without_couplers_equals_each_car_alone():
         mine = in_train[8 * k:8 * k + 8]
         assert np.abs(alone).max() > 4e4                                   # wheels loaded: a meaningful check
         if k == 0:
+            # car 1 at x = 0 in both: identical operations (docstring), bit-equality
             assert np.array_equal(mine, alone)
         else:
             tol = 100 * np.finfo(float).eps * abs(train.car_x_m[k]) * 1.5e9
@@ -150,7 +151,7 @@ def test_coupler_force_is_k_times_prescribed_offset():
     f = train.coupler_forces_N(mbs)[0]                                   # on the front car's rear end
     assert f[0] == pytest.approx(-cp.kx_N_per_m * dx, rel=1e-9)          # tension pulls the front car back
     assert f[1] == pytest.approx(cp.ky_N_per_m * dy, rel=1e-9)           # the rear car's end is right of it
-    assert f[2] == 0.0
+    assert f[2] == 0.0  # no vertical offset or rate: an exact zero
 
 
 def test_static_axle_loads_sum_to_the_train_weight():
@@ -281,7 +282,7 @@ def test_full_interaction_tends_to_moving_load_as_unsprung_mass_vanishes(tmp_pat
                 runs[model] = run_bridge_crossing(case)
                 assert runs[model].summary["status"] == "ok"
             a, b = (runs[m].timeseries for m in ("vehicles", "moving-loads"))
-            assert np.array_equal(a["time_s"], b["time_s"])
+            assert np.array_equal(a["time_s"], b["time_s"])  # the same time grid: bit-equality
             w_ref = b["deck_midspan_displacement_m"]
             diff[scale] = np.max(np.abs(a["deck_midspan_displacement_m"] - w_ref)) / np.max(np.abs(w_ref))
     assert diff[1.0] > 3e-3                                 # the interaction is visible at the real mass

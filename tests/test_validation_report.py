@@ -89,7 +89,7 @@ def test_klingel_figure_draws_simulation_and_reference_on_the_same_scale(quick_r
     assert "[mm]" in ax["ylabel"] and "[m]" in ax["xlabel"]
     lines = {ln["gid"]: ln for ln in ax["lines"]}
     sim, ref = lines["simulated"], lines["klingel"]
-    np.testing.assert_array_equal(sim["x"], ref["x"])
+    np.testing.assert_array_equal(sim["x"], ref["x"])  # both drawn over the same distance array: exact
     y0_mm = Y0_C * 1e3
     assert sim["y"][0] == pytest.approx(y0_mm, rel=1e-9)          # the released state, at s = 0
     assert ref["y"][0] == pytest.approx(y0_mm, rel=1e-12)

@@ -51,6 +51,7 @@ def test_watched_run_reuses_the_monitor_evaluation_and_equals_the_unwatched_solv
     unwatched = _built()
     unwatched.mbs.SolveDynamic(unwatched.settings, solverType=unwatched.solver_type)
     assert unwatched.contact.n_reused == 0
+    # the reused evaluation is the plain computation bit for bit, the solver the same: bit-equality
     np.testing.assert_array_equal(_wheelset_coordinates(watched), _wheelset_coordinates(unwatched))
 
 
@@ -66,10 +67,11 @@ def test_a_kept_evaluation_is_discarded_by_any_other_call():
     q2[1] += 1e-4                                   # another lateral position of wheelset 0
     warm = c.save_warm_start()
     f_other = c.forces(q2, v, 0.0).copy()
+    # another state: forces differ by far more than rounding
     assert c.n_reused == 1 and not np.array_equal(f_other, f_kept)
     c.restore_warm_start(warm)                      # the search starts where the kept evaluation started
     calls = c.n_calls
     f_again = c.forces(q, v, 0.0)                   # computed again, not taken from the discarded evaluation
     assert c.n_calls == calls + 1
     assert c.n_reused == 1
-    np.testing.assert_array_equal(f_again, f_kept)
+    np.testing.assert_array_equal(f_again, f_kept)  # same warm start, same state, same code: bit-equality

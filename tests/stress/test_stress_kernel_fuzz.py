@@ -73,9 +73,10 @@ def check_output(out, poses, warm):
     """The invariants of the module docstring for one evaluation (out: (n_wheels, N_SLOTS, N_FIELDS))."""
     status = out[:, :, K.F_STATUS]
     assert set(np.unique(status).astype(int).tolist()) <= STATUSES, np.unique(status)
-    assert np.all(status == np.round(status))
+    assert np.all(status == np.round(status))  # status codes: integers, exact
     bad_pose = ~np.all(np.isfinite(poses), axis=1)
     invalid = status == K.STATUS_INVALID_POSE
+    # booleans: exact
     assert np.array_equal(np.all(invalid, axis=1), bad_pose), (poses, status)
     assert not np.any(invalid[~bad_pose])
     contact = status > 0
@@ -89,9 +90,10 @@ def check_output(out, poses, warm):
     assert np.all(np.abs(rows[:, K.F_CONTACT_ANGLE]) <= math.pi)
     assert np.all(np.abs(rows[:, K.F_NR_Y] ** 2 + rows[:, K.F_NR_Z] ** 2 - 1.0) < 1e-9)   # a unit normal
     flags = rows[:, K.F_FLAGS]
+    # flag words: integers, exact
     assert np.all((flags >= 0) & (flags == np.round(flags)) & ((flags.astype(int) & ~ALL_FLAGS) == 0))
     valid_no_contact = ~contact & ~invalid
-    assert np.all(out[valid_no_contact][:, K.F_NORMAL_FORCE] == 0.0)
+    assert np.all(out[valid_no_contact][:, K.F_NORMAL_FORCE] == 0.0)  # no contact: the kernel assigns 0.0
     assert not np.any(np.isinf(warm))
 
 
@@ -142,7 +144,7 @@ def test_kernel_flags_a_non_finite_pose_on_one_wheel_only():
             K.evaluate_wheels(contact.nodes, contact.meta, contact.mono, contact.curve_ids, poses, warm,
                               contact.params, out)
             check_output(out, poses, warm)
-            assert np.all(out[0, :, K.F_STATUS] == K.STATUS_INVALID_POSE)
+            assert np.all(out[0, :, K.F_STATUS] == K.STATUS_INVALID_POSE)  # a status code: exact
             assert np.all(np.isnan(out[0, :, K.F_NORMAL_FORCE]))
             assert out[1, :, K.F_STATUS].max() > 0          # the other wheel is evaluated: in contact
 
