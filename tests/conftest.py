@@ -16,7 +16,8 @@ Every property-based test (``@given``) draws its examples under a profile chosen
 
   (``--hypothesis-profile NAME`` on the command line selects a profile too, and wins over the variable.)
 
-The long fuzz runs of ``tests/stress`` are marked ``slow``: ``python -m pytest -m slow tests/stress``.
+The long validations (the paper's full runs, the long fuzz runs of ``tests/stress``, fine-grid sweeps) are marked
+``validation`` and left out of the default run: ``python -m pytest -m validation`` runs them all.
 Tests set only what is specific to them (example count, health checks, ``deadline=None`` for compiled code whose
 first call compiles); randomness and the database are the profile's.
 """

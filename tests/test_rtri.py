@@ -12,7 +12,8 @@ References used here, all independent of the code under test:
   displacement of the same point; dt halving (1 ms vs 0.5 ms).
 
 Runs of the leading wheelset across the span ("short": lead-in + span + transition + run-out of the leading
-wheelset, ~0.6 s at 20 m and ~0.9 s at 40 m) are in the default suite; the paper's full 2500-step runs are slow.
+wheelset, ~0.6 s at 20 m and ~0.9 s at 40 m) are in the default suite; the paper's full 2500-step runs are marked
+``validation``.
 """
 import csv
 import dataclasses
@@ -336,8 +337,8 @@ def test_cli_rtri_sweep_writes_table_and_fig7(tmp_path):
     assert "RtriAssumptions" in json.loads((out / "sweep.json").read_text())["assumptions"]
 
 
-# ------------------------------------------------------------------------------------------------ slow
-@pytest.mark.slow
+# ------------------------------------------------------------------------------------------------ validation
+@pytest.mark.validation
 @pytest.mark.parametrize("solver", ["newmark", "rk44"])
 def test_paper_findings_full_runs(solver, tmp_path):
     """The paper's run length (2500 steps of 1 ms) at the representative speed, both solvers, through the CLI:

@@ -74,7 +74,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 __all__ = [
     "DEFAULT_V_MIN_M_S", "CREEP_OK", "CREEP_STANDSTILL", "CREEP_REVERSED", "CREEP_DEGENERATE_FRAME",
@@ -105,12 +105,12 @@ def creep_status_names(status: int) -> tuple[str, ...]:
 
 
 # ---- compiled core ------------------------------------------------------------------------------------------------
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def contact_frame_core(n_rail, e_axle, direction, frame_out):
     """Fill ``frame_out`` (3, 3) with rows x_c, y_c, z_c (track frame) from the outward rail normal and the wheelset
     axis; ``direction`` +1 (forward) or -1 (x_c, y_c reversed).  Returns a status (0 or CREEP_DEGENERATE_FRAME /
@@ -148,7 +148,7 @@ def contact_frame_core(n_rail, e_axle, direction, frame_out):
     return CREEP_OK
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def creepages_core(p_contact, n_rail, e_axle, p_centre, v_centre, omega_wheelset, v_rail, omega_rail, v_min,
                    frame_out):
     """Compiled creepages (no Python objects): all vectors (3,) in the track frame, ``v_min`` > 0 [m/s].
@@ -208,7 +208,7 @@ def creepages_core(p_contact, n_rail, e_axle, p_centre, v_centre, omega_wheelset
     return xi, eta, phi, v_roll, status
 
 
-@njit(cache=True)
+@compiled
 def yawed_contact_point_core(p_y, p_z, n_y, n_z, c_x, c_y, c_z, roll, yaw):
     """Contact point of a yawed wheel of revolution (module docstring, last section).
 
@@ -220,7 +220,7 @@ def yawed_contact_point_core(p_y, p_z, n_y, n_z, c_x, c_y, c_z, roll, yaw):
                                   math.sin(yaw))
 
 
-@njit(cache=True)
+@compiled
 def yawed_contact_point_cs(p_y, p_z, n_y, n_z, c_x, c_y, c_z, cr, sr, cp, sp):
     """:func:`yawed_contact_point_core` with the cosine and sine of the roll (``cr``, ``sr``) and of the yaw
     (``cp``, ``sp``) given: the connector computes them once per wheelset for all its contacts."""

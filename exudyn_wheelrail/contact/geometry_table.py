@@ -47,8 +47,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from ..jit import compiled
 from ..profiles.curve import curve_eval
 from . import kernel as K
 from .layout import (  # noqa: F401  (the table's node fields, grid, counters; re-exported)
@@ -92,7 +93,7 @@ class GeometryTableGrid:
         return (self.y_min_m + self.dy_m * np.arange(ny), self.roll_min_rad + self.droll_rad * np.arange(nr))
 
 
-@njit(cache=True)
+@compiled
 def _deepest(out):
     best = -np.inf
     k_best = -1
@@ -104,7 +105,7 @@ def _deepest(out):
     return k_best, best
 
 
-@njit(cache=True)
+@compiled
 def _store(out, data, i, j, c2):
     for k in range(out.shape[1]):
         o = out[0, k]
@@ -127,7 +128,7 @@ def _store(out, data, i, j, c2):
         d[G_PW_Z] = o[K.F_PW_Z]
 
 
-@njit(cache=True, parallel=True)
+@compiled(parallel=True)
 def build_table_core(nodes, meta, mono, curve_row, params_global, ys, rolls, cz_start, delta_ref, dh, data, cz_ref):
     """Fill ``data`` (ny, nr, N_SLOTS, N_G) and ``cz_ref`` (ny, nr); ``params_global`` must be global-mode kernel
     parameters.  Returns the number of nodes whose reference height did not converge (their data are NaN).
@@ -139,7 +140,7 @@ def build_table_core(nodes, meta, mono, curve_row, params_global, ys, rolls, cz_
     return failed.sum()
 
 
-@njit(cache=True)
+@compiled
 def _build_column(nodes, meta, mono, curve_row, params_global, ys, rolls, j, cz_start, delta_ref, dh, data, cz_ref):
     """One roll column of :func:`build_table_core`; returns its number of failed nodes."""
     cids = np.empty((1, 3), dtype=np.int64)
@@ -225,13 +226,13 @@ def _build_column(nodes, meta, mono, curve_row, params_global, ys, rolls, j, cz_
     return failed
 
 
-@njit(cache=True)
+@compiled
 def _curve_point(nodes, meta, curve, s):
     py, pz, _, _, _, _, _ = curve_eval(nodes, meta, curve, s)
     return py, pz
 
 
-@njit(cache=True)
+@compiled
 def _node_delta(d, c_y, c_z, cos_r, sin_r):
     """Penetration of one slot at the pose from a node's contact point moved rigidly with the wheel (module doc):
     first order -n·Δp_w (the distance is stationary in the point positions), plus the measured vertical
@@ -250,14 +251,14 @@ def _node_delta(d, c_y, c_z, cos_r, sin_r):
     return lin + c2 * dz * dz
 
 
-@njit(cache=True)
+@compiled
 def _status_class(st):
     if st >= 0:
         return 0            # a point pair exists (contact or separated)
     return int(st)          # no overlap / merged
 
 
-@njit(cache=True)
+@compiled
 def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, params, o):
     """Interpolate one slot at (c_y, c_z, roll) into the kernel output row ``o``; returns the node weights used."""
     w00 = (1.0 - fy) * (1.0 - fr)
@@ -314,7 +315,7 @@ def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, p
     return True
 
 
-@njit(cache=True)
+@compiled
 def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
     """The tread's (up to) two zones at the pose: each corner node offers the points of slots tread and tread-2;
     they are matched to the dominant corner's zones by their wheel point (within ZONE_MATCH_DISTANCE_M), and each
@@ -371,7 +372,7 @@ def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
     return n_z
 
 
-@njit(cache=True)
+@compiled
 def _row(o, v, delta, status, flags, c_y, c_z, cos_r, sin_r, params):
     """One kernel output row from interpolated fields ``v`` (G_*) and the penetration (Hertz where positive)."""
     o[:] = 0.0
@@ -417,7 +418,7 @@ def _row(o, v, delta, status, flags, c_y, c_z, cos_r, sin_r, params):
     o[K.F_FLAGS] = flags
 
 
-@njit(cache=True)
+@compiled
 def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z, roll, params, out):
     """All slots of wheel ``w`` from the table (pose inside the grid)."""
     u = (c_y - par[T_Y0]) / par[T_DY]
@@ -469,7 +470,7 @@ def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z,
     t2[K.F_FLAGS] = int(t2[K.F_FLAGS]) | K.FLAG_BLENDED
 
 
-@njit(cache=True)
+@compiled
 def _count_online(out, w0, w1, stats):
     for w in range(w0, w1):
         for reg in range(2):
@@ -480,16 +481,34 @@ def _count_online(out, w0, w1, stats):
                 stats[STAT_CONCAVE] += 1
 
 
-@njit(cache=True)
+@compiled
+def evaluate_wheels_geometry(table, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan):
+    """The contact geometry of every wheel: :func:`evaluate_wheels_tabulated` with ``table = (par, cz_ref, data)``
+    (:meth:`GeometryTable.arrays`), or the online kernel for every wheel with ``table = None`` — then nothing of
+    the table is compiled (numba drops the branch on a ``None`` argument's type)."""
+    if table is None:
+        evaluate_wheels_online(nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan)
+    else:
+        evaluate_wheels_tabulated(table[0], table[1], table[2], nodes, meta, mono, curve_ids, poses, warm, params,
+                                  out, stats, scan)
+
+
+@compiled
+def evaluate_wheels_online(nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan):
+    """:func:`~.kernel.evaluate_wheels` for every wheel, counted in ``stats`` (STAT_*) as the table's fallback."""
+    K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
+    stats[STAT_FALLBACK] += poses.shape[0]
+    _count_online(out, 0, poses.shape[0], stats)
+
+
+@compiled
 def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats,
                               scan=K.NO_SCAN):
     """:func:`~.kernel.evaluate_wheels` with the table (``par[T_USE] != 0``) where the pose is inside it; the
     online kernel elsewhere (or for every wheel when ``par[T_USE] == 0``; ``scan`` its cached scan points,
     :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*)."""
     if par[T_USE] == 0.0:
-        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
-        stats[STAT_FALLBACK] += poses.shape[0]
-        _count_online(out, 0, poses.shape[0], stats)
+        evaluate_wheels_online(nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan)
         return
     y_hi = par[T_Y0] + par[T_DY] * (par[T_NY] - 1.0)
     r_hi = par[T_R0] + par[T_DR] * (par[T_NR] - 1.0)
@@ -519,12 +538,6 @@ def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, p
                               out[w:w + 1], scan)
             stats[STAT_FALLBACK] += 1
             _count_online(out, w, w + 1, stats)
-
-
-def _unused_arrays():
-    """Arrays passed to the compiled call when no table is used."""
-    par = np.zeros(N_T)
-    return par, np.zeros((2, 2)), np.zeros((2, 2, K.N_SLOTS, N_G))
 
 
 class GeometryTable:
@@ -604,7 +617,7 @@ def geometry_table(nodes, meta, mono, curve_row, params, grid: GeometryTableGrid
     if cache:
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(".tmp.npz")
+            tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")    # one per process: test workers may race
             np.savez_compressed(tmp, cz_ref=cz_ref, data=data, failed=failed)
             os.replace(tmp, path)
         except OSError:

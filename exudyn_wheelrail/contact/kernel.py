@@ -54,7 +54,7 @@ Several zones on one region (S1002/UIC60 has two tread zones ~10 mm apart near t
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..profiles.curve import curve_eval
 from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, parameters; re-exported)
@@ -115,7 +115,7 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 200
     return p
 
 
-@njit(cache=True)
+@compiled
 def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params):
     """Evaluate geometry at (s_w, s_r) and Hertz; write one output row."""
     qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheelset frame
@@ -124,7 +124,7 @@ def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos
              cos_r, sin_r, iters, params)
 
 
-@njit(cache=True)
+@compiled
 def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, kr, nodes, meta, rail, wheel, c_y, c_z,
              cos_r, sin_r, iters, params):
     """:func:`_fill` with the curves already evaluated at (s_w, s_r): the wheel's point, normal z and curvature in
@@ -185,7 +185,7 @@ def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, k
         o[F_HERTZ_STATUS] = 0.0
 
 
-@njit(cache=True)
+@compiled
 def _no_overlap(out, w, reg):
     out[w, reg, :] = 0.0
     out[w, reg, F_STATUS] = STATUS_NO_OVERLAP
@@ -213,7 +213,7 @@ def scan_array(nodes, meta, n_scan: int) -> np.ndarray:
     return np.ascontiguousarray([scan_points(nodes, meta, c, n_scan) for c in range(meta.shape[0])])
 
 
-@njit(cache=True)
+@compiled
 def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, k_max, out_sw, out_sr,
                  points):
     """Newton starts: the deepest local maxima of a coarse vertical-overlap scan, or the nearest sample pair;
@@ -228,7 +228,7 @@ def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s
     return n
 
 
-@njit(cache=True)
+@compiled
 def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, s_lo, s_hi, r_lo, r_hi, params):
     """Convex search from (s_r, s_w).  Returns (valid, convex, s_r, s_w, penetration, iterations, geometry):
     valid = converged inside both ranges with opposing normals; convex = valid and kappa_w + kappa_r >=
@@ -247,7 +247,7 @@ def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w
     return True, kw + kr >= params[P_CONVEX_MIN_CURVATURE], s_r, s_w, delta, it, geometry
 
 
-@njit(cache=True)
+@compiled
 def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, out, w, reg, slot2=-1):
     """Contact of one wheel region with the rail (steps in the module docstring); updates ``warm[w, reg]``.
     ``slot2`` >= 0: the output slot for the region's second, separate contact zone (filled when a distinct convex
@@ -256,7 +256,7 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
                   reg, slot2, np.empty((N_SCRATCH_ROWS, MAX_STARTS)), NO_SCAN)
 
 
-@njit(cache=True)
+@compiled
 def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, warm, params, out, w, reg, slot2,
                   scratch, scan):
     """:func:`solve_region` with the cosine and sine of the roll given, a scratch array (``N_SCRATCH_ROWS``,
@@ -482,7 +482,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
     _fill(out, w, reg, status, g_sw, g_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params)
 
 
-@njit(cache=True)
+@compiled
 def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN):
     """Contact geometry and Hertz for every wheel.
 

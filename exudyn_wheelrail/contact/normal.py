@@ -94,7 +94,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 from scipy.interpolate import CubicSpline
 from scipy.special import ellipe, ellipkm1
 
@@ -228,7 +228,7 @@ def effective_modulus(E_wheel, nu_wheel, E_rail, nu_rail) -> float:
     return 1.0 / ((1.0 - nu_w * nu_w) / E_w + (1.0 - nu_r * nu_r) / E_r)
 
 
-@njit(cache=True)
+@compiled
 def clamp_curvatures(A, B, min_curvature=DEFAULT_MIN_CURVATURE):
     """Floor the relative curvatures: returns ``(A', B', status)``; NaN is floored too."""
     floor = min_curvature if min_curvature > 0.0 else _TINY_CURVATURE
@@ -242,7 +242,7 @@ def clamp_curvatures(A, B, min_curvature=DEFAULT_MIN_CURVATURE):
     return A, B, status
 
 
-@njit(cache=True)
+@compiled
 def _table_eval(u):
     """Interpolated (m_long, n_short, kappa, q, saturated) for u = |ln(B/A)| >= 0."""
     sat = 0
@@ -260,7 +260,7 @@ def _table_eval(u):
     return m, n, (4.0 / 3.0) * q * q * q, q, sat
 
 
-@njit(cache=True)
+@compiled
 def _oriented(A, B):
     """(m_x, m_y, kappa, q, sat) for already-clamped positive A, B."""
     if B >= A:  # smaller curvature along x -> long axis along x
@@ -270,7 +270,7 @@ def _oriented(A, B):
     return n, m, kappa, q, sat
 
 
-@njit(cache=True)
+@compiled
 def hertz_ellipse(A, B, min_curvature=DEFAULT_MIN_CURVATURE):
     """Hertz coefficients ``(m_x, m_y, kappa)`` for relative curvatures A (along x), B (along y), 1/m.
 
@@ -283,7 +283,7 @@ def hertz_ellipse(A, B, min_curvature=DEFAULT_MIN_CURVATURE):
     return mx, my, kappa
 
 
-@njit(cache=True)
+@compiled
 def hertz_stiffness(A, B, E_star, min_curvature=DEFAULT_MIN_CURVATURE):
     """Generalised Hertz stiffness ``(Kh, status)`` in N/m^1.5 (N = Kh·δ^1.5)."""
     A, B, status = clamp_curvatures(A, B, min_curvature)
@@ -291,7 +291,7 @@ def hertz_stiffness(A, B, E_star, min_curvature=DEFAULT_MIN_CURVATURE):
     return kappa * E_star / math.sqrt(A + B), status | sat
 
 
-@njit(cache=True)
+@compiled
 def hertz_from_penetration(A, B, E_star, delta, min_curvature=DEFAULT_MIN_CURVATURE):
     """Normal force from the approach δ (m): returns ``(N, dN_ddelta, a, b, status)``.
 
@@ -309,7 +309,7 @@ def hertz_from_penetration(A, B, E_star, delta, min_curvature=DEFAULT_MIN_CURVAT
     return k_eff * delta, 1.5 * k_eff, mx * c0, my * c0, status | sat
 
 
-@njit(cache=True)
+@compiled
 def hertz_from_force(A, B, E_star, N, min_curvature=DEFAULT_MIN_CURVATURE):
     """Approach and patch from the normal force N (N): returns ``(delta, a, b, status)``.
 

@@ -17,20 +17,20 @@ rail fixed; the wheel curve is given in the wheelset frame and placed by its pos
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..profiles.curve import curve_eval
 
 NEWTON_MAX_STEP_M = 3e-3
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def place_point(p_y, p_z, c_y, c_z, cos_r, sin_r):
     """A point of the wheelset frame placed by the pose (c_y, c_z, roll): its side-frame (y, z)."""
     return c_y + cos_r * p_y - sin_r * p_z, c_z + sin_r * p_y + cos_r * p_z
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r):
     """A wheel curve's ``curve_eval`` output placed by the pose: (p_y, p_z, t_y, t_z, n_y, n_z, kappa), side frame."""
     wy, wz = place_point(py, pz, c_y, c_z, cos_r, sin_r)
@@ -38,14 +38,14 @@ def place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r):
             cos_r * ny - sin_r * nz, sin_r * ny + cos_r * nz, k)
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def wheel_point(nodes, meta, curve, s, c_y, c_z, cos_r, sin_r):
     """Wheel curve point at ``s`` placed by the pose: (p_y, p_z, t_y, t_z, n_y, n_z, kappa) in the side frame."""
     py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, curve, s)
     return place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r)
 
 
-@njit(cache=True)
+@compiled
 def convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol_m):
     """Newton iteration on the contact conditions from (s_r, s_w).
 
@@ -80,7 +80,7 @@ def convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, ma
     return False, s_r, s_w, max_iter
 
 
-@njit(cache=True)
+@compiled
 def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos_r, sin_r):
     """Arc length of the point of ``curve`` (placed by the pose) with side-frame lateral coordinate ``y_target``.
 
@@ -113,7 +113,7 @@ def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos
     return True, s
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r):
     """Vertical overlap (z_w - z_r, positive = penetration) of the wheel point at s_w; (found, overlap, s_r)."""
     wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
@@ -124,7 +124,7 @@ def _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_
     return True, wz - rz, s_r
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _slope_mismatch(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r):
     """Derivative sign of the vertical overlap along the wheel: cross(t_w, t_r) (zero at the maximum)."""
     wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
@@ -133,7 +133,7 @@ def _slope_mismatch(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r):
     return wtz * rty - rtz * wty
 
 
-@njit(cache=True)
+@compiled
 def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi,
                             n_wheel, n_rail, refine):
     """Maximum vertical overlap between a wheel region [s_w_lo, s_w_hi] and the rail (paper Eqs. 8–13).
@@ -223,7 +223,7 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
     return found, best_sw, best_sr, best
 
 
-@njit(cache=True)
+@compiled
 def normal_foot(nodes, meta, rail, p_y, p_z, s_r):
     """Arc length of the rail point whose normal passes through (p_y, p_z), by Newton from ``s_r``.
 
@@ -246,7 +246,7 @@ def normal_foot(nodes, meta, rail, p_y, p_z, s_r):
     return False, s_r
 
 
-@njit(cache=True)
+@compiled
 def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, n_rail):
     """Newton start when nothing overlaps vertically: the nearest pair among ``n_wheel`` wheel-region samples and
     ``n_rail`` samples of the whole rail curve (gauge face included).  Returns ``(s_w, s_r)``."""
@@ -273,7 +273,7 @@ def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_
     return best_sw, r_lo + (r_hi - r_lo) * best_j / (n_rail - 1)
 
 
-@njit(cache=True)
+@compiled
 def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, s_r0):
     """Wheel point of the region with the smallest signed normal distance to the rail (global over the region).
 
@@ -334,7 +334,7 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
     return True, all_ok, best_sw, best_sr, best
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _normal_distance_slope(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r):
     """Signed normal distance of the wheel point at ``s_w`` to the rail and its derivative along the wheel.
 
@@ -347,7 +347,7 @@ def _normal_distance_slope(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, 
     return ok, s_f, (wy - ry) * rny + (wz - rz) * rnz, wty * rny + wtz * rnz
 
 
-@njit(cache=True)
+@compiled
 def normal_penetration_ascent(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w, s_r, s_w_lo, s_w_hi, step):
     """Follow the normal penetration uphill along the wheel region [s_w_lo, s_w_hi] from the point ``s_w``.
 
@@ -420,7 +420,7 @@ def normal_penetration_ascent(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, 
 SCAN_NEWTON_TOL_M = 1e-7
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _scan_overlap(nodes, meta, rail, row_lo, row_hi, wy, wz, a):
     """Vertical overlap ``wz - z_r(wy)`` of a side-frame point over the rail (fixed in the side frame) for the scan
     of :func:`overlap_peaks`; ``(found, overlap, row)``.
@@ -467,7 +467,7 @@ NO_SCAN_POINTS = np.zeros((0, 2))
 NO_SCAN = NO_SCAN_POINTS[np.newaxis]
 
 
-@njit(cache=True)
+@compiled
 def scan_points(nodes, meta, curve, n_wheel):
     """The wheel points ``(p_y, p_z)`` (wheel frame, before the pose) of :func:`overlap_peaks`'s ``n_wheel`` samples
     over the whole of ``curve``, as an (n_wheel, 2) array: the same numbers the scan evaluates (same arc lengths,
@@ -484,7 +484,7 @@ def scan_points(nodes, meta, curve, n_wheel):
     return pts
 
 
-@njit(cache=True)
+@compiled
 def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, k_max, out_sw,
                   out_sr, points=NO_SCAN_POINTS):
     """Up to ``k_max`` local maxima of the sampled vertical overlap along the wheel region, deepest first.

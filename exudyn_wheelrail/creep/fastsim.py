@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from ..jit import compiled
 
 from .linear import kalker_coefficients
 from ._inputs import check_contact_inputs
@@ -52,7 +52,7 @@ DEFAULT_NX = 48
 DEFAULT_NY = 16
 
 
-@njit(cache=True)
+@compiled
 def fastsim_flexibilities(a, b, shear_modulus, C11, C22, C23):
     """``(L1, L2, L3)`` of the simplified theory [m/Pa]: ``8a/(3 C11 G)``, ``8a/(3 C22 G)``,
     ``π a √(a/b)/(4 C23 G)``."""
@@ -62,7 +62,7 @@ def fastsim_flexibilities(a, b, shear_modulus, C11, C22, C23):
     return L1, L2, L3
 
 
-@njit(cache=True)
+@compiled
 def fastsim_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, C23, n_x, n_y, weighted=0):
     """Compiled FASTSIM on floats (no input checks): returns ``(Fx, Fy, Mz)`` on the wheel.
 

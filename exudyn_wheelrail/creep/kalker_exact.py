@@ -69,8 +69,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from ..jit import compiled
 from ._inputs import check_contact_inputs, finite as _finite
 from .linear import table_poisson
 
@@ -91,7 +92,7 @@ STATUS_CONVERGED = 0
 STATUS_MAX_SWEEPS = 1
 
 
-@njit(cache=True)
+@compiled
 def _asinh_term(u, v):
     """``u·asinh(v/|u|)`` with its limit 0 at u = 0."""
     if u == 0.0:
@@ -99,7 +100,7 @@ def _asinh_term(u, v):
     return u * math.asinh(v / abs(u))
 
 
-@njit(cache=True)
+@compiled
 def _primitives(x, y):
     """Primitives (F1, Fxx, Fyy, Fxy) whose mixed second derivative is 1/r, x²/r³, y²/r³, xy/r³."""
     fyy = _asinh_term(x, y)
@@ -108,7 +109,7 @@ def _primitives(x, y):
     return fxx + fyy, fxx, fyy, -r
 
 
-@njit(cache=True)
+@compiled
 def element_grid(a, b, n_x, n_y):
     """Element centres and sizes: row j (lateral strip) has centre ``y_j = -b + (j+½) dy``, ``dy = 2b/n_y``, and
     ``n_x`` elements of length ``dx_j = 2 a_j/n_x`` spanning the strip's chord ``|x| <= a_j = a √(1-(y_j/b)²)``;
@@ -130,7 +131,7 @@ def element_grid(a, b, n_x, n_y):
     return x, y, dx, dy
 
 
-@njit(cache=True, parallel=True)
+@compiled(parallel=True)
 def slip_operator(a, b, n_x, n_y, poisson):
     """The discrete steady-rolling slip operator for G = 1: ``s = w + B p`` with
     ``(B p)_e = (u_e - u_up(e))/dx_e`` (u = displacement difference at the element centre, up(e) = the point one
@@ -181,7 +182,7 @@ def slip_operator(a, b, n_x, n_y, poisson):
     return Bxx, Bxy, Byy
 
 
-@njit(cache=True)
+@compiled
 def line_influence(a, b, n_x, n_y, poisson):
     """Each line's influence on itself for G = 1: ``Axx[j, r, k]``, ``Ayy[j, r, k]`` — displacement at field point
     r of line j (r < n_x: the element centres, r = n_x: the point one element upstream of the leading element)
@@ -211,7 +212,7 @@ def line_influence(a, b, n_x, n_y, poisson):
     return Axx, Ayy
 
 
-@njit(cache=True)
+@compiled
 def _slip_direction(Sx, Sy, g, dxx, dyy):
     """Traction on the rim of the friction disk for an element with ``s = S + diag(dxx, dyy) p``:
     ``p = -g e`` with ``(S - g D e) × e = 0`` (Newton on the angle of e, from the direction of S)."""
@@ -231,7 +232,7 @@ def _slip_direction(Sx, Sy, g, dxx, dyy):
     return -g * math.cos(th), -g * math.sin(th)
 
 
-@njit(cache=True)
+@compiled
 def _march_line(Ax, Ay, Lx, Ly, dx, rx, ry, g, qx, qy, st, tol, max_inner):
     """Solve one line's nonlinear problem ``s = r + B_line q`` with Coulomb's law, in place in ``qx``, ``qy``
     (G = 1 units), ``st`` = slip flags out.
@@ -284,7 +285,7 @@ def _march_line(Ax, Ay, Lx, Ly, dx, rx, ry, g, qx, qy, st, tol, max_inner):
     return it
 
 
-@njit(cache=True)
+@compiled
 def kalker_exact_core(Bxx, Bxy, Byy, Axx, Ayy, Lx, Ly, x, y, dxe, n_x, n_y, xi, eta, phi, g, tol, max_sweeps,
                       max_inner, px, py, slip):
     """Compiled solver on a prepared grid (G = 1 units: tractions divided by G).

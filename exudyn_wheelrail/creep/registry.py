@@ -36,7 +36,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..contact.layout import CP_AB_MAX, CP_AB_MIN, CP_G, CP_MU, CP_NU, CP_NX, CP_NY, CP_V_MIN, N_CP
 from . import linear as _linear
@@ -85,13 +85,13 @@ _BOUNDED = tuple(law.coulomb_bound for law in sorted(LAWS.values(), key=lambda l
 assert [law.code for law in sorted(LAWS.values(), key=lambda law: law.code)] == list(range(len(LAWS)))
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def creep_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     """Creep forces ``(Fx, Fy, Mz, flag)`` of the law with code ``law`` (module docstring: its rules) on an
     ellipse ``a``, ``b`` [m] under ``N`` [N] at the creepages ``xi``, ``eta`` [-], ``phi`` [1/m]; ``cp`` the
     ``CP_*`` parameters, ``t_nodes``, ``coef`` Kalker's coefficient table (:mod:`.linear`), ``tab`` the creep
-    table's padded arrays (:meth:`~exudyn_wheelrail.creep.table.CreepTable.core_arrays`; placeholders when not
-    needed).  ``flag`` is 0 or :data:`CREEP_AB_CLAMPED`."""
+    table's padded arrays (:meth:`~exudyn_wheelrail.creep.table.CreepTable.core_arrays`; ``None`` for a law
+    without a table).  ``flag`` is 0 or :data:`CREEP_AB_CLAMPED`."""
     Fx, Fy, Mz, flag = _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab)
     if _BOUNDED[law]:
         f_t = math.sqrt(Fx * Fx + Fy * Fy)
@@ -102,7 +102,7 @@ def creep_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     return Fx, Fy, Mz, flag
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     """The law of :func:`creep_forces` without the Coulomb bound."""
     if law == _NONE or N <= 0.0:
@@ -119,8 +119,7 @@ def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     C11, C22, C23 = _linear.kalker_coefficients_core(math.log(ab), cp[CP_NU], t_nodes, coef, 0)
     G = cp[CP_G]
     if law == _TABLE:
-        Fx, Fy, Mz = table_core(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, tab[0], tab[1], tab[2], tab[3],
-                                tab[4], tab[5], 3)
+        Fx, Fy, Mz = _table_law(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, tab)
         return Fx, Fy, Mz, flag
     if law == _SHE or law == _POLACH:
         C33 = 32.0 / (15.0 * math.pi) * C23 * ab ** -1.5     # simplified-theory spin-moment coefficient
@@ -137,6 +136,16 @@ def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     Fx, Fy, Mz = fastsim_core(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, C23, int(cp[CP_NX]), int(cp[CP_NY]),
                               0)
     return Fx, Fy, Mz, flag
+
+
+@compiled
+def _table_law(a, b, xi, eta, phi, N, mu, G, C11, C22, tab):
+    """The table of the exact theory (cubic lookup, :func:`~.table.table_core`) with its arrays ``tab``; ``None``
+    (a law without a table): zero, and the lookup is not compiled (numba drops the branch on a ``None`` argument's
+    type)."""
+    if tab is None:
+        return 0.0, 0.0, 0.0
+    return table_core(a, b, xi, eta, phi, N, mu, G, C11, C22, tab[0], tab[1], tab[2], tab[3], tab[4], tab[5], 3)
 
 
 def combined_elastic_constants(E_wheel_Pa: float, nu_wheel: float, E_rail_Pa: float,
@@ -159,11 +168,6 @@ class CreepModel(NamedTuple):
     core: tuple                #: ``(code, cp, t_nodes, coef, tab)``: the trailing arguments of :func:`creep_forces`
 
 
-def _placeholder_table() -> tuple:
-    """The table arrays handed to the compiled call when the law needs none (right types, never read)."""
-    return (np.zeros(2), np.zeros(2, np.int8), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((2, 3, 3, 3, 3)))
-
-
 def creep_model(name: str, *, mu: float, shear_modulus_Pa: float, poisson: float, fastsim_grid,
                 v_min_m_s: float, creep_table=None) -> CreepModel:
     """Pack the law ``name`` of :data:`LAWS` with friction ``mu``, the combined ``shear_modulus_Pa`` and ``poisson``
@@ -183,7 +187,7 @@ def creep_model(name: str, *, mu: float, shear_modulus_Pa: float, poisson: float
     cp[CP_AB_MIN] = _linear.A_OVER_B_MIN
     cp[CP_AB_MAX] = _linear.A_OVER_B_MAX
     table = None
-    tab = _placeholder_table()
+    tab = None                  # a law without a table: the table's lookup is not compiled
     if law.needs_table:
         table = load_table(creep_table) if not hasattr(creep_table, "core_arrays") else creep_table
         if abs(poisson - table.poisson) > NU_TOLERANCE + 1e-12:

@@ -242,7 +242,7 @@ class WheelRailContact:
             self._frame[FRAME_PITCH] = layout.theta_rad
             lay = (np.ascontiguousarray(packed.pieces, dtype=float), np.ascontiguousarray(packed.par, dtype=float))
         else:
-            lay = (np.zeros((1, 6)), np.ones(1))
+            lay = (None, None)           # straight track: nothing of the layout is compiled
         self._kc = WheelsetContact(pair, n_ws, E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail, global_search=global_search)
         self.geometry = geometry
         self.geometry_table = None
@@ -254,9 +254,9 @@ class WheelRailContact:
                 raise ValueError("geometry='table' needs the same wheel/rail curves on every wheel")
             self.geometry_table = GT.geometry_table(self._kc.nodes, self._kc.meta, self._kc.mono, ids[0],
                                                     self._kc.params, geometry_grid)
-            par, cz_ref, data = self.geometry_table.arrays()
+            table = self.geometry_table.arrays()
         else:
-            par, cz_ref, data = GT._unused_arrays()
+            table = None                 # the online search for every wheel: nothing of the table is compiled
         self._stats = np.zeros(N_STATS, dtype=np.int64)
         G, nu = combined_elastic_constants(E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail)
         creep = creep_model(creep_law, mu=mu, shear_modulus_Pa=G, poisson=nu, fastsim_grid=fastsim_grid,
@@ -277,7 +277,7 @@ class WheelRailContact:
         kc = self._kc
         # the compiled call's packed arguments (connector_core): model data, updated arrays, scratch: one object
         self._model = ((self.p_ref, self._frame) + lay, irr, (kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params,
-                                                      (par, cz_ref, data), kc.scan), creep.core, self._deck)
+                                                      table, kc.scan), creep.core, self._deck)
         self._state = (kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws, self._rail_f,
                        self._deck_state)
         self._work = work_arrays(n_ws)

@@ -17,12 +17,13 @@ in one call, and their Jacobian by structured forward differences.
     (track/model frame), ``frame[FRAME_*]`` (running speed V [m/s], 1.0 for a model frame moving with V, track
     distance s_start [m] of the frame's origin at t = 0, 1.0 on a curved layout, the gradient's pitch [rad]) and
     the track layout's packed pieces and parameters (:func:`~exudyn_wheelrail.track.layout.layout_at`; read only
-    when ``frame[FRAME_CURVED]`` is set);
+    when ``frame[FRAME_CURVED]`` is set; ``None`` on straight track);
   - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)`` (:func:`~.track.irregularity_channels_at`:
     alignment, vertical level, cross level and gauge deviation);
   - ``geometry = (nodes, meta, mono, curve_ids, params, table, scan)``: the profiles and kernel parameters of a
     :class:`~exudyn_wheelrail.contact.WheelsetContact`, the geometry table's ``(par, cz_ref, data)``
-    (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`) and the coarse scan's cached
+    (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`; ``None`` for the online search,
+    :func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_geometry`) and the coarse scan's cached
     wheel points (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
   - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
   - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
@@ -43,9 +44,8 @@ in one call, and their Jacobian by structured forward differences.
 * ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
   ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
 
-The call runs in three stages (:func:`wheelset_poses`, the geometry of
-:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`, :func:`wheel_forces`); the trigonometry
-of a wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
+The call runs in three stages (:func:`wheelset_poses`, :func:`contact_geometry`, :func:`wheel_forces`); the
+trigonometry of a wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
 
 Per wheel it takes the wheelset pose from the node coordinates, subtracts the rails' position (irregularity, ground
 motion, deck: :mod:`~exudyn_wheelrail.structures.deck_kinematics`; the cross level rolls the rail pair on top of the
@@ -71,7 +71,7 @@ import math
 
 import numba
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.experimental import structref
 
 from ..contact import geometry_table as GT
@@ -84,6 +84,7 @@ from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F
                               RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_PHI, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS,
                               RES_S_TRACK, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
 from ..creep.registry import creep_forces
+from ..jit import compiled
 from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, N_SC, SC_AT, SC_AY, SC_AZ,
                                           SC_DELTA_G, SC_DN, SC_DN_G, SC_N, SC_N_G, SC_RATIO, deck_state_under,
                                           pose_relative_to_rails, project_shapes, rail_material_velocity,
@@ -156,7 +157,7 @@ structref.define_constructor(ContactData, ContactDataType, ["model", "state", "w
 structref.define_boxing(ContactDataType, ContactData)
 
 
-@njit(cache=True)
+@compiled
 def contact_data(model, state, work):
     """The :class:`ContactData` of the tuples (compiled and cached, like the calls that take it)."""
     return ContactData(model, state, work)
@@ -174,7 +175,7 @@ def compiled_for(dispatcher, *args):
     return entry if callable(entry) else dispatcher
 
 
-@njit(cache=True)
+@compiled
 def wheelset_poses(q, q_t, t, model, state, work):
     """Stage 1: per wheelset the rotation, roll and yaw (``work``), the track distance, the rails under it
     (irregularity, ground motion, deck state) and the pose of each wheel relative to its rail (``side_poses``).
@@ -243,7 +244,7 @@ def wheelset_poses(q, q_t, t, model, state, work):
     return bad
 
 
-@njit(cache=True)
+@compiled
 def _side_poses(k, p_y, p_z, roll, y_r, z_r, th, wk, side_poses):
     """The rails under wheelset k at ``(y_r, z_r)`` rolled by ``th`` into ``wk`` and the pose of each wheel
     relative to its rail into ``side_poses`` (the axle centre at ``(p_y, p_z)`` with ``roll``; each side frame's
@@ -264,10 +265,12 @@ def _side_poses(k, p_y, p_z, roll, y_r, z_r, th, wk, side_poses):
     side_poses[2 * k + 1, 2] = -roll_rel
 
 
-@njit(cache=True)
+@compiled
 def _frame_rate(pieces, par, s, speed, pitch, lay):
     """Angular velocity (track-frame components) of the local track frame at s moving with ``speed`` (module
-    docstring, curved track)."""
+    docstring, curved track); ``pieces = None`` (straight track): zero, and the layout is not compiled."""
+    if pieces is None:
+        return 0.0, 0.0, 0.0
     layout_at(pieces, par, s, lay)
     k = lay[LAYOUT_KAPPA]
     phi = lay[LAYOUT_PHI]
@@ -276,7 +279,7 @@ def _frame_rate(pieces, par, s, speed, pitch, lay):
             speed * k * c_th * math.cos(phi))
 
 
-@njit(cache=True)
+@compiled
 def wheel_forces(q, q_t, model, state, work, f_out, res):
     """Stage 3, after :func:`wheelset_poses` and the geometry (``out``): per contact the point in 3-D (yaw lead),
     the creepages, the creep law and the force on the wheelset; the results ``res``, the forces ``f_out``, the
@@ -451,7 +454,7 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
             project_shapes(phi_ws[k], rfy, rfz, rmx, f_m)
 
 
-@njit(cache=True)
+@compiled
 def contact_forces_core(q, q_t, t, data, f_out, res):
     """All wheelsets in one call (module docstring: the arguments).  Fills ``f_out`` and ``res`` and the state;
     returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
@@ -469,22 +472,31 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     res[:, :, :] = 0.0
     if bad >= 0:
         return bad
-    nodes, meta, mono, curve_ids, params, gtab, scan = model[2]
-    residual = model[4][5].shape[0] > 0
-    if residual:
+    contact_geometry(q, model, state, work, model[2][5], model[4][5])
+    wheel_forces(q, q_t, model, state, work, f_out, res)
+    return -1
+
+
+@compiled
+def contact_geometry(q, model, state, work, table, residual):
+    """Stage 2: the contact geometry and Hertz of every wheel (the kernel's output ``state[1]``), with ``table``
+    the geometry table's arrays (``model[2][5]``) and ``residual`` the structure's residual flexibility table
+    (``model[4][5]``) in series with the contacts.  Either may be ``None``: then numba compiles none of its code
+    (a branch on a ``None`` argument is dropped by its type), so a run on the rigid track with the online search
+    compiles neither the table nor the series solve."""
+    nodes, meta, mono, curve_ids, params, _, scan = model[2]
+    if residual is not None:
         _predict_residual(q, model, state, work)
-    GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0], params,
-                                 state[1], state[3], scan)
-    if residual:
+    GT.evaluate_wheels_geometry(table, nodes, meta, mono, curve_ids, state[2], state[0], params, state[1], state[3],
+                                scan)
+    if residual is not None:
         if series_compliance(state, work, False):
             # a solve moved its rails further than the geometry's linearization is trusted: move them there and
             # find the geometry again
             _move_rails(q, model, state, work)
-            GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, state[2], state[0],
-                                         params, state[1], state[3], scan)
+            GT.evaluate_wheels_geometry(table, nodes, meta, mono, curve_ids, state[2], state[0], params, state[1],
+                                        state[3], scan)
         series_compliance(state, work, True)
-    wheel_forces(q, q_t, model, state, work, f_out, res)
-    return -1
 
 
 #: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of
@@ -493,7 +505,7 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
 SERIES_REGEOMETRY_M = 2.0e-5
 
 
-@njit(cache=True)
+@compiled
 def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
     """Move the rails under wheelset k by ``(du_y, du_z, du_th)`` (deck state and the wheels' poses)."""
     ds = state[7][k]
@@ -505,7 +517,7 @@ def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
                 wk[WS_Z_RAIL] + du_z, math.atan2(wk[WS_SIN_TH], wk[WS_COS_TH]) + du_th, wk, state[2])
 
 
-@njit(cache=True)
+@compiled
 def _predict_residual(q, model, state, work):
     """Before the geometry, with a residual flexibility: the rails of every wheelset on the structure moved by the
     residual displacement ``G_res F`` of its predicted rail load (deck arrays' ``rail_load_prediction``; zero: not
@@ -536,7 +548,7 @@ def _predict_residual(q, model, state, work):
         _shift_rails(k, u_y, u_z, u_th, q, p_ref, state, work)
 
 
-@njit(cache=True)
+@compiled
 def _move_rails(q, model, state, work):
     """Move the rails of every wheelset from where the geometry was found (``work[6][:, :3]``) to the solve's
     residual displacement (``work[6][:, 3:]``)."""
@@ -553,7 +565,7 @@ def _move_rails(q, model, state, work):
         store[k, 2] = store[k, 5]
 
 
-@njit(cache=True)
+@compiled
 def series_compliance(state, work, final):
     """Stage 2b, after the geometry, with a structure's residual flexibility
     (:mod:`~exudyn_wheelrail.structures.deck_kinematics`): the contacts of every wheelset on the structure in series
@@ -628,7 +640,7 @@ def series_compliance(state, work, final):
     return again
 
 
-@njit(cache=True)
+@compiled
 def contact_jacobian_core(q, q_t, t, data, f0, res, f_odeq, f_odev, jac, h_pos, h_rot, h_vel):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q_t f_odev)`` by forward differences of :func:`contact_forces_core` (same
     ``data``; ``f0`` receives the unperturbed forces), steps ``h_pos`` [m], ``h_rot`` [rad],

@@ -50,7 +50,7 @@ differences, the approximate ones against what they promise and Newton's contrac
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..contact.creepage import CREEP_DEGENERATE_FRAME, CREEP_INVALID_INPUT, CREEP_REVERSED, contact_frame_core
 from ..contact.kernel import FLAG_BLENDED, FLAG_HERTZ_CLAMPED
@@ -80,7 +80,7 @@ H_SPIN_1_M = 1e-5
 H_LOAD_REL = 1e-6
 
 
-@njit(cache=True)
+@compiled
 def creep_tangent(law, a, b, xi, eta, phi, N, Fx, Fy, Mz, cp, t_nodes, coef, tab, D, dF_dN):
     """The creep law's tangent at the creepages: ``D = ∂(F_x, F_y, M_z)/∂(ξ, η, φ)`` (3, 3) and ``dF_dN`` (3,) =
     ``∂(F_x, F_y, M_z)/∂N`` with the semi-axes following Hertz (``a, b ∝ N^(1/3)``), by forward differences of
@@ -119,12 +119,12 @@ COL_DECK = 6
 N_BLOCK = 9
 
 
-@njit(cache=True)
+@compiled
 def _cross(ax, ay, az, bx, by, bz):
     return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
-@njit(cache=True)
+@compiled
 def contact_tangent_blocks(q, q_t, data, res, Kq, Cv):
     """Per wheelset the derivatives of its contact forces at the state of the **last** contact call (its results
     ``res`` and the call's work arrays): ``Kq[k]`` (9, 9) with respect to the positions and ``Cv[k]`` (9, 9) with
@@ -343,7 +343,7 @@ def contact_tangent_blocks(q, q_t, data, res, Kq, Cv):
 CONFORMAL_LIMIT = 0.015
 
 
-@njit(cache=True)
+@compiled
 def needs_differences(res, out):
     """Whether a contact of the state turns its normal too fast for the semi-analytic derivatives: a point of the
     concave search, a clamped (conformal) Hertz curvature, or a relative lateral curvature with
@@ -364,7 +364,7 @@ def needs_differences(res, out):
     return False
 
 
-@njit(cache=True)
+@compiled
 def semi_analytic_jacobian(q, q_t, data, f0, res, f_odeq, f_odev, jac, Kq, Cv):
     """``jac = -(∂f/∂q f_odeq + ∂f/∂q̇ f_odev)`` of :func:`~.connector_core.contact_forces_core` at the state
     ``(q, q_t)`` of its **last** call (``f0`` its forces, ``res`` its results, ``data`` its packed arguments), from

@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..contact.kernel import FLAG_DEEP_PENETRATION, FLAG_PROFILE_END
 from ..contact.layout import (F_DN_DDELTA, F_NR_Y, F_NR_Z, F_PENETRATION, F_S_WHEEL, N_SLOTS, RES_DECK_Y,
@@ -158,7 +158,7 @@ CODE_WHEEL = 1
 CODE_WHEELSET = 2
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _max_nan(a, b):
     """NumPy's maximum of two values: NaN propagates."""
     if a != a or b != b:
@@ -166,18 +166,18 @@ def _max_nan(a, b):
     return a if a >= b else b
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _py_max(a, b):
     """Python's ``max(a, b)``: ``a`` unless ``b > a``."""
     return b if b > a else a
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _py_min(a, b):
     return b if b < a else a
 
 
-@njit(cache=True)
+@compiled
 def _interval(iv, w, kind, active, t, value):
     """One state of a per-wheel condition; returns 1 when an interval starts, 2 when it ends, else 0."""
     if active:
@@ -199,7 +199,7 @@ def _interval(iv, w, kind, active, t, value):
     return 0
 
 
-@njit(cache=True)
+@compiled
 def largest_eigenvalue_psd(B, n, work):
     """Largest eigenvalue of the symmetric n x n block ``B[:n, :n]`` (cyclic Jacobi on a copy in ``work``; relative
     accuracy near machine precision for a positive semi-definite matrix)."""
@@ -245,7 +245,7 @@ def largest_eigenvalue_psd(B, n, work):
     return lam
 
 
-@njit(cache=True)
+@compiled
 def contact_rows(k, q, res, out, ws_par, G):
     """The stability estimate's rows of wheelset k: ``√(dN/dδ) (n, r × n)`` per loaded contact (n the rail normal in
     the model frame, r the lever from the axle centre to the contact point) into ``G[k]``; returns their number."""
@@ -281,7 +281,7 @@ def contact_rows(k, q, res, out, ws_par, G):
     return n_rows
 
 
-@njit(cache=True)
+@compiled
 def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
     """ω h of wheelset k from its rows: the largest eigenvalue of A Aᵀ, A = G Mh, Mh = diag(I/√m, R I^(-1/2) Rᵀ)."""
     R = work[0, :3, :3]
@@ -322,7 +322,7 @@ def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
     return math.sqrt(max(lam, 0.0)) * h
 
 
-@njit(cache=True)
+@compiled
 def rail_mobility(k, n_rows, G, phi_ws, B):
     """The rails' share of wheelset k's stability estimate on a structure's modes (mass-normalised, ``phi_ws[k]``
     = Φ(s) under it, (3, n_m); nothing without modes): the contacts also move the rails, whose inverse modal mass
@@ -350,7 +350,7 @@ def rail_mobility(k, n_rows, G, phi_ws, B):
             B[i, j] += acc
 
 
-@njit(cache=True)
+@compiled
 def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, phi_ws, hist,
                   hist_row):
     """One checked state (module docstring); returns ``CODE_*`` bits, 0 when nothing needs Python."""
@@ -557,7 +557,7 @@ def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, 
     return code
 
 
-@njit(cache=True)
+@compiled
 def rail_poses(side_poses, half_gauge, ws_poses):
     """``ws_poses`` (n, 3): each wheelset's pose relative to its rails, ``(c_y, c_z, roll)`` of its right wheel with
     ``c_y`` measured from the rails' centre line — the right wheels' rows of ``side_poses`` (2 n, 3) with

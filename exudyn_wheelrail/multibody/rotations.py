@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from ..jit import compiled
 
 __all__ = ["rotation_from_vector", "rotation_vector_from_matrix"]
 
 
-@njit(cache=True)
+@compiled
 def rotation_from_vector(rx, ry, rz, R):
     """Rodrigues: rotation matrix of the rotation vector (rx, ry, rz) [rad] into R (3, 3)."""
     th = math.sqrt(rx * rx + ry * ry + rz * rz)
@@ -34,7 +34,7 @@ def rotation_from_vector(rx, ry, rz, R):
     R[2, 1] = s * rx + c * ry * rz
 
 
-@njit(cache=True)
+@compiled
 def rotation_vector_from_matrix(R, v, o):
     """Rotation vector [rad] of R into ``v[o:o+3]`` (angle in [0, π]).
 

@@ -85,21 +85,21 @@ import math
 
 import numpy as np
 from exudyn.itemInterface import LoadForceVector, LoadTorqueVector
-from numba import njit
+from ..jit import compiled
 
 from ..track.layout import TrackLayout, heading_many, layout_at
 
 __all__ = ["TrackFollowingFrame"]
 
 
-@njit(cache=True)
+@compiled
 def _cross(a, b, out):
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@njit(cache=True)
+@compiled
 def _frame_terms(pieces, par, psi_a, Psi_a, theta_g, V, g, s, m, r, inertia, spin, el_bodies, el_v, F, T, delta,
                  theta, lay):
     """The body loads F, T (n, 3) and the elements' δ, θ (n_el, 3) at the bodies' track distances s (module

@@ -17,7 +17,7 @@ curves one after the other, and ``meta`` (n_curves, 5) = [first row, row count, 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from .dense import DenseProfile
 
@@ -25,7 +25,7 @@ NODE_COLUMNS = 7
 META_COLUMNS = 5
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def _segment(nodes, first, count, s):
     """Index (row) of the segment [s_i, s_i+1] holding s; ends are clipped to the first/last segment."""
     last_seg = first + count - 2
@@ -42,7 +42,7 @@ def _segment(nodes, first, count, s):
     return i
 
 
-@njit(cache=True)
+@compiled
 def curve_eval(nodes, meta, curve, s):
     """Evaluate packed curve ``curve`` at arc length ``s``.
 
@@ -107,7 +107,7 @@ def curve_eval(nodes, meta, curve, s):
     return (py, pz, ty, tz, -sign * tz, sign * ty, -sign * k_j)
 
 
-@njit(cache=True)
+@compiled
 def curve_eval_many(nodes, meta, curve, s_values):
     """Vectorised :func:`curve_eval`: returns an array (len(s), 7)."""
     out = np.empty((s_values.shape[0], 7))

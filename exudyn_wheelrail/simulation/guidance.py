@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..analysis.safety import EN14363_WINDOW_M, prudhomme_limit_N
 from ..contact.layout import N_RES, N_SLOTS
@@ -43,7 +43,7 @@ SHORT = -2
 BELOW = -1
 
 
-@njit(cache=True)
+@compiled
 def window_quotient(t, res, window_s, nadal, idx, ring_t, ring_y, ring_q, sums, max_quotient, first):
     """One state of the 2 m window (O(1) per state: running sums over a ring of the states in the window).
 

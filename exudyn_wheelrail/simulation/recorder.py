@@ -41,7 +41,7 @@ import sys
 import time
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..contact.layout import N_SLOTS, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_N, RES_STATUS, SLOT_FLANGE
 from ..multibody.track import irregularity_at
@@ -136,7 +136,7 @@ class _TrackDistance:
         rows[:, 0] = self.s0 + self.V * t
 
 
-@njit(cache=True, inline="always")
+@compiled(inline="always")
 def wheel_force_yz(res, w):
     """Track-frame y and z components [N] of the total contact force of the rail on wheel ``w`` (the sum over its
     slots in slot order, as :meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.wheel_force_N`) and the
@@ -149,7 +149,7 @@ def wheel_force_yz(res, w):
     return fy, fz, (-fy if w % 2 == 0 else fy)
 
 
-@njit(cache=True)
+@compiled
 def wheel_columns(res, out):
     """The ``_Wheels`` columns of one state from the connector's results ``res`` (2 n, N_SLOTS, N_RES) into
     ``out`` (5 x 2 n: Y, Q, YQ, flange, contact angle per wheel); sums over the slots in slot order, as
@@ -215,7 +215,7 @@ class _WheelsetLateral:
         np.add(self._c_y, self._half_gauge, out=out)
 
 
-@njit(cache=True)
+@compiled
 def track_columns(rows, knots, coefs, s, out):
     """The irregularity (y, z) at the track distances ``s`` (m, n) into ``out`` (m, 2 n): y for every wheelset, then
     z."""

@@ -139,7 +139,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
-from numba import njit
+from ..jit import compiled
 
 __all__ = [
     "DeckSection", "BridgeModel", "BridgeModes", "ShapeTable", "ExudynBridge", "MovingForces", "FORMULATIONS",
@@ -626,7 +626,7 @@ class BridgeModes:
 
 
 # ------------------------------------------------------------------------------------- compiled functions
-@njit(cache=True)
+@compiled
 def _find_element(x, elem_x0, elem_len):
     n = elem_x0.shape[0]
     if n == 0:
@@ -641,7 +641,7 @@ def _find_element(x, elem_x0, elem_len):
     return i
 
 
-@njit(cache=True)
+@compiled
 def _interp(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out, out_ds, with_slope):
     n_modes = node_shapes.shape[2]
     for i in range(3):
@@ -691,7 +691,7 @@ def _interp(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_sha
     return True
 
 
-@njit(cache=True)
+@compiled
 def modal_shape_at(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out):
     """``Φ(s)`` into ``out`` (3, n_modes): rows y_rail (= v + e_z θx), z_rail (= w), θ_rail (= θx) of every mode at
     track distance ``s_m`` (nodal values and slopes interpolated by the element's Hermite cubics; θx linear).
@@ -700,13 +700,13 @@ def modal_shape_at(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, n
     return _interp(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out, out, False)
 
 
-@njit(cache=True)
+@compiled
 def modal_shape_and_slope_at(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out, out_ds):
     """``Φ(s)`` into ``out`` and ``dΦ/ds`` into ``out_ds`` (each (3, n_modes)); as :func:`modal_shape_at`."""
     return _interp(s_m, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out, out_ds, True)
 
 
-@njit(cache=True)
+@compiled
 def rail_state_at(s_m, speed_m_s, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, q, q_t,
                   work, work_ds, out):
     """Rail state at track distance ``s_m`` from the modal coordinates ``q``, ``q_t`` into ``out`` (9,):
@@ -724,7 +724,7 @@ def rail_state_at(s_m, speed_m_s, start_m, rail_height_m, elem_x0, elem_len, ele
     return on
 
 
-@njit(cache=True)
+@compiled
 def shapes_times(phi, q, q_t, out):
     """``out[0:3] = Φ q`` and ``out[3:6] = Φ q̇`` for the shapes ``phi`` (3, n_modes) at one point (rows y_rail,
     z_rail, θ_rail): the rails' displacement and material velocity there."""
@@ -738,7 +738,7 @@ def shapes_times(phi, q, q_t, out):
         out[3 + i] = v
 
 
-@njit(cache=True)
+@compiled
 def project_shapes(phi, Fy, Fz, Mx, f_modal):
     """``f_modal += Φᵀ (Fy, Fz, Mx)`` for the shapes ``phi`` (3, n_modes) at the force's point: the generalized
     modal forces of a force on the rails' centre line at rail-top level and a moment about it."""
@@ -746,7 +746,7 @@ def project_shapes(phi, Fy, Fz, Mx, f_modal):
         f_modal[k] += phi[0, k] * Fy + phi[1, k] * Fz + phi[2, k] * Mx
 
 
-@njit(cache=True)
+@compiled
 def add_projected_force(s_m, Fy, Fz, Mx, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, work,
                         f_modal):
     """``f_modal += Φ(s)^T (Fy, Fz, Mx)``: generalized modal forces of a force on the rails' centre line at rail-top
@@ -758,14 +758,14 @@ def add_projected_force(s_m, Fy, Fz, Mx, start_m, rail_height_m, elem_x0, elem_l
     return on
 
 
-@njit(cache=True)
+@compiled
 def _shape_many(s, start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out, out_ds, with_slope):
     for i in range(s.shape[0]):
         _interp(s[i], start_m, rail_height_m, elem_x0, elem_len, elem_nodes, node_shapes, out[i], out_ds[i],
                 with_slope)
 
 
-@njit(cache=True)
+@compiled
 def _moving_forces_core(t, s_start_m, speed_m_s, x_m, forces, start_m, rail_height_m, elem_x0, elem_len,
                         elem_nodes, node_shapes, work, f_modal):
     for k in range(f_modal.shape[0]):

@@ -48,7 +48,8 @@ wheel) and the creep forces' share (they load the kept modes only).
 
 The deck arrays of the compiled call (:func:`deck_arrays`): ``(par, elem_x0, elem_len, elem_nodes, node_shapes,
 node_residual, rail_load_prediction)`` — ``par[DECK_*]``, the :class:`~.bridge.ShapeTable` of the deck, the
-residual flexibility at its points (n_points, 6) (empty arrays, no modes: no bridge; (0, 6): no residual) and per
+residual flexibility at its points (n_points, 6) (no bridge: empty element arrays and ``None`` for the shapes;
+``None``: no residual; numba compiles nothing of what a ``None`` stands for) and per
 wheelset a prediction of its generalized force on the rails ``(F_y, F_z, M_x)`` (n_wheelsets, 3; zero unless set,
 e.g. the static wheel loads: the connector finds the contact geometry on rails already moved by the residual
 displacement ``G_res F`` it predicts, and again only where the solve moves them further).
@@ -58,7 +59,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from .bridge import _find_element, modal_shape_at, project_shapes, shapes_times
 
@@ -86,38 +87,37 @@ def deck_arrays(bridge, n_wheelsets: int = 0) -> tuple[tuple, int]:
     :class:`~.bridge.ExudynBridge` (module docstring), or for none (``bridge=None``: no modes); the ground entries
     of ``par`` start at zero."""
     if bridge is None:
-        return (np.zeros(N_DECK_PAR), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64),
-                np.zeros((0, 5, 0)), np.zeros((0, 6)), np.zeros((n_wheelsets, 3))), 0
+        return (np.zeros(N_DECK_PAR), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64), None, None,
+                np.zeros((n_wheelsets, 3))), 0
     tb = bridge.modes.table
     par = np.zeros(N_DECK_PAR)
     par[DECK_START] = tb.start_m
     par[DECK_RAIL_HEIGHT] = tb.rail_height_m
     residual = getattr(bridge.modes, "residual_table", None)
-    residual = np.zeros((0, 6)) if residual is None else np.ascontiguousarray(residual, dtype=float)
-    if residual.shape[0] not in (0, tb.node_shapes.shape[0]) or residual.shape[1:] != (6,):
-        raise ValueError(f"residual_table of shape {residual.shape}: expected ({tb.node_shapes.shape[0]}, 6), one "
-                         f"row per point of the shape table")
+    if residual is not None:
+        residual = np.ascontiguousarray(residual, dtype=float)
+        if residual.shape[0] not in (0, tb.node_shapes.shape[0]) or residual.shape[1:] != (6,):
+            raise ValueError(f"residual_table of shape {residual.shape}: expected ({tb.node_shapes.shape[0]}, 6), "
+                             f"one row per point of the shape table")
+        if residual.shape[0] == 0:
+            residual = None
     return (par, np.ascontiguousarray(tb.elem_x0, dtype=float), np.ascontiguousarray(tb.elem_len, dtype=float),
             np.ascontiguousarray(tb.elem_nodes, dtype=np.int64),
             np.ascontiguousarray(tb.node_shapes, dtype=float), residual, np.zeros((n_wheelsets, 3))), \
         int(bridge.modes.n_modes)
 
 
-@njit(cache=True)
+@compiled
 def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work, state):
     """Deck state under a wheelset at track distance ``s_m`` into ``state`` (:data:`N_DECK_STATE`): ``Φ(s) q`` and
     ``Φ(s) q̇`` of the modal coordinates ``q_m``, ``q_m_t`` plus the increments ``delta`` (6; the Jacobian's
     perturbation), zero off the deck.  ``phi`` (3, n_m) receives ``Φ(s)`` (the connector projects the rail
     forces with it, :func:`~.bridge.project_shapes`); ``work`` (9): scratch.  Returns True on the deck."""
     par, elem_x0, elem_len, elem_nodes = deck[0], deck[1], deck[2], deck[3]
-    node_shapes, node_residual = deck[4], deck[5]
+    node_residual = deck[5]
     on = False
-    n_m = q_m.shape[0]
-    if n_m > 0:
-        # Φ(s) (no slopes: the convective rate is not used here), then Φ q and Φ q̇
-        on = modal_shape_at(s_m, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len, elem_nodes,
-                            node_shapes, phi)
-        shapes_times(phi, q_m, q_m_t, work)
+    if q_m.shape[0] > 0:
+        on = _shapes_under(s_m, par, elem_x0, elem_len, elem_nodes, deck[4], q_m, q_m_t, phi, work)
     for i in range(6):
         state[i] = work[i] + delta[i] if on else 0.0
     state[6] = 1.0 if on else 0.0
@@ -129,12 +129,27 @@ def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work, state):
     return on
 
 
-@njit(cache=True)
+@compiled
+def _shapes_under(s_m, par, elem_x0, elem_len, elem_nodes, node_shapes, q_m, q_m_t, phi, work):
+    """``Φ(s)`` into ``phi`` (no slopes: the convective rate is not used here), then ``Φ q`` and ``Φ q̇`` into
+    ``work``; returns True on the deck.  ``node_shapes = None`` (no structure): False, and nothing of the shape
+    table is compiled (numba drops the branch on a ``None`` argument's type)."""
+    if node_shapes is None:
+        return False
+    on = modal_shape_at(s_m, par[DECK_START], par[DECK_RAIL_HEIGHT], elem_x0, elem_len, elem_nodes, node_shapes,
+                        phi)
+    shapes_times(phi, q_m, q_m_t, work)
+    return on
+
+
+@compiled
 def residual_at(s_m, start_m, elem_x0, elem_len, elem_nodes, node_residual, out):
     """The residual flexibility ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ`` at track distance ``s_m`` into ``out`` (6,):
     linear between the table's points (zero off the table or without a residual table)."""
     for i in range(6):
         out[i] = 0.0
+    if node_residual is None:        # no residual table: the branch below is not compiled
+        return
     if node_residual.shape[0] == 0:
         return
     e = _find_element(s_m - start_m, elem_x0, elem_len)
@@ -154,14 +169,14 @@ SC_AY, SC_AZ, SC_AT, SC_N_G, SC_DELTA_G, SC_DN_G, SC_N, SC_RATIO, SC_DN = range(
 N_SC = 9
 
 
-@njit(cache=True)
+@compiled
 def _g_times(g, x0, x1, x2, out):
     out[0] = g[0] * x0 + g[3] * x1 + g[4] * x2
     out[1] = g[3] * x0 + g[1] * x1 + g[5] * x2
     out[2] = g[4] * x0 + g[5] * x1 + g[2] * x2
 
 
-@njit(cache=True)
+@compiled
 def series_contacts(g, contacts, n, u0, work):
     """The contacts ``contacts[:n]`` (rows :data:`N_SC`) of one wheelset on rails with the residual flexibility
     ``g`` (6: ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ``; module docstring): the rails' residual displacement u (3,
@@ -237,14 +252,14 @@ def series_contacts(g, contacts, n, u0, work):
     return it
 
 
-@njit(cache=True)
+@compiled
 def rails_under(y_irr_m, z_irr_m, y_ground_m, state):
     """``(y_r, z_r, θ)``: the rails' centre line at rail top (irregularity + ground + deck) [m] and its roll [rad]
     under a wheelset with deck ``state``."""
     return y_irr_m + y_ground_m + state[0], z_irr_m + state[1], state[2]
 
 
-@njit(cache=True)
+@compiled
 def pose_relative_to_rails(p_y, p_z, roll, y_r, z_r, th, c_th, s_th):
     """Pose ``(y_rel, z_rel, roll_rel)`` of the axle centre ``(p_y, p_z)`` [m] with roll [rad] relative to the rail
     pair at ``(y_r, z_r)`` rolled by ``th`` (``c_th``, ``s_th`` its cosine and sine): ``R_x(-θ) (p - p_rail)``,
@@ -254,7 +269,7 @@ def pose_relative_to_rails(p_y, p_z, roll, y_r, z_r, th, c_th, s_th):
     return c_th * dy + s_th * dz, -s_th * dy + c_th * dz, roll - th
 
 
-@njit(cache=True)
+@compiled
 def rail_pair_to_track(y_l, z_l, ny_l, nz_l, y_r, z_r, c_th, s_th):
     """A point ``(y_l, z_l)`` [m] and a normal ``(ny_l, nz_l)`` of the rail pair's frame in the track frame:
     rotated by ``R_x(θ)`` (``c_th``, ``s_th`` its cosine and sine) and shifted by ``(y_r, z_r)``."""
@@ -265,7 +280,7 @@ def rail_pair_to_track(y_l, z_l, ny_l, nz_l, y_r, z_r, c_th, s_th):
     return y_t, z_t, ny, nz
 
 
-@njit(cache=True)
+@compiled
 def rail_material_velocity(y_c, z_c, y_ground_m, vy_ground_m_s, state, v_rail):
     """Lateral and vertical material velocity of the rail at the contact point ``(y_c, z_c)`` [m] (track frame)
     into ``v_rail[1:3]`` [m/s]: ground + deck velocity + ``θ̇ e_x × (p - deck line)``.  ``v_rail[0]`` (the running
@@ -274,7 +289,7 @@ def rail_material_velocity(y_c, z_c, y_ground_m, vy_ground_m_s, state, v_rail):
     v_rail[2] = state[4] + state[5] * (y_c - (y_ground_m + state[0]))
 
 
-@njit(cache=True)
+@compiled
 def rail_moment_about_deck_line(y_c, z_c, F_y, F_z, M_x, y_ground_m, state):
     """Moment about +x [N m] of the force ``(F_y, F_z)`` [N] at ``(y_c, z_c)`` [m] about the deck's deflected
     rail-top centre line (at ``y_g + y_b``, ``z_b``), plus the moment ``M_x`` (track frame)."""

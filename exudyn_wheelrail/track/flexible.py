@@ -90,7 +90,7 @@ from pathlib import Path
 
 import numpy as np
 import scipy.linalg
-from numba import njit
+from ..jit import compiled
 import scipy.sparse as sp
 import scipy.sparse.linalg
 
@@ -718,7 +718,7 @@ class _CouplingDamping:
         return -self.f
 
 
-@njit(cache=True)
+@compiled
 def _matvec(D, v, out):
     """``out = D v`` in one thread: inside the solve a threaded BLAS competes with Exudyn for the cores (measured
     on 2 shared cores: a track of ~1300 modes solved 3-4.5 times slower with numpy's threaded BLAS)."""

@@ -52,7 +52,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from ..jit import compiled
 
 from ..conventions import CURVE_DIRECTION_SIGN, RAIL_CENTRE_DISTANCE_M
 from ..validation import finite
@@ -125,7 +125,7 @@ class PackedLayout:
     par: np.ndarray
 
 
-@njit(cache=True)
+@compiled
 def layout_at(pieces, par, s, out):
     """Fill ``out[LAYOUT_*]`` (κ, dκ/ds, φ, dφ/ds) at track distance ``s`` from the packed pieces.  Before the
     first piece: straight and level (the first piece's start values); after the last: its end values continued."""
@@ -165,7 +165,7 @@ def layout_at(pieces, par, s, out):
     out[3] = dh / (base * math.cos(phi))
 
 
-@njit(cache=True)
+@compiled
 def layout_many(pieces, par, s):
     """:func:`layout_at` for an array of s: (len(s), N_LAYOUT)."""
     out = np.empty((s.shape[0], 4))
@@ -174,7 +174,7 @@ def layout_many(pieces, par, s):
     return out
 
 
-@njit(cache=True)
+@compiled
 def heading_many(pieces, psi_a, Psi_a, s):
     """Heading ψ(s) and its integral Ψ(s) = ∫ ψ ds from the layout start, (len(s), 2), exact for the piecewise
     linear curvature (``psi_a``, ``Psi_a`` their values at the pieces' starts).  Straight before the first piece,

@@ -7,7 +7,7 @@ Invariants (the kernel's documented contract, ``contact/kernel.py``): no excepti
 documented set; a wheel with a non-finite pose has every slot ``STATUS_INVALID_POSE`` and no other wheel does; a
 contact (status > 0) has only finite fields, a positive penetration and normal force, positive semi-axes and
 stiffness; a slot without contact carries no force; the warm-start state holds finite numbers or NaN (never ±inf).
-Default run: 2000 hypothesis examples (~1e4 evaluations); ``-m slow``: > 1e5 evaluations."""
+Default run: 2000 hypothesis examples (~1e4 evaluations); ``-m validation``: > 1e5 evaluations."""
 from __future__ import annotations
 
 import functools
@@ -182,7 +182,7 @@ def test_kernel_batch_fuzz_default():
     assert n == 6400
 
 
-@pytest.mark.slow
+@pytest.mark.validation
 def test_kernel_batch_fuzz_long():
     """>= 1e5 wheel evaluations: every kind of pair, random-walk and jumping poses, 1 % non-finite coordinates."""
     rng = np.random.default_rng(7)
@@ -197,7 +197,7 @@ def test_kernel_batch_fuzz_long():
     assert n >= 100_000
 
 
-@pytest.mark.slow
+@pytest.mark.validation
 @settings(max_examples=20000, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(spec=profile_pairs(), sequence=st.lists(st.tuples(wheel_poses, wheel_poses), min_size=1, max_size=8),
        global_search=st.booleans(), reset=st.booleans())
