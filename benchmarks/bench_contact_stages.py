@@ -16,7 +16,7 @@ inputs the previous stages produced for that state (a first, untimed pass throug
 =====================  ===========================================================================================
 ``pose_irregularity``  :func:`~exudyn_wheelrail.multibody.connector_core.wheelset_poses` (rotation, roll/yaw and
                        their trigonometry, irregularity, deck state, pose relative to the rails)
-``geometry``           the contact search of all wheels (``evaluate_wheels_geometry``)   minus ``hertz``
+``geometry``           the contact search of all wheels (``connector_core.contact_geometry``) minus ``hertz``
 ``hertz``              ``hertz_from_penetration`` for every loaded contact (the kernel calls it in the search)
 ``creepages``          per loaded contact: rails to track frame, yawed contact point, rail velocity, creepages
 ``creep_law``          ``creep_forces`` (the table) for every loaded contact
@@ -55,6 +55,7 @@ import numpy as np
 from numba import njit
 
 from exudyn_wheelrail.contact import geometry_table as GT
+from exudyn_wheelrail.contact import kernel as K
 from exudyn_wheelrail.contact.creepage import creepages_core, yawed_contact_point_cs
 from exudyn_wheelrail.contact.layout import (CP_V_MIN, F_A_REL, F_B_REL, F_NR_Y, F_NR_Z, F_PENETRATION, F_PW_Y,
                                              F_PW_Z, F_STATUS, P_E_STAR, P_MIN_CURVATURE, RES_A, RES_B, RES_ETA,
@@ -122,8 +123,12 @@ def stage_geometry(sp_all, ws, warm, model, state, out_all, i0, i1):
     stats = state[3]
     for i in range(i0, i1):
         warm[:] = ws[i]
-        GT.evaluate_wheels_geometry(gtab, nodes, meta, mono, curve_ids, sp_all[i], warm, params, out_all[i], stats,
-                                    scan)
+        if gtab is None:
+            K.evaluate_wheels(nodes, meta, mono, curve_ids, sp_all[i], warm, params, out_all[i], scan)
+            GT.count_fallback(out_all[i], stats)
+        else:
+            GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, sp_all[i], warm,
+                                         params, out_all[i], stats, scan)
 
 
 @njit

@@ -482,23 +482,11 @@ def _count_online(out, w0, w1, stats):
 
 
 @compiled
-def evaluate_wheels_geometry(table, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan):
-    """The contact geometry of every wheel: :func:`evaluate_wheels_tabulated` with ``table = (par, cz_ref, data)``
-    (:meth:`GeometryTable.arrays`), or the online kernel for every wheel with ``table = None`` — then nothing of
-    the table is compiled (numba drops the branch on a ``None`` argument's type)."""
-    if table is None:
-        evaluate_wheels_online(nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan)
-    else:
-        evaluate_wheels_tabulated(table[0], table[1], table[2], nodes, meta, mono, curve_ids, poses, warm, params,
-                                  out, stats, scan)
-
-
-@compiled
-def evaluate_wheels_online(nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan):
-    """:func:`~.kernel.evaluate_wheels` for every wheel, counted in ``stats`` (STAT_*) as the table's fallback."""
-    K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
-    stats[STAT_FALLBACK] += poses.shape[0]
-    _count_online(out, 0, poses.shape[0], stats)
+def count_fallback(out, stats):
+    """Count every wheel of the kernel's output ``out`` as evaluated by the online kernel in ``stats`` (STAT_*):
+    the table's fallback, its skipped regions and concave contacts."""
+    stats[STAT_FALLBACK] += out.shape[0]
+    _count_online(out, 0, out.shape[0], stats)
 
 
 @compiled
@@ -508,7 +496,8 @@ def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, p
     online kernel elsewhere (or for every wheel when ``par[T_USE] == 0``; ``scan`` its cached scan points,
     :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*)."""
     if par[T_USE] == 0.0:
-        evaluate_wheels_online(nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan)
+        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
+        count_fallback(out, stats)
         return
     y_hi = par[T_Y0] + par[T_DY] * (par[T_NY] - 1.0)
     r_hi = par[T_R0] + par[T_DR] * (par[T_NR] - 1.0)

@@ -23,7 +23,7 @@ in one call, and their Jacobian by structured forward differences.
   - ``geometry = (nodes, meta, mono, curve_ids, params, table, scan)``: the profiles and kernel parameters of a
     :class:`~exudyn_wheelrail.contact.WheelsetContact`, the geometry table's ``(par, cz_ref, data)``
     (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`; ``None`` for the online search,
-    :func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_geometry`) and the coarse scan's cached
+    :func:`contact_geometry`) and the coarse scan's cached
     wheel points (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
   - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
   - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
@@ -75,6 +75,7 @@ from numba import types
 from numba.experimental import structref
 
 from ..contact import geometry_table as GT
+from ..contact import kernel as K
 from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..contact.creepage import creepages_core, yawed_contact_point_cs
 from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
@@ -480,23 +481,31 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
 @compiled
 def contact_geometry(q, model, state, work, table, residual):
     """Stage 2: the contact geometry and Hertz of every wheel (the kernel's output ``state[1]``), with ``table``
-    the geometry table's arrays (``model[2][5]``) and ``residual`` the structure's residual flexibility table
-    (``model[4][5]``) in series with the contacts.  Either may be ``None``: then numba compiles none of its code
-    (a branch on a ``None`` argument is dropped by its type), so a run on the rigid track with the online search
-    compiles neither the table nor the series solve."""
+    the geometry table's arrays (``model[2][5]``; :func:`~exudyn_wheelrail.contact.geometry_table.
+    evaluate_wheels_tabulated`) and ``residual`` the structure's residual flexibility table (``model[4][5]``) in
+    series with the contacts.  Either may be ``None``: then numba compiles none of its code (a branch on a
+    ``None`` argument is dropped by its type), so a run on the rigid track with the online search compiles
+    neither the table nor the series solve.  (The kernel is called from here, not through a wrapper: every layer
+    of compiled functions generates the machine code of all it calls once more.)"""
     nodes, meta, mono, curve_ids, params, _, scan = model[2]
+    poses, warm, out, stats = state[2], state[0], state[1], state[3]
     if residual is not None:
         _predict_residual(q, model, state, work)
-    GT.evaluate_wheels_geometry(table, nodes, meta, mono, curve_ids, state[2], state[0], params, state[1], state[3],
-                                scan)
-    if residual is not None:
-        if series_compliance(state, work, False):
-            # a solve moved its rails further than the geometry's linearization is trusted: move them there and
-            # find the geometry again
-            _move_rails(q, model, state, work)
-            GT.evaluate_wheels_geometry(table, nodes, meta, mono, curve_ids, state[2], state[0], params, state[1],
-                                        state[3], scan)
-        series_compliance(state, work, True)
+    for attempt in range(2):
+        if table is None:
+            K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
+            GT.count_fallback(out, stats)
+        else:
+            GT.evaluate_wheels_tabulated(table[0], table[1], table[2], nodes, meta, mono, curve_ids, poses, warm,
+                                         params, out, stats, scan)
+        if residual is None:
+            return
+        # a solve that moves its rails further than the geometry's linearization is trusted: move them there and
+        # find the geometry again (once)
+        if attempt == 1 or not series_compliance(state, work, False):
+            break
+        _move_rails(q, model, state, work)
+    series_compliance(state, work, True)
 
 
 #: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of
