@@ -26,11 +26,12 @@ an unusual but plausible value as one line ``warning: ...``, and the run goes on
 from __future__ import annotations
 
 import argparse
+import gc
+import math
 import re
 import sys
+import time
 import warnings
-
-import numpy as np
 
 from .validation import InputWarning, Quantity, output_dir, output_file
 
@@ -94,6 +95,63 @@ def _positive_int(option: str):
         return n
     parse.__name__ = option
     return parse
+
+
+#: with stderr not a terminal (a log file, a pipe), a progress bar asked for by ``--progress`` writes one line at
+#: most this often [s], and its last state when the run ends
+PROGRESS_LINE_INTERVAL_S = 10.0
+
+
+def _add_progress_argument(p: argparse.ArgumentParser) -> None:
+    """The one progress option of every long command (:func:`_progress_bar`, :func:`_progress_lines`)."""
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress on stderr (default: shown when stderr is a terminal; into a file or a pipe "
+                        "whole lines only)")
+
+
+def _show_progress(args) -> bool:
+    """``--progress`` / ``--no-progress`` as given, else whether stderr is a terminal."""
+    return sys.stderr.isatty() if args.progress is None else bool(args.progress)
+
+
+class _ProgressLines:
+    """The stream of a progress bar when stderr is not a terminal: each redraw of the bar (``"\\r"`` and the bar,
+    :class:`~exudyn_wheelrail.simulation.recorder.ProgressBar`) is held and written as a line of its own at most every
+    :data:`PROGRESS_LINE_INTERVAL_S`; the bar's close (its status and the line end) writes the last state."""
+
+    def __init__(self, stream):
+        self.stream = stream
+        self.pending = ""
+        self.written_at = time.perf_counter()
+
+    def write(self, text: str) -> None:
+        if text.startswith("\r"):
+            self.pending = text[1:].rstrip()
+            if time.perf_counter() - self.written_at >= PROGRESS_LINE_INTERVAL_S:
+                self.stream.write(self.pending + "\n")
+                self.written_at = time.perf_counter()
+        else:
+            self.stream.write(self.pending + text)
+            self.pending = ""
+
+    def flush(self) -> None:
+        self.stream.flush()
+
+
+def _progress_bar(args):
+    """What a single run's progress bar is drawn on: ``False`` (no bar), stderr (a terminal: redrawn in place) or
+    :class:`_ProgressLines` on stderr."""
+    if not _show_progress(args):
+        return False
+    return sys.stderr if sys.stderr.isatty() else _ProgressLines(sys.stderr)
+
+
+def _progress_lines(args):
+    """The print-like callable of a command's progress lines (a sweep's cases, a table's chunks, a report's
+    sections) on stderr, or ``None``."""
+    if not _show_progress(args):
+        return None
+    return lambda text: print(text, file=sys.stderr, flush=True)
 
 
 def _figure_suffixes() -> tuple[str, ...]:
@@ -237,7 +295,8 @@ def _pair_from_args(args):
 def _sweep(args, y_max=None):
     from .analysis.geometry_functions import contact_geometry_sweep
     y_max = args.y_max if y_max is None else y_max
-    if not (np.isfinite(args.y_step) and np.isfinite(y_max) and args.y_step > 0 and y_max > 0):
+    import numpy as np
+    if not (math.isfinite(args.y_step) and math.isfinite(y_max) and args.y_step > 0 and y_max > 0):
         raise ValueError("--y-max, --y-step: must be positive finite numbers (metres)")
     if y_max / args.y_step > MAX_SWEEP_STEPS:
         raise ValueError(f"--y-step: --y-max / --y-step = {y_max / args.y_step:.0f} steps, more than "
@@ -249,9 +308,10 @@ def _sweep(args, y_max=None):
 
 def plot_sweep(sweep, path, title=""):
     """Contact-geometry functions on one page (Δr, contact positions, angles, roll, ellipse)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from .scenarios.plots import pyplot
+    plt = pyplot()
     rows = sweep.rows
     fig, ax = plt.subplots(2, 3, figsize=(14, 8))
     ax = ax.ravel()
@@ -321,8 +381,9 @@ def _parse_option(text):
 def cmd_creep_table(args):
     from .creep.build_table import build_table, grid_summary
     print(grid_summary(args.grid))
-    build_table(args.out, generator=args.generator, grid=args.grid, workers=args.workers, poisson=args.nu,
-                options=dict(args.option or []), keep_parts=args.keep_parts, progress=None if args.quiet else print)
+    path = build_table(args.out, generator=args.generator, grid=args.grid, workers=args.workers, poisson=args.nu,
+                       options=dict(args.option or []), keep_parts=args.keep_parts, progress=_progress_lines(args))
+    print(f"wrote {path}")
     return 0
 
 
@@ -419,7 +480,7 @@ def _rtri_settings(args):
 
 
 def _car_body_choices():
-    from .scenarios.rtri_case import CAR_BODY_MODELS
+    from .scenarios.defaults import CAR_BODY_MODELS
     return CAR_BODY_MODELS + ("both",)
 
 
@@ -437,7 +498,7 @@ def _cmd_rtri_car_bodies(args, run, contact, delta, lt):
         case = RtriCase(span_m=args.span, speed_km_h=args.speed_kmh, run=run, contact=contact,
                         deviation_amplitude_m=delta, transition_length_m=lt, car_body=cb,
                         carbody_points=tuple(CARBODY_POINTS))
-        results[cb] = run_rtri(case, progress=print)
+        results[cb] = run_rtri(case, progress=print, progress_bar=_progress_bar(args))
         paths = write_rtri_outputs(results[cb], Path(args.out) / cb, plots=not args.no_plots)
         print(f"car body {cb}:")
         _print_status(results[cb].summary)
@@ -469,7 +530,7 @@ def cmd_rtri(args):
     if args.view:
         from .interactive.view3d import RtriView
         view = RtriView(realtime_factor=args.view_speed)
-    result = run_rtri(case, progress=print, view=view)
+    result = run_rtri(case, progress=print, view=view, progress_bar=_progress_bar(args))
     result.summary["preset"] = preset
     paths = write_rtri_outputs(result, args.out, plots=not args.no_plots)
     _print_rtri_summary(result.summary)
@@ -487,7 +548,8 @@ def cmd_rtri_sweep(args):
     print(f"RTRI sweep: spans {spans} m, speeds {speeds} km/h, {run.solver}, dt {run.dt_s} s, duration "
           f"{run.duration_s}, geometry {contact.geometry}" + (f" (preset {preset['name']})" if preset else ""))
     summaries = run_sweep(spans, speeds, args.out, workers=args.workers, run=run, contact=contact,
-                          deviation_amplitude_m=delta, transition_length_m=lt, write_cases=not args.no_case_outputs)
+                          deviation_amplitude_m=delta, transition_length_m=lt, write_cases=not args.no_case_outputs,
+                          progress=_progress_lines(args))
     print(f"wrote {args.out}/sweep.csv, sweep.json, fig7_max_carbody_acceleration.png")
     return exit_code(s["status"] for s in summaries)
 
@@ -523,6 +585,7 @@ def _add_rtri_common(p: argparse.ArgumentParser, duration_default: str):
     p.add_argument("--transition-m", type=float, default=None,
                    help="end-transition length [m] (default: RtriAssumptions, 3 m)")
     p.add_argument("--out", required=True, help="output directory")
+    _add_progress_argument(p)
 
 
 def _split_values(text: str) -> list[str]:
@@ -585,7 +648,7 @@ def cmd_run_scenario(args):
     print(f"scenario {scn['scenario']['name']}: {veh.get('name') or veh.get('file') or veh.get('consist')}, "
           f"{scn['vehicle']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
           f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")
-    result = run_scenario(scn, args.out, progress=not args.no_progress)
+    result = run_scenario(scn, args.out, progress=_progress_bar(args))
     s = result.summary
     _print_status(s)
     sc = s["scalars"]
@@ -631,7 +694,7 @@ def cmd_sweep_scenario(args):
           f"{args.workers or 'all'} worker processes")
     result = sweep(base, params, out_dir=args.out, workers=args.workers,
                    plot_result=args.plot_result or DEFAULT_PLOT_RESULT, plot_parameter=args.plot_param,
-                   write_cases=not args.no_case_outputs)
+                   write_cases=not args.no_case_outputs, progress=_progress_lines(args))
     for note in result.notes:
         print("note:", note)
     print("wrote " + ", ".join(result.paths.values()))
@@ -640,7 +703,7 @@ def cmd_sweep_scenario(args):
 
 def cmd_validation_report(args):
     from .scenarios.validation_report import write_report
-    write_report(args.out, quick=args.quick)
+    write_report(args.out, quick=args.quick, progress=_progress_lines(args))
     print(f"wrote {args.out}/report.md")
     return 0
 
@@ -718,7 +781,7 @@ def _check_bridge_crossing(args) -> None:
     if args.dt is not None:
         DT_S.check("--dt", args.dt)
     z = args.damping_ratio
-    if not (np.isfinite(z) and 0.0 <= z < 1.0):
+    if not (math.isfinite(z) and 0.0 <= z < 1.0):
         raise ValueError(f"--damping-ratio: {z:g} must be in [0, 1) (a ratio, not a percentage: 2 % is 0.02)")
     spans = _bridge_crossing_spans(args)
     if args.lateral_frequency_hz is not None:
@@ -763,11 +826,11 @@ def _sweep_speeds_kmh(args) -> list[float]:
         option = "--speed-range-kmh"
         first, last, step = args.speed_range_kmh
         for v in (first, last, step):
-            if not np.isfinite(v):
+            if not math.isfinite(v):
                 raise ValueError(f"{option}: {v!r} is not a finite number")
         if not step > 0 or last < first:
             raise ValueError(f"{option}: expected FIRST <= LAST and STEP > 0, got {first:g} {last:g} {step:g}")
-        n = int(np.floor((last - first) / step + 1e-9)) + 1
+        n = math.floor((last - first) / step + 1e-9) + 1
         if n > MAX_SWEEP_SPEEDS:
             raise ValueError(f"{option}: {n} speeds, more than {MAX_SWEEP_SPEEDS}")
         speeds = [first + k * step for k in range(n)]
@@ -785,7 +848,7 @@ def cmd_bridge_crossing_sweep(args):
           f"{case.n_modes} modes, {len(args.speeds)} speeds {min(args.speeds):g} ... {max(args.speeds):g} km/h, "
           f"{args.workers or 'all'} worker processes")
     result = speed_sweep(case, [v / 3.6 for v in args.speeds], out_dir=args.out, workers=args.workers,
-                         write_cases=args.case_outputs)
+                         write_cases=args.case_outputs, progress=_progress_lines(args))
     if result.resonance_speeds:
         print("resonance speeds f1 d/i: " + ", ".join(f"{r['speed_km_h']:.4g}" for r in result.resonance_speeds)
               + " km/h")
@@ -803,7 +866,7 @@ def cmd_bridge_crossing(args):
           f"{case.n_modes}{lateral} modes, zeta = {case.damping_ratio:g}, {case.speed_m_s * 3.6:g} km/h, "
           f"{case.solver}, dt "
           f"{case.dt_s if case.dt_s is not None else default_dt_s(case):g} s")
-    result = run_bridge_crossing(case, out_dir=args.out, progress=args.progress)
+    result = run_bridge_crossing(case, out_dir=args.out, progress=_progress_bar(args))
     s = result.summary
     st = s["status_detail"]
     print(f"status: {s['status']}" + (f": {st['detail']}" if st["kind"] != "ok" and st["detail"] else ""))
@@ -869,7 +932,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="generator option, repeatable (FASTSIM: n_x, n_y, flexibility; exact: the solver's "
                         "keyword options, warm_start=1)")
     t.add_argument("--keep-parts", action="store_true", help="keep the per-chunk results after assembling")
-    t.add_argument("--quiet", action="store_true", help="no progress output")
+    _add_progress_argument(t)
+    t.add_argument("--quiet", dest="progress", action="store_false", default=None, help="the same as --no-progress")
     t.set_defaults(func=cmd_creep_table, check=_check_creep_table)
     r = sub.add_parser("rtri", help="the rigid-rail RTRI validation case (substitute inputs, see summary.json)",
                        description="RTRI rigid-rail case: Manchester vehicle 1 (substitute) on a rigid track with a "
@@ -906,7 +970,7 @@ def build_parser() -> argparse.ArgumentParser:
                                     "(peaks, scalars, running criteria) and plots into --out.")
     sr.add_argument("scenario", help="scenario file (.toml), e.g. examples/scenarios/rtri_20m.toml")
     sr.add_argument("--out", required=True, help="output directory")
-    sr.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    _add_progress_argument(sr)
     sr.add_argument("--set", action="append", metavar="KEY=VALUE",
                     type=lambda t: _key_values(t, "--set", many=False),
                     help="override a value by its dotted key, repeatable (run.duration_s=0.5, "
@@ -931,6 +995,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="scalar result plotted (default max_abs_Y_any_wheel_N; any column of sweep.csv)")
     ss.add_argument("--plot-param", default=None, help="parameter on the x axis (default: the first --param)")
     ss.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
+    _add_progress_argument(ss)
     ss.set_defaults(func=cmd_sweep_scenario, check=_check_sweep)
     vr = sub.add_parser("validation-report", help="re-run the validations into report.md with plots",
                         description="Kalker's exact solver vs Table E.3, the creep table vs the exact solver, "
@@ -939,6 +1004,7 @@ def build_parser() -> argparse.ArgumentParser:
     vr.add_argument("--out", required=True, help="output directory")
     vr.add_argument("--quick", action="store_true",
                     help="fewer creep-table points, shorter Klingel/Frýba runs, no RTRI runs (< 60 s)")
+    _add_progress_argument(vr)
     vr.set_defaults(func=cmd_validation_report, check=_check_out_dir)
     ex = sub.add_parser("explore", help="the RTRI explorer: sliders re-run the case and redraw Figs. 5/6 quantities",
                         description="Matplotlib window with sliders for speed, span, deviation amplitude, friction and "
@@ -986,11 +1052,10 @@ def _add_bridge_crossing_parser(sub) -> None:
 
 
 def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
-    from .scenarios.bridge_crossing import (DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES, MODEL_NAMES,
-                                            SPRUNG_DAMPING_RATIO, SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD,
-                                            TRACK_FORMS)
+    from .scenarios.defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
+                                     SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
     from .simulation.settings import SOLVERS
-    from .structures.load_models import HSLM_NAMES
+    from .standards import HSLM_NAMES, TRACK_FORMS
     bc.add_argument("--span-m", type=float, required=True, help="span length L [m]")
     bc.add_argument("--bridge-mass-kg-per-m", type=float, required=True, help="deck mass per length m [kg/m]")
     bc.add_argument("--bridge-frequency-hz", type=float, required=True,
@@ -1046,8 +1111,7 @@ def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
     bc.add_argument("--track-form", default=TRACK_FORMS[0], choices=TRACK_FORMS,
                     help="the EN 1990 A2 deck-acceleration limit: ballasted 3.5 m/s^2 (default), direct_fastening "
                          "5 m/s^2")
-    if not sweep:
-        bc.add_argument("--progress", action="store_true", help="a progress bar on stderr")
+    _add_progress_argument(bc)
 
 
 #: the command line's option of each field of a curving case (errors name the option)
@@ -1057,8 +1121,8 @@ CURVING_OPTIONS = {"radius_m": "--radius-m", "cant_m": "--cant-m", "speed_km_h":
 
 
 def _add_curving_parser(sub) -> None:
-    from .scenarios.curving import DEFAULT_RAMP, LEAD_IN_M
-    from .track.spectra import DEFAULT_BAND_M, SPECTRA
+    from .scenarios.defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
+    from .standards import DEFAULT_BAND_M, TRACK_SPECTRA
     cv = sub.add_parser("curving", help="steady curving: a vehicle through an entry transition into a circular "
                                         "curve; per wheelset sum Y, Y/Q, lateral shift, angle of attack",
                         description="Runs the vehicle from straight track through a clothoid transition with a linear "
@@ -1077,19 +1141,20 @@ def _add_curving_parser(sub) -> None:
     cv.add_argument("--speed-kmh", type=float, required=True, help="running speed [km/h]")
     cv.add_argument("--transition-m", type=float, default=None,
                     help=f"length of the entry transition (clothoid, linear cant ramp) [m] (default: the cant ramp "
-                         f"1:{DEFAULT_RAMP:g}, at least 20 m; the leading wheelset starts {LEAD_IN_M:g} m before it)")
+                         f"1:{DEFAULT_RAMP:g}, at least {DEFAULT_MIN_TRANSITION_M:g} m; the leading wheelset starts "
+                         f"{LEAD_IN_M:g} m before it)")
     cv.add_argument("--direction", default="right", choices=("right", "left"),
                     help="direction of the curve, looking in the running direction (default right)")
-    cv.add_argument("--irregularity-spectrum", default=None, choices=tuple(SPECTRA), metavar="NAME",
+    cv.add_argument("--irregularity-spectrum", default=None, choices=tuple(TRACK_SPECTRA), metavar="NAME",
                     help="run over track irregularities (all four channels) generated from this standard spectrum "
-                         f"({', '.join(SPECTRA)}; exudyn_wheelrail/track/spectra.py) in the wavelength band "
+                         f"({', '.join(TRACK_SPECTRA)}; exudyn_wheelrail/track/spectra.py) in the wavelength band "
                          f"{DEFAULT_BAND_M[0]:g}-{DEFAULT_BAND_M[1]:g} m over the run's distance, faded in from the "
                          "leading wheelset's start to the circular curve (default: a perfect track); needs --seed")
     cv.add_argument("--seed", type=int, default=None, metavar="N",
                     help="seed of the generated irregularity (a non-negative integer; the same seed gives the same "
                          "track)")
     cv.add_argument("--out", required=True, help="output directory")
-    cv.add_argument("--progress", action="store_true", help="a progress bar on stderr")
+    _add_progress_argument(cv)
     cv.set_defaults(func=cmd_curving, check=_check_curving)
 
 
@@ -1132,9 +1197,11 @@ def cmd_curving(args):
     if case.irregularity is not None:
         print(f"irregularity: {case.irregularity!r}")
     progress = None
-    if args.progress:
+    stream = _progress_bar(args)
+    if stream:
         from .scenarios.curving import curving_distances
-        progress = ProgressBar(curving_distances(case, v)["duration_s"], label="curving")
+        progress = ProgressBar(curving_distances(case, v)["duration_s"], stream=None if stream is True else stream,
+                               label="curving: ")
     result = run_curving(case, out_dir=args.out, progress=progress)
     s = result.summary
     if progress is not None:
@@ -1155,14 +1222,25 @@ def main(argv=None) -> int:
     """Run a command; bad input gives one line ``error: <what>: <problem>`` on stderr and exit code 2 (module
     docstring), an unusual value one line ``warning: ...``; any other failure (``RuntimeError``: e.g. a creep table
     that cannot be loaded, a recorder that failed, no display for a window) one line ``error: ...`` and exit code 1;
-    a run's own status sets the exit code of a completed command (:mod:`.simulation.status`)."""
+    a run's own status sets the exit code of a completed command (:mod:`.simulation.status`).
+
+    ``argv`` None: the command line of this process (``python -m exudyn_wheelrail``, ``exudyn-wheelrail``).  Then the
+    garbage collector is paused while the checks load the command's modules, and the objects alive after them (the
+    modules: the numerical code) and at the end are frozen (``gc.freeze``): they live until the process ends, so
+    neither the collector's full passes during the run nor those of the interpreter's exit walk them again."""
     from .simulation.status import EXIT_BAD_INPUT, EXIT_ERROR
+    process = argv is None
+    if process:
+        gc.disable()
     with warnings.catch_warnings():
         warnings.showwarning = _show_warning
         warnings.simplefilter("always", InputWarning)
         args = build_parser().parse_args(argv)
         try:
             args.check(args)           # cheap checks of every option before any work
+            if process:
+                gc.freeze()
+                gc.enable()
             return args.func(args)
         except ValueError as exc:      # bad input: an option, a key of a file, a value out of range
             _print_line("error", exc)
@@ -1174,6 +1252,9 @@ def main(argv=None) -> int:
             where = f"{exc.filename}: " if exc.filename else ""
             _print_line("error", f"{where}{exc.strerror or exc}")
             return EXIT_BAD_INPUT
+        finally:
+            if process:
+                gc.freeze()
 
 
 if __name__ == "__main__":

@@ -498,9 +498,9 @@ def run_cli(*args):
 def test_cli_run_with_overrides_and_progress(tmp_path):
     out = tmp_path / "run"
     r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.duration_s=0.2",
-                "--set", "run.creep_law=fastsim", "--set", "outputs.formats=[\"npz\"]")
+                "--set", "run.creep_law=fastsim", "--set", "outputs.formats=[\"npz\"]", "--progress")
     assert r.returncode == 0, r.stderr
-    assert "100 %" in r.stderr and "status: ok" in r.stdout
+    assert "100 %" in r.stderr and "\r" not in r.stderr and "status: ok" in r.stdout      # stderr a pipe: lines
     s = json.loads((out / "summary.json").read_text())
     assert s["steps"] == 200 and s["scenario"]["contact"]["creep_law"] == "fastsim"
     assert (out / "timeseries.npz").is_file() and not (out / "timeseries.csv").exists()

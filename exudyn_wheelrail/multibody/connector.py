@@ -71,6 +71,7 @@ import math
 
 import numpy as np
 
+from .. import contact_defaults as DEFAULT
 from ..contact import geometry_table as GT
 from ..contact.creepage import DEFAULT_V_MIN_M_S
 from ..contact.layout import (  # noqa: F401  (the result and creep-parameter fields, importable from here)
@@ -105,7 +106,7 @@ __all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", 
 #: rigid-body node with a rotation vector, created with ``nodeType=exu.NodeType.RotationRotationVector``
 WHEELSET_NODE_TYPE_PREFIX = "RigidBodyRotVec"
 #: contact geometry: "online" search at every evaluation, or the precomputed "table" (contact.geometry_table)
-GEOMETRY_MODES = ("online", "table")
+GEOMETRY_MODES = DEFAULT.GEOMETRY_MODES
 
 
 class ContactStateError(RuntimeError):
@@ -135,7 +136,8 @@ class WheelRailContact:
     creep_law : a name of :data:`exudyn_wheelrail.creep.registry.LAWS` (:data:`CREEP_LAWS`); default ``"table"``,
         the USETAB-style table of Kalker's exact theory, as in the paper.  The rules every law follows (semi-axis
         ratio clamped at equal area and flagged ``CREEP_AB_CLAMPED`` in ``RES_CREEP_STATUS``, Coulomb bound) are
-        those of :mod:`exudyn_wheelrail.creep.registry`.
+        those of :mod:`exudyn_wheelrail.creep.registry`.  The defaults of ``creep_law``, ``mu`` and ``geometry``
+        are declared in :mod:`exudyn_wheelrail.contact_defaults`.
     creep_table : a :class:`~exudyn_wheelrail.creep.table.CreepTable` or a table file for ``"table"`` (default:
         the packaged table).
     mu : friction coefficient.  ``E_*``, ``nu_*``: materials (Hertz uses both; the creep laws use Kalker's
@@ -160,11 +162,12 @@ class WheelRailContact:
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
                  track: RigidStraightTrack | None = None, s_start_m: float = 0.0, frame: str = "moving",
-                 creep_law: str = "table", mu: float = 0.3, E_wheel_Pa: float = 2.1e11, nu_wheel: float = 0.28,
-                 E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28, fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
+                 creep_law: str = DEFAULT.CREEP_LAW, mu: float = DEFAULT.FRICTION, E_wheel_Pa: float = 2.1e11,
+                 nu_wheel: float = 0.28, E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28,
+                 fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
                  v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", bridge=None,
-                 geometry: str = "online", geometry_grid=None, layout=None):
+                 geometry: str = DEFAULT.GEOMETRY, geometry_grid=None, layout=None):
         import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 

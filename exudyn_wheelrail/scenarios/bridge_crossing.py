@@ -137,6 +137,8 @@ from ..structures.load_models import (AxleTrain, characteristic_spacing_m, flexu
                                       simply_supported_frequencies_Hz)
 from ..validation import Quantity
 from .deck import CHECK_POINTS_X_OVER_L, EN1990_DECK_ACCELERATION_LIMITS_M_S2, TRACK_FORMS
+from .defaults import (AXLE_LOAD_MODELS, DEFAULT_SOLVER, LATERAL_EI_RATIO, LOAD_MODELS, MAX_MODES, MODEL_NAMES,
+                       SPRUNG_DAMPING_RATIO, SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
 
 __all__ = ["BridgeCrossing", "LoadModel", "LoadModelHandle", "BridgeCrossingResult", "LOAD_MODELS", "MODEL_NAMES",
            "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "MAX_DEFAULT_DT_S", "MIN_ELEMENTS", "ELEMENTS_PER_MODE",
@@ -147,16 +149,10 @@ __all__ = ["BridgeCrossing", "LoadModel", "LoadModelHandle", "BridgeCrossingResu
            "DeckModes", "deck_modes", "deck_columns", "LATERAL_COLUMNS", "SPAN_COLUMNS", "SPAN_LATERAL_COLUMNS",
            "MAX_SPANS", "LATERAL_EI_RATIO", "AXLE_LOAD_MODELS", "SPRUNG_FREQUENCY_HZ", "SPRUNG_DAMPING_RATIO"]
 
-#: load model name -> ``"module:attribute"`` of its :class:`LoadModel` (module docstring)
-LOAD_MODELS = {"moving-loads": "exudyn_wheelrail.scenarios.bridge_crossing:MOVING_LOADS",
-               "vehicles": "exudyn_wheelrail.scenarios.bridge_crossing_vehicles:VEHICLES",
-               "sprung-masses": "exudyn_wheelrail.scenarios.bridge_crossing_sprung:SPRUNG_MASSES"}
-MODEL_NAMES = tuple(LOAD_MODELS)
-#: the load models that take the train as axle loads (a consist file through :data:`TRAIN_AXLES`)
-AXLE_LOAD_MODELS = ("moving-loads", "sprung-masses")
-#: the sprung-masses model's suspension frequency [Hz] and damping ratio (assumed; its module docstring)
-SPRUNG_FREQUENCY_HZ = 1.5
-SPRUNG_DAMPING_RATIO = 0.2
+# The load models (LOAD_MODELS, MODEL_NAMES, AXLE_LOAD_MODELS), the sprung masses' suspension, the integrator
+# (DEFAULT_SOLVER), STEPS_PER_PERIOD, MAX_MODES and LATERAL_EI_RATIO are declared in .defaults (the command line
+# shows them before any work).
+
 #: ``"module:attribute"`` of ``train_axles(path) -> AxleTrain``: the static axle loads of a consist file (the
 #: moving-load model with ``train_file``)
 TRAIN_AXLES = "exudyn_wheelrail.scenarios.bridge_crossing_vehicles:train_axles"
@@ -165,21 +161,13 @@ SPAN_M = Quantity("span length", "m", 1.0, 500.0, typical=(5.0, 150.0))
 MASS_KG_M = Quantity("deck mass per length", "kg/m", 100.0, 1.0e6, typical=(2.0e3, 1.0e5))
 F1_HZ = Quantity("first bending frequency", "Hz", 0.05, 200.0, typical=(1.0, 40.0))
 FREE_VIBRATION_S = Quantity("free-vibration time", "s", 0.0, 600.0)
-#: the integrator of a crossing (a name of :data:`~exudyn_wheelrail.simulation.settings.SOLVERS`)
-DEFAULT_SOLVER = "rk44"
-#: time steps per period of the highest mode and of the N-th harmonic of a load's passage (module docstring)
-STEPS_PER_PERIOD = 40
 #: largest default time step [s]
 MAX_DEFAULT_DT_S = 0.01
 #: beam elements of the span: max(MIN_ELEMENTS, ELEMENTS_PER_MODE * N)
 MIN_ELEMENTS = 20
 ELEMENTS_PER_MODE = 8
-#: most vertical modes of a crossing
-MAX_MODES = 60
 #: most spans of a chain
 MAX_SPANS = 50
-#: ``EI_z / EI_y`` of the deck section when no lateral frequency is given
-LATERAL_EI_RATIO = 10.0
 #: the recorded columns after ``time_s`` and ``x_first_axle_m`` (module docstring)
 DECK_COLUMNS = (("deck_midspan_displacement_m", "deck_midspan_velocity_m_s", "deck_midspan_acceleration_m_s2",
                  "deck_support_rotation_start_rad", "deck_support_rotation_end_rad")
@@ -693,7 +681,7 @@ def _max_abs(v):
 def run_bridge_crossing(case: BridgeCrossing, out_dir=None, progress=False) -> BridgeCrossingResult:
     """Build the deck and the load model in Exudyn, run the crossing through the project's runner and evaluate
     it (module docstring); write ``timeseries.csv`` and ``summary.json`` into ``out_dir`` (None: nothing written).
-    ``progress``: a progress bar on stderr."""
+    ``progress``: a progress bar — ``True`` on stderr, or a stream to draw it on; ``False``: none."""
     import exudyn as exu
 
     from ..simulation.recorder import PROGRESS_MIN_STEPS, ProgressBar, Recorder
@@ -727,7 +715,8 @@ def run_bridge_crossing(case: BridgeCrossing, out_dir=None, progress=False) -> B
     build_seconds = time.perf_counter() - t_build
     bar = None
     if progress and settings.steps >= PROGRESS_MIN_STEPS:
-        bar = ProgressBar(settings.end_time_s, label="bridge-crossing: ")
+        bar = ProgressBar(settings.end_time_s, stream=None if progress is True else progress,
+                          label="bridge-crossing: ")
     outcome = run(mbs, settings, handle.contact, speed_m_s=case.speed_m_s, recorder=recorder, progress=bar)
     if bar is not None:
         bar.close(outcome.status.kind)

@@ -41,11 +41,13 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import contact_defaults
 from ..analysis.curving import curving_columns, minimum_radius_m, steady_state
 from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..simulation import status as S
 from ..track.irregularities import CHANNELS, ChannelTable
 from ..track.layout import MAX_CANT_M, TrackLayout
+from .defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
            "build_curving", "run_curving", "LEAD_IN_M", "SETTLE_M", "SETTLE_S", "WINDOW_M", "WINDOW_S",
@@ -53,17 +55,15 @@ __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_c
            "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity",
            "irregularity_fade_m", "MIN_FADE_M", "START_TOLERANCE_M"]
 
-#: straight track ahead of the leading wheelset at t = 0 [m]
-LEAD_IN_M = 5.0
+# LEAD_IN_M (straight track ahead of the leading wheelset at t = 0) and the default transition (the cant ramp
+# 1 : DEFAULT_RAMP, at least DEFAULT_MIN_TRANSITION_M) are declared in .defaults (the command line shows them).
+
 #: settling distance after the trailing wheelset enters the circular curve: at least this [m] and this [s] of run
 SETTLE_M = 60.0
 SETTLE_S = 3.0
 #: averaging window of the steady state: at least this [m] and this [s] of run
 WINDOW_M = 40.0
 WINDOW_S = 2.5
-#: default transition: the cant ramp 1 : DEFAULT_RAMP (EN 13803's usual limit for the cant gradient), at least 20 m
-DEFAULT_RAMP = 400.0
-DEFAULT_MIN_TRANSITION_M = 20.0
 #: RK44 step = this / the fastest creep decay rate (RK44's real-axis stability limit is 2.785)
 CREEP_STEP_FACTOR = 2.0
 #: plausible ranges (values outside name the unit they were evidently given in)
@@ -99,7 +99,7 @@ class CurvingCase:
     speed_km_h: float
     transition_m: float | None = None
     direction: str = "right"
-    friction: float = 0.3
+    friction: float = contact_defaults.FRICTION
     preset: str = "fast"
     #: a :class:`~exudyn_wheelrail.contact.WheelRailPair` in place of the vehicle's profiles (None: the vehicle's)
     wheel_rail_pair: object = None

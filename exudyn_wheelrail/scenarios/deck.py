@@ -47,16 +47,16 @@ import math
 
 import numpy as np
 
+from ..standards import EN1990_DECK_ACCELERATION_LIMITS_M_S2, TRACK_FORMS
+
 __all__ = ["DECK_GROUPS", "TRACK_FORMS", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "CHECK_POINTS_X_OVER_L",
            "PLATEAU_AUTO", "support_motion_default", "en1990_cutoff_Hz", "support_motion", "deck_probes",
            "deck_summary", "deck_scalars"]
 
 #: column groups of the deck beyond the recorder's ``deck`` group (module docstring), in the order they are written
 DECK_GROUPS = ("deck_acceleration", "deck_wheelsets", "deck_lateral")
-#: EN 1990:2002/A1:2005 A2.4.4.2.1(4)P: largest peak vertical deck acceleration [m/s²] by track form
-#: (γ_bt ballasted track, γ_df direct fastening)
-EN1990_DECK_ACCELERATION_LIMITS_M_S2 = {"ballasted": 3.5, "direct_fastening": 5.0}
-TRACK_FORMS = tuple(EN1990_DECK_ACCELERATION_LIMITS_M_S2)
+# EN1990_DECK_ACCELERATION_LIMITS_M_S2 (EN 1990 A2.4.4.2.1(4)P, by track form) and TRACK_FORMS are declared in
+# exudyn_wheelrail.standards.
 #: the check points along each span (x/L): L/10 … 9L/10
 CHECK_POINTS_X_OVER_L = tuple(k / 10.0 for k in range(1, 10))
 #: ``plateau_cycles = PLATEAU_AUTO``: the burst's plateau lasts to the end of the run

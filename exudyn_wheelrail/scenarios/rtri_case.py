@@ -35,6 +35,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from ..simulation.settings import DURATION_AUTO, NEWMARK_BETA, NEWMARK_GAMMA, ContactSettings, RunSettings
+from .defaults import CAR_BODY_MODELS
 from .rtri_assumptions import RTRI, RtriAssumptions
 from .scenario import DEFAULT_FLOOR_HEIGHT_M, validate_scenario
 
@@ -52,9 +53,8 @@ __all__ = [
 
 #: the scenario groups the case records
 RTRI_GROUPS = ("Y", "Q", "YQ", "flange", "contact_angle", "wheelset_lateral", "track", "carbody")
-#: the car-body models of the case (``RtriCase.car_body``, ``rtri --car-body``): the vehicle file's rigid car body
-#: (``RtriAssumptions.vehicle``) or its flexible variant (``RtriAssumptions.flexible_vehicle``)
-CAR_BODY_MODELS = ("rigid", "flexible")
+# CAR_BODY_MODELS, the car-body models of the case (``RtriCase.car_body``, ``rtri --car-body``), are declared in
+# .defaults (the command line shows them).
 #: the car-body measurement points at floor level (name -> position along the car, scenario ``x_m``); the rigid
 #: case records ``rear`` (Fig. 5), the flexible one all three (comfort at the bogies and mid-car)
 CARBODY_POINTS = {"front": "front_bogie", "centre": "centre", "rear": "rear_bogie"}

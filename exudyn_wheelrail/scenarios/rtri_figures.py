@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .plots import decimated, pyplot
 from .rtri_run import AVERAGE_WINDOW_S, RtriResult
 
 __all__ = ["plot_fig5", "plot_fig6", "plot_fig7", "plot_carbody_comparison"]
@@ -30,12 +31,25 @@ def _title(summary: dict) -> str:
             "SUBSTITUTE inputs (Manchester vehicle 1, S1002/UIC60 1:40; assumed δ, l_t) — see summary.json")
 
 
+#: size [in] and margins (fractions of the figure) of Figs. 5 and 6: room for the two-line title, the axis labels
+#: and the tick labels, fixed, so that the figure is laid out without a layout pass before it is drawn
+FIG56_SIZE_IN = (9.0, 4.5)
+FIG56_MARGINS = dict(left=0.09, right=0.985, bottom=0.11, top=0.885)
+
+
+def _start():
+    """Figure and axes of Fig. 5 or 6."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=FIG56_SIZE_IN)
+    fig.subplots_adjust(**FIG56_MARGINS)
+    return plt, fig, ax
+
+
 def _finish(plt, fig, ax, path):
-    """Common finish of the Fig. 5/6 plots: small title, grid, legend, saved and closed."""
+    """Common finish of the Fig. 5/6 plots: small title, grid, legend, saved (drawn once) and closed."""
     ax.title.set_fontsize(8)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -61,22 +75,14 @@ def _passage(ax, summary, t_peak_s, y_plotted, text):
             label=f"passage peak {text} at {t_peak_s:.3f} s")
 
 
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
 def plot_fig5(result: RtriResult, path):
     """Car-body lateral acceleration above the rear bogie vs time (cf. paper Fig. 5)."""
-    plt = _pyplot()
+    plt, fig, ax = _start()
     ts, s = result.timeseries, result.summary
-    fig, ax = plt.subplots(figsize=(9, 4.5))
     _spans(ax, s)
-    ax.plot(ts["time_s"], ts["carbody_lateral_acceleration_rear_m_s2"], "C0-", lw=1.0,
+    ax.plot(*decimated(ts["time_s"], ts["carbody_lateral_acceleration_rear_m_s2"]), "C0-", lw=1.0,
             label="car body above the rear bogie, floor level (track frame)")
-    ax.plot(ts["time_s"], ts["carbody_lateral_accelerometer_rear_m_s2"], "C3-", lw=0.6, alpha=0.6,
+    ax.plot(*decimated(ts["time_s"], ts["carbody_lateral_accelerometer_rear_m_s2"]), "C3-", lw=0.6, alpha=0.6,
             label="same point, body-fixed accelerometer (incl. g·roll)")
     p = s.get("peaks_passage") or {}
     if "time_of_max_carbody_acceleration_s" in p:
@@ -90,17 +96,16 @@ def plot_fig5(result: RtriResult, path):
 
 def plot_fig6(result: RtriResult, path):
     """Lateral contact force on the right wheel of the leading wheelset vs time (cf. paper Fig. 6)."""
-    plt = _pyplot()
+    plt, fig, ax = _start()
     ts, s = result.timeseries, result.summary
-    fig, ax = plt.subplots(figsize=(9, 4.5))
     _spans(ax, s)
     t = ts["time_s"]
-    ax.plot(t, ts["lateral_contact_force_w1_right_N"] * 1e-3, "C0-", lw=0.8,
+    ax.plot(*decimated(t, ts["lateral_contact_force_w1_right_N"] * 1e-3), "C0-", lw=0.8,
             label="rail on wheel, track y (+ right): right-flange contact is negative")
     n = max(1, int(round(AVERAGE_WINDOW_S / s["dt_s"])))
     if len(t) >= n:
         avg = np.convolve(ts["lateral_contact_force_w1_right_N"], np.ones(n) / n, mode="valid")
-        ax.plot(t[n - 1:] - 0.5 * (n - 1) * s["dt_s"], avg * 1e-3, "k-", lw=1.2,
+        ax.plot(*decimated(t[n - 1:] - 0.5 * (n - 1) * s["dt_s"], avg * 1e-3), "k-", lw=1.2,
                 label=f"{AVERAGE_WINDOW_S * 1e3:g} ms moving average")
     fl = ts["flange_contact_w1_right"] > 0.5
     if fl.any():
@@ -118,7 +123,7 @@ def plot_fig6(result: RtriResult, path):
 
 def plot_fig7(rows, path):
     """Maximum car-body lateral acceleration vs speed, one line per span (cf. paper Fig. 7)."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     flange_labelled = False
     for i, L in enumerate(sorted({r["span_m"] for r in rows})):
@@ -149,7 +154,7 @@ def plot_carbody_comparison(results: dict, path):
     e.g. rigid and flexible, recorded at the same points) side by side: one row per point (front bogie, mid-car,
     rear bogie), lateral (left column) and vertical (right column) kinematic acceleration vs time, with each run's
     Sperling index of the point (``summary["comfort"]``) in the legend."""
-    plt = _pyplot()
+    plt = pyplot()
     first = next(iter(results.values()))
     points = [p for p in ("front", "centre", "rear")
               if all(f"carbody_lateral_acceleration_{p}_m_s2" in r.timeseries for r in results.values())]
@@ -160,8 +165,8 @@ def plot_carbody_comparison(results: dict, path):
             for k, (name, r) in enumerate(results.items()):
                 wz = r.summary.get("comfort", {}).get(p, {}).get(d, {}).get("sperling_Wz")
                 label = f"{name} car body" + (f" (Sperling Wz {wz:.2f})" if wz is not None else "")
-                ax.plot(r.timeseries["time_s"], r.timeseries[f"carbody_{d}_acceleration_{p}_m_s2"], f"C{k}-",
-                        lw=0.9 if k == 0 else 0.7, alpha=1.0 if k == 0 else 0.85, label=label)
+                ax.plot(*decimated(r.timeseries["time_s"], r.timeseries[f"carbody_{d}_acceleration_{p}_m_s2"]),
+                        f"C{k}-", lw=0.9 if k == 0 else 0.7, alpha=1.0 if k == 0 else 0.85, label=label)
             ax.set_ylabel(f"{d} acc. {p} [m/s²]", fontsize=8)
             ax.grid(True, alpha=0.3)
             ax.legend(fontsize=7)

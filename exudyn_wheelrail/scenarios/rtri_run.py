@@ -239,14 +239,15 @@ def _after_passage(ts: dict, t_passage_end: float) -> dict:
             "min_wheel_load_w1_right_N": float(np.nanmin(ts["vertical_contact_force_w1_right_N"][keep]))}
 
 
-def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
+def run_rtri(case: RtriCase, progress=None, view=None, progress_bar=False) -> RtriResult:
     """Build the case's spec (:meth:`RtriCase.scenario`, :func:`~.scenario.build_scenario`), warm up, run it
     through the one solve wrapper (timed: ``mbs.SolveDynamic`` only) and collect the outputs.  ``summary["status"]``
     is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES` (``status_detail``: time, wheelset, side, the
     monitor's detail, a hint); the time series keep the rows up to the last valid state.  ``progress``: a callable
     for one line before the run (e.g. ``print``).  ``view``: an object with ``attach(model)`` (called with the built
     :class:`~.scenario.ScenarioModel` before the solve) and ``close()`` (after it), e.g.
-    :class:`~exudyn_wheelrail.interactive.view3d.RtriView` (Exudyn's renderer)."""
+    :class:`~exudyn_wheelrail.interactive.view3d.RtriView` (Exudyn's renderer).  ``progress_bar``: the run's
+    progress bar, ``True`` on stderr or a stream to draw it on (:func:`~.scenario.run_model`); ``False``: none."""
     vehicle = case.vehicle()
     if vehicle.layout != "car" or vehicle.car_body is None:
         raise ValueError(f"vehicle {case.assumptions.vehicle!r}: the RTRI case needs a car (layout 'car')")
@@ -260,7 +261,7 @@ def run_rtri(case: RtriCase, progress=None, view=None) -> RtriResult:
         progress(f"RTRI: span {case.span_m:g} m, {case.speed_km_h:g} km/h, {run.solver}, dt {run.dt_s:g} s, "
                  f"{run.duration_s:g} s ({run.steps} steps), {case.contact.wheel_rail}"
                  + (f", creep law {case.contact.creep_law}" if h.contact else ""))
-    outcome = run_model(h, progress=False, view=view)
+    outcome = run_model(h, progress=progress_bar, view=view)
     status = outcome.status
     rec = h.recorder.table() if h.recorder is not None else {}
     ts = ({name: rec[col] for name, col in rtri_columns(len(h.model.wheelsets), case.carbody_points).items()}

@@ -36,7 +36,12 @@ class Preset:
 
     def __post_init__(self):
         RunSettings(**self.run)                  # the fields exist and the values are valid
-        ContactSettings(**self.contact)
+        # the contact fields exist; their values are checked where the preset is applied (:func:`apply_preset`
+        # builds the ContactSettings: the creep law's name is checked against the creep laws' registry, which
+        # loads their compiled code, so not when the presets are merely listed, e.g. by ``--help``)
+        unknown = sorted(set(self.contact) - {f.name for f in dataclasses.fields(ContactSettings)})
+        if unknown:
+            raise ValueError(f"preset {self.name}: unknown contact settings {', '.join(unknown)}")
 
 
 PRESETS = {

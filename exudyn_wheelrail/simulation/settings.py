@@ -27,10 +27,10 @@ Errors: a bad value raises :class:`SettingsError` (a ``ValueError``) whose messa
 from __future__ import annotations
 
 import dataclasses
-import inspect
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
+from .. import contact_defaults as DEFAULT
 from ..validation import Quantity, finite
 
 __all__ = ["SOLVER_TYPES", "SOLVERS", "IMPLICIT_SOLVERS", "NEWMARK_BETA", "NEWMARK_GAMMA", "NEWTON_TOLERANCE",
@@ -184,20 +184,9 @@ class RunSettings:
         return dataclasses.asdict(self)
 
 
-def _connector_default(name: str):
-    """The default of a :class:`~exudyn_wheelrail.multibody.connector.WheelRailContact` option (declared there)."""
-    from ..multibody.connector import WheelRailContact
-    return inspect.signature(WheelRailContact.__init__).parameters[name].default
-
-
 def _creep_laws() -> tuple[str, ...]:
-    from ..multibody.connector import CREEP_LAWS
+    from ..creep.registry import CREEP_LAWS
     return tuple(sorted(CREEP_LAWS))
-
-
-def _geometry_modes() -> tuple[str, ...]:
-    from ..multibody.connector import GEOMETRY_MODES
-    return tuple(GEOMETRY_MODES)
 
 
 @dataclass(frozen=True)
@@ -205,16 +194,16 @@ class ContactSettings:
     """How the wheels touch the rails: creep law, friction coefficient, FASTSIM grid, contact geometry (``"online"``
     search or the precomputed ``"table"`` for the rigid rail profile, :mod:`~exudyn_wheelrail.contact.
     geometry_table`) and the wheel–rail element (:data:`WHEEL_RAIL_MODES`).  The defaults of the creep law, the
-    friction coefficient and the geometry are the connector's (:class:`~exudyn_wheelrail.multibody.connector.
-    WheelRailContact`)."""
+    friction coefficient and the geometry are the connector's, declared in :mod:`exudyn_wheelrail.contact_defaults`;
+    the creep laws are those of :data:`exudyn_wheelrail.creep.registry.LAWS`."""
 
-    creep_law: str = field(default_factory=lambda: _connector_default("creep_law"))
-    friction: float = field(default_factory=lambda: _connector_default("mu"))
+    creep_law: str = DEFAULT.CREEP_LAW
+    friction: float = DEFAULT.FRICTION
     #: FASTSIM's (n_x, n_y) grid (creep law "fastsim" only): 24 x 8, the grid of the RTRI case and the scenarios —
     #: a quarter of the points of FASTSIM's own default (:data:`~exudyn_wheelrail.creep.fastsim.DEFAULT_NX` x
     #: ``DEFAULT_NY``), for simulation cost
     fastsim_grid: tuple[int, int] = (24, 8)
-    geometry: str = field(default_factory=lambda: _connector_default("geometry"))
+    geometry: str = DEFAULT.GEOMETRY
     wheel_rail: str = WHEEL_RAIL_MODES[0]
 
     def __post_init__(self):
@@ -229,7 +218,7 @@ class ContactSettings:
         for g in grid:
             _integer("fastsim_grid", g, 1, 1000)
         object.__setattr__(self, "fastsim_grid", (int(grid[0]), int(grid[1])))
-        _choice("geometry", self.geometry, _geometry_modes())
+        _choice("geometry", self.geometry, DEFAULT.GEOMETRY_MODES)
         _choice("wheel_rail", self.wheel_rail, WHEEL_RAIL_MODES)
 
     def as_dict(self) -> dict:

@@ -27,7 +27,8 @@ Figure 6.12: the ten universal trains HSLM-A1 … A10, articulated trains of two
 ``N`` intermediate coaches of length ``D``, every axle carrying the point force ``P``; bogie axle spacing ``d``
 (the power cars' 3.0 m).  Annex E gives the limits of validity of the model (E.1, Table E.1: e.g. a train at most
 400 m long and 10 000 kN heavy) and the selection of the critical universal train (E.2).  :data:`HSLM_A` holds
-Table 6.3 (``N``, ``D`` [m], ``d`` [m], ``P`` [kN]):
+Table 6.3 (``N``, ``D`` [m], ``d`` [m], ``P`` [kN]; it and Figure 6.12's layout are declared in
+:mod:`exudyn_wheelrail.standards`):
 
 =======  ==  ====  ===  ===
 train    N   D     d    P
@@ -96,25 +97,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ..standards import (HSLM_A, HSLM_END_COACH_TO_BOGIE_M, HSLM_NAMES, HSLM_POWER_CAR_AXLES_M,
+                         HSLM_POWER_CAR_TO_END_COACH_M)
+
 __all__ = ["AxleTrain", "HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_POWER_CAR_TO_END_COACH_M",
            "HSLM_END_COACH_TO_BOGIE_M", "AXLE_FILE_COLUMNS", "MIN_AXLE_SPACING_M", "hslm_a", "hslm_name",
            "read_axle_file",
            "characteristic_spacing_m", "resonance_speeds_m_s", "flexural_rigidity_Nm2",
            "simply_supported_frequencies_Hz", "modal_moving_load_response", "quasi_static_midspan_deflection_m"]
 
-#: EN 1991-2:2003 Table 6.3: universal train -> (N intermediate coaches, coach length D [m], bogie axle spacing
-#: d [m], point force P [kN])
-HSLM_A = {"A1": (18, 18.0, 2.0, 170.0), "A2": (17, 19.0, 3.5, 200.0), "A3": (16, 20.0, 2.0, 180.0),
-          "A4": (15, 21.0, 3.0, 190.0), "A5": (14, 22.0, 2.0, 170.0), "A6": (13, 23.0, 2.0, 180.0),
-          "A7": (13, 24.0, 2.0, 190.0), "A8": (12, 25.0, 2.5, 190.0), "A9": (11, 26.0, 2.0, 210.0),
-          "A10": (11, 27.0, 2.0, 210.0)}
-HSLM_NAMES = tuple(HSLM_A)
-#: EN 1991-2:2003 Figure 6.12: axle places of a power car from its leading axle [m]
-HSLM_POWER_CAR_AXLES_M = (0.0, 3.0, 14.0, 17.0)
-#: Figure 6.12: from the power car's axle next to the end coach to the end coach's first axle [m]
-HSLM_POWER_CAR_TO_END_COACH_M = 3.525
-#: Figure 6.12: from the end coach's first axle to the centre of the first articulated bogie, minus D [m]
-HSLM_END_COACH_TO_BOGIE_M = -3.525 / 2.0
 #: the columns an axle file must have
 AXLE_FILE_COLUMNS = ("x_m", "load_N")
 #: smallest distance between two axles [m] (closer ones are one axle given twice)

@@ -1,4 +1,6 @@
-r"""Standard power spectral densities of track irregularities and irregularities generated from them.
+r"""Standard power spectral densities of track irregularities and irregularities generated from them (the spectra's
+published coefficients, tabulated below, and the default wavelength band are declared in
+:mod:`exudyn_wheelrail.standards`).
 
 PSD convention (used throughout)
 --------------------------------
@@ -79,28 +81,17 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import quad
 
+from ..standards import (DEFAULT_BAND_M, FRA_CLASSES, FRA_K, FRA_OMEGA_C, GERMAN_B, GERMAN_OMEGA, GERMAN_SPECTRA,
+                         TRACK_SPECTRA)
 from .irregularities import CHANNELS, ChannelTable
 
 __all__ = ["SPECTRA", "TrackSpectrum", "SpectralIrregularity", "DEFAULT_BAND_M", "DEFAULT_STEP_M",
            "spectrum_by_name"]
 
-#: wavelength band of generated irregularities by default [m] (EN 13848-1's D1–D3 together: 3–150 m)
-DEFAULT_BAND_M = (3.0, 150.0)
 #: sample spacing of generated irregularities by default [m]
 DEFAULT_STEP_M = 0.25
 
 _CM2 = 1e-4  # cm² -> m²
-
-# FRA classes: (A_v, A_a, Ω_s) [cm² rad/m, cm² rad/m, rad/m]
-_FRA = {1: (1.2107, 3.3634, 0.6046), 2: (1.0181, 1.2107, 0.9308), 3: (0.6816, 0.4128, 0.8520),
-        4: (0.5376, 0.3027, 1.1312), 5: (0.2095, 0.0762, 0.8209), 6: (0.0339, 0.0339, 0.4380)}
-_FRA_K = 0.25
-_FRA_OMEGA_C = 0.8245
-
-# German spectra: (A_a, A_v, A_g) [m rad]
-_GERMAN = {"low": (2.119e-7, 4.032e-7, 5.32e-8), "high": (6.125e-7, 1.080e-6, 1.032e-7)}
-_GERMAN_OMEGA = (0.8246, 0.0206, 0.4380)  # Ω_c, Ω_r, Ω_s [rad/m]
-_GERMAN_B = 0.75
 
 
 @dataclass(frozen=True)
@@ -119,15 +110,15 @@ class TrackSpectrum:
             raise ValueError(f"spectrum {self.name}: unknown channel {channel!r} (expected {', '.join(CHANNELS)})")
         w2 = np.asarray(omega_rad_m, dtype=float) ** 2
         if self.family == "fra":
-            a_v, a_a, om_s = _FRA[self.level]
-            c2 = _FRA_OMEGA_C ** 2
+            a_v, a_a, om_s = FRA_CLASSES[self.level]
+            c2 = FRA_OMEGA_C ** 2
             if channel == "level":
-                return _CM2 * _FRA_K * a_v * c2 / (w2 * (w2 + c2))
+                return _CM2 * FRA_K * a_v * c2 / (w2 * (w2 + c2))
             if channel == "alignment":
-                return _CM2 * _FRA_K * a_a * c2 / (w2 * (w2 + c2))
-            return _CM2 * 4.0 * _FRA_K * a_v * c2 / ((w2 + c2) * (w2 + om_s ** 2))
-        a_a, a_v, a_g = _GERMAN[self.level]
-        om_c, om_r, om_s = _GERMAN_OMEGA
+                return _CM2 * FRA_K * a_a * c2 / (w2 * (w2 + c2))
+            return _CM2 * 4.0 * FRA_K * a_v * c2 / ((w2 + c2) * (w2 + om_s ** 2))
+        a_a, a_v, a_g = GERMAN_SPECTRA[self.level]
+        om_c, om_r, om_s = GERMAN_OMEGA
         c2 = om_c ** 2
         base = c2 / ((w2 + om_r ** 2) * (w2 + c2))
         if channel == "level":
@@ -135,7 +126,7 @@ class TrackSpectrum:
         if channel == "alignment":
             return a_a * base
         if channel == "cross_level":
-            return (2.0 * _GERMAN_B) ** 2 * (a_v / _GERMAN_B ** 2) * base * w2 / (w2 + om_s ** 2)
+            return (2.0 * GERMAN_B) ** 2 * (a_v / GERMAN_B ** 2) * base * w2 / (w2 + om_s ** 2)
         return a_g * base * w2 / (w2 + om_s ** 2)
 
     def band_variance(self, channel: str, band_m=DEFAULT_BAND_M) -> float:
@@ -145,17 +136,8 @@ class TrackSpectrum:
                           epsabs=0.0, epsrel=1e-10)[0])
 
 
-def _spectra() -> dict[str, TrackSpectrum]:
-    out = {}
-    for c in _FRA:
-        out[f"fra_class_{c}"] = TrackSpectrum(f"fra_class_{c}", "fra", c, f"FRA class {c} (Hamid & Yang 1981)")
-    for lv in _GERMAN:
-        out[f"german_{lv}"] = TrackSpectrum(f"german_{lv}", "german", lv, f"German high-speed, {lv} interference")
-    return out
-
-
-#: the standard spectra by name
-SPECTRA = _spectra()
+#: the standard spectra by name (:data:`exudyn_wheelrail.standards.TRACK_SPECTRA`)
+SPECTRA = {name: TrackSpectrum(name, *entry) for name, entry in TRACK_SPECTRA.items()}
 
 
 def spectrum_by_name(name: str) -> TrackSpectrum:

@@ -1,0 +1,22 @@
+"""The defaults of the wheel–rail contact, declared once: the connector
+(:class:`~exudyn_wheelrail.multibody.connector.WheelRailContact`) takes them as its keyword defaults and the contact
+settings of a run (:class:`~exudyn_wheelrail.simulation.settings.ContactSettings`) as theirs.
+
+This module imports nothing, so that a front end can show the defaults before any work (the command line's
+``--help``) without loading the compiled contact code.
+
+>>> CREEP_LAW, FRICTION, GEOMETRY
+('table', 0.3, 'online')
+"""
+
+__all__ = ["CREEP_LAW", "FRICTION", "GEOMETRY", "GEOMETRY_MODES"]
+
+#: creep law: the USETAB-style table of Kalker's exact theory, as in Montenegro et al. 2015 (a name of
+#: :data:`exudyn_wheelrail.creep.registry.LAWS`)
+CREEP_LAW = "table"
+#: wheel–rail friction coefficient (dry steel on steel)
+FRICTION = 0.3
+#: contact geometry: "online" search at every evaluation, or the precomputed "table" for a rigid rail profile
+#: (:mod:`exudyn_wheelrail.contact.geometry_table`)
+GEOMETRY_MODES = ("online", "table")
+GEOMETRY = GEOMETRY_MODES[0]

@@ -1,0 +1,46 @@
+"""The choices and defaults of the scenarios' inputs that a front end shows before any work, declared once: the RTRI
+case's car-body models (:mod:`.rtri_case`), the bridge crossing's load models, integrator and modal resolution
+(:mod:`.bridge_crossing`) and the curving run's transition and lead-in (:mod:`.curving`).  Those modules import
+them from here; their meaning is documented there.
+
+This module imports nothing, so that the command line can build its options and ``--help`` without loading the
+numerical code.
+"""
+
+__all__ = ["CAR_BODY_MODELS", "LOAD_MODELS", "MODEL_NAMES", "AXLE_LOAD_MODELS", "SPRUNG_FREQUENCY_HZ",
+           "SPRUNG_DAMPING_RATIO", "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "MAX_MODES", "LATERAL_EI_RATIO",
+           "LEAD_IN_M", "DEFAULT_RAMP", "DEFAULT_MIN_TRANSITION_M"]
+
+# ------------------------------------------------------------------------------------------------- RTRI case
+#: the car-body models of the case (``RtriCase.car_body``, ``rtri --car-body``): the vehicle file's rigid car body
+#: (``RtriAssumptions.vehicle``) or its flexible variant (``RtriAssumptions.flexible_vehicle``)
+CAR_BODY_MODELS = ("rigid", "flexible")
+
+# -------------------------------------------------------------------------------------------- bridge crossing
+#: load model name -> ``"module:attribute"`` of its ``LoadModel`` (:mod:`.bridge_crossing`, "Load models")
+LOAD_MODELS = {"moving-loads": "exudyn_wheelrail.scenarios.bridge_crossing:MOVING_LOADS",
+               "vehicles": "exudyn_wheelrail.scenarios.bridge_crossing_vehicles:VEHICLES",
+               "sprung-masses": "exudyn_wheelrail.scenarios.bridge_crossing_sprung:SPRUNG_MASSES"}
+MODEL_NAMES = tuple(LOAD_MODELS)
+#: the load models that take the train as axle loads (a consist file through ``bridge_crossing.TRAIN_AXLES``)
+AXLE_LOAD_MODELS = ("moving-loads", "sprung-masses")
+#: the sprung-masses model's suspension frequency [Hz] and damping ratio (assumed; its module docstring)
+SPRUNG_FREQUENCY_HZ = 1.5
+SPRUNG_DAMPING_RATIO = 0.2
+#: the integrator of a crossing (a name of :data:`~exudyn_wheelrail.simulation.settings.SOLVERS`)
+DEFAULT_SOLVER = "rk44"
+#: time steps per period of the highest mode and of the N-th harmonic of a load's passage (``bridge_crossing``
+#: module docstring)
+STEPS_PER_PERIOD = 40
+#: most vertical modes of a crossing
+MAX_MODES = 60
+#: ``EI_z / EI_y`` of the deck section when no lateral frequency is given
+LATERAL_EI_RATIO = 10.0
+
+# ----------------------------------------------------------------------------------------------- curving run
+#: straight track ahead of the leading wheelset at t = 0 [m]
+LEAD_IN_M = 5.0
+#: default transition: the cant ramp 1 : DEFAULT_RAMP (EN 13803's usual limit for the cant gradient), at least
+#: DEFAULT_MIN_TRANSITION_M [m]
+DEFAULT_RAMP = 400.0
+DEFAULT_MIN_TRANSITION_M = 20.0
