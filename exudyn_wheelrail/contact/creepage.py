@@ -74,6 +74,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
 from ..jit import compiled
 
 __all__ = [

@@ -54,8 +54,8 @@ Several zones on one region (S1002/UIC60 has two tread zones ~10 mm apart near t
 from __future__ import annotations
 
 import numpy as np
-from ..jit import compiled
 
+from ..jit import compiled
 from ..profiles.curve import curve_eval
 from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, parameters; re-exported)
     F_A_REL, F_B_REL, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_HERTZ_STATUS, F_ITERATIONS, F_KR_LAT, F_KR_ROLL,

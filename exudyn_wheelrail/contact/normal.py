@@ -94,10 +94,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from ..jit import compiled
 from scipy.interpolate import CubicSpline
 from scipy.special import ellipe, ellipkm1
 
+from ..jit import compiled
 from ..validation import finite, poisson_ratio, youngs_modulus
 
 __all__ = [

@@ -17,8 +17,8 @@ rail fixed; the wheel curve is given in the wheelset frame and placed by its pos
 from __future__ import annotations
 
 import numpy as np
-from ..jit import compiled
 
+from ..jit import compiled
 from ..profiles.curve import curve_eval
 
 NEWTON_MAX_STEP_M = 3e-3

@@ -39,8 +39,8 @@ from __future__ import annotations
 
 import math
 
-from ..jit import compiled
 
+from ..jit import compiled
 from .linear import kalker_coefficients
 from ._inputs import check_contact_inputs
 

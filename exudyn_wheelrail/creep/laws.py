@@ -117,8 +117,8 @@ from __future__ import annotations
 
 import math
 
-from ..jit import compiled
 
+from ..jit import compiled
 from .linear import fastsim_spin_moment_coefficient, kalker_coefficients
 from ._inputs import check_contact_inputs, finite as _finite
 

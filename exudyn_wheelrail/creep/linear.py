@@ -35,9 +35,9 @@ import math
 from pathlib import Path
 
 import numpy as np
-from ..jit import compiled
 from scipy.interpolate import PchipInterpolator
 
+from ..jit import compiled
 from ..validation import finite, poisson_ratio
 
 __all__ = [

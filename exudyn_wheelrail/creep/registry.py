@@ -36,9 +36,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from ..jit import compiled
 
 from ..contact.layout import CP_AB_MAX, CP_AB_MIN, CP_G, CP_MU, CP_NU, CP_NX, CP_NY, CP_V_MIN, N_CP
+from ..jit import compiled
 from . import linear as _linear
 from .fastsim import fastsim_core
 from .laws import polach_core, she_core

@@ -119,8 +119,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from ..jit import compiled
 
+from ..jit import compiled
 from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients, table_poisson
 from ._inputs import check_contact_inputs
 

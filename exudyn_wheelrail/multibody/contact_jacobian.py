@@ -50,7 +50,6 @@ differences, the approximate ones against what they promise and Newton's contrac
 from __future__ import annotations
 
 import numpy as np
-from ..jit import compiled
 
 from ..contact.creepage import CREEP_DEGENERATE_FRAME, CREEP_INVALID_INPUT, CREEP_REVERSED, contact_frame_core
 from ..contact.kernel import FLAG_BLENDED, FLAG_HERTZ_CLAMPED
@@ -59,6 +58,7 @@ from ..contact.layout import (CP_V_MIN, F_DN_DDELTA, F_FLAGS, F_KR_LAT, F_KW_LAT
                               P_BLEND_DEPTH, RES_A, RES_B, RES_CREEP_STATUS, RES_ETA, RES_FX, RES_FY, RES_MZ, RES_N,
                               RES_P_X, RES_P_Y, RES_P_Z, RES_PHI, RES_STATUS, RES_V, RES_XI, SLOT_TREAD, SLOT_TREAD_2)
 from ..creep.registry import CREEP_LAWS, creep_forces
+from ..jit import compiled
 from ..structures.deck_kinematics import DECK_GROUND_Y, rail_pair_to_track
 from .connector_core import V_E_AXLE, V_N_RAIL, WS_COS_TH, WS_SIN_TH, WS_Y_RAIL, WS_Z_RAIL
 

@@ -33,12 +33,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from ..jit import compiled
 
 from ..contact.kernel import FLAG_DEEP_PENETRATION, FLAG_PROFILE_END
 from ..contact.layout import (F_DN_DDELTA, F_NR_Y, F_NR_Z, F_PENETRATION, F_S_WHEEL, N_SLOTS, RES_DECK_Y,
                               RES_DECK_Z, RES_DELTA, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_FLAGS, RES_GAMMA,
                               RES_N, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS, SLOT_FLANGE)
+from ..jit import compiled
 from .rotations import rotation_from_vector
 
 # ---- constants: par[PAR_*] ---------------------------------------------------------------------------------------

@@ -54,8 +54,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from ..jit import compiled
 from scipy.interpolate import CubicSpline
+
+from ..jit import compiled
 
 __all__ = [
     "LATERAL",

@@ -85,8 +85,8 @@ import math
 
 import numpy as np
 from exudyn.itemInterface import LoadForceVector, LoadTorqueVector
-from ..jit import compiled
 
+from ..jit import compiled
 from ..track.layout import TrackLayout, heading_many, layout_at
 
 __all__ = ["TrackFollowingFrame"]

@@ -17,8 +17,8 @@ curves one after the other, and ``meta`` (n_curves, 5) = [first row, row count, 
 from __future__ import annotations
 
 import numpy as np
-from ..jit import compiled
 
+from ..jit import compiled
 from .dense import DenseProfile
 
 NODE_COLUMNS = 7

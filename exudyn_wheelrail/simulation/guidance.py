@@ -22,10 +22,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from ..jit import compiled
 
 from ..analysis.safety import EN14363_WINDOW_M, prudhomme_limit_N
 from ..contact.layout import N_RES, N_SLOTS
+from ..jit import compiled
 from ..multibody.connector_core import compiled_for
 from ..multibody.monitor import SIDES, Status
 from .recorder import wheel_force_yz

@@ -41,9 +41,9 @@ import sys
 import time
 
 import numpy as np
-from ..jit import compiled
 
 from ..contact.layout import N_SLOTS, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_N, RES_STATUS, SLOT_FLANGE
+from ..jit import compiled
 from ..multibody.track import irregularity_at
 
 __all__ = ["GROUPS", "SIDES", "Recorder", "ProgressBar", "PROGRESS_MIN_STEPS", "vehicle_probes"]

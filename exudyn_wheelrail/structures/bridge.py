@@ -139,6 +139,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
+
 from ..jit import compiled
 
 __all__ = [

@@ -59,8 +59,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from ..jit import compiled
 
+from ..jit import compiled
 from .bridge import _find_element, modal_shape_at, project_shapes, shapes_times
 
 __all__ = ["N_DECK_STATE", "DS_RESIDUAL", "DECK_START", "DECK_RAIL_HEIGHT", "DECK_GROUND_Y", "DECK_GROUND_VY",

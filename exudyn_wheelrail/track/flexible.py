@@ -90,10 +90,10 @@ from pathlib import Path
 
 import numpy as np
 import scipy.linalg
-from ..jit import compiled
 import scipy.sparse as sp
 import scipy.sparse.linalg
 
+from ..jit import compiled
 from ..structures.bridge import ExudynBridge, ShapeTable, modal_shape_at
 from ..validation import read_toml
 

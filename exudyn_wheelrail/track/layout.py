@@ -52,9 +52,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from ..jit import compiled
 
 from ..conventions import CURVE_DIRECTION_SIGN, RAIL_CENTRE_DISTANCE_M
+from ..jit import compiled
 from ..validation import finite
 
 __all__ = ["Straight", "Curve", "Transition", "TrackLayout", "PackedLayout", "layout_at", "layout_many", "heading_many",
