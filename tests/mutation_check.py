@@ -15,7 +15,7 @@ What it does
 2. Runs the union of the selected mutants' tests once on the unmutated copy; if that fails the check aborts
    (a failing baseline would make every mutant look killed).
 3. For every mutant: replaces one exact source snippet (it must occur exactly once in the copy's file) in the
-   copy, runs ``python -m pytest -x -q -p no:cacheprovider <tests>`` in the copy's folder with ``PYTHONPATH`` set
+   copy, runs ``python -m pytest -x -q -n 0 -p no:cacheprovider <tests>`` in the copy's folder with ``PYTHONPATH`` set
    to the copy, then restores the file.  A small plugin (``-p``) checks in the subprocess that
    ``exudyn_wheelrail.__file__`` lies inside the copy (a usage error, exit code 4, otherwise).
 
@@ -516,7 +516,10 @@ def run_pytest(copy: Path, args: list[str], timeout_s: float, scratch: Path, plu
         "MPLBACKEND": "Agg",
     })
     env.pop("PYTHONSTARTUP", None)
-    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "-p", "_mutation_check_plugin"]
+    # -n 0: one process per run (the check runs its mutants in parallel itself, and test workers would each compile
+    # the kernels again into the run's empty cache)
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-n", "0", "-p", "no:cacheprovider", "-p",
+           "_mutation_check_plugin"]
     cmd += list(extra_pytest or []) + args
     t0 = time.monotonic()
     proc = subprocess.Popen(cmd, cwd=copy, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
