@@ -74,6 +74,7 @@ class FastRailDistance(RailDistance):
         self.coarse = np.arange(0, len(s), self.stride)
         self.tree = cKDTree(self.p[self.coarse], compact_nodes=False, balanced_tree=False)
         self._window = np.arange(-2 * self.stride, 2 * self.stride + 1)
+        self._py, self._pz = np.ascontiguousarray(self.p[:, 0]), np.ascontiguousarray(self.p[:, 1])
 
     def signed_distance(self, pts, chunk=20000):
         pts = np.atleast_2d(np.asarray(pts, dtype=float))
@@ -82,8 +83,13 @@ class FastRailDistance(RailDistance):
         for a in range(0, len(pts), chunk):
             q = pts[a:a + chunk]
             _, ic = self.tree.query(q)
-            idx = np.clip(self.coarse[ic][:, None] + self._window, 0, len(self.p) - 1)
-            d2 = np.sum((q[:, None, :] - self.p[idx]) ** 2, axis=2)
+            idx = self.coarse[ic][:, None] + self._window
+            np.clip(idx, 0, len(self.p) - 1, out=idx)
+            # squared distances to the window's samples, dy² + dz² (the same sum of two squares as summing the
+            # squared components along an axis, without the (n, window, 2) temporary)
+            dy = q[:, 0:1] - self._py[idx]
+            dz = q[:, 1:2] - self._pz[idx]
+            d2 = dy * dy + dz * dz
             jj = idx[np.arange(len(q)), np.argmin(d2, axis=1)]
             d[a:a + chunk] = np.sum((q - self.p[jj]) * self.n[jj], axis=1)
             j[a:a + chunk] = jj

@@ -85,7 +85,11 @@ def test_creep_coefficients_default_grid_within_1p5_percent_of_table_e3(a_over_b
     assert np.all(np.abs(err25) < 0.015), err25
 
 
-@pytest.mark.parametrize("a_over_b", [0.2, 1.0, 5.0])
+# The extrapolation solves each creepage on 80 and on 160 elements along rolling: 3-4 s at a/b = 5 and at 1, ~12 s at
+# a/b = 0.2, whose strips converge slowest (warm, load ~1).  The default run keeps a/b = 1 and 5 (the largest errors
+# measured: 0.53 % and 0.61 %, the least margin); a/b = 0.2 (0.23 %) is under ``-m validation``.  The default grid's
+# 1.5 % (above) is checked at all three ratios in the default run.
+@pytest.mark.parametrize("a_over_b", [pytest.param(0.2, marks=pytest.mark.validation), 1.0, 5.0])
 def test_creep_coefficients_extrapolated_within_0p7_percent(a_over_b):
     ref = np.array(kalker_coefficients(a_over_b, NU))
     err = _slopes(a_over_b, NU, kalker_exact_extrapolated) / ref - 1.0

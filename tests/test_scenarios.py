@@ -495,24 +495,34 @@ def run_cli(*args):
                           timeout=600)
 
 
-def test_cli_run_with_overrides_and_progress(tmp_path):
+def test_cli_run_with_overrides_and_progress(tmp_path, capsys):
     out = tmp_path / "run"
+    # 200 steps: the shortest run that draws a progress bar (PROGRESS_MIN_STEPS); no plots (2.5 s of the 4 s run;
+    # what a run plots is checked in test_outputs_files_columns_and_criteria)
+    assert PROGRESS_MIN_STEPS == 200
     r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.duration_s=0.2",
-                "--set", "run.creep_law=fastsim", "--set", "outputs.formats=[\"npz\"]", "--progress")
+                "--set", "run.creep_law=fastsim", "--set", "outputs.formats=[\"npz\"]", "--set", "outputs.plots=false",
+                "--progress")
     assert r.returncode == 0, r.stderr
     assert "100 %" in r.stderr and "\r" not in r.stderr and "status: ok" in r.stdout      # stderr a pipe: lines
     s = json.loads((out / "summary.json").read_text())
     assert s["steps"] == 200 and s["scenario"]["contact"]["creep_law"] == "fastsim"
     assert (out / "timeseries.npz").is_file() and not (out / "timeseries.csv").exists()
-    r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--no-progress",
-                "--set", "run.duration_s=0.01")
-    assert r.returncode == 0 and "%" not in r.stderr
-    r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.speedd_km_h=1")
-    assert r.returncode == 2 and "run.speedd_km_h" in r.stderr and "harmonic_track.toml" in r.stderr
-    r = run_cli("run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.dt_s=1")
-    assert r.returncode == 2 and "run.dt_s" in r.stderr and "milliseconds" in r.stderr
-    r = run_cli("run", str(tmp_path / "missing.toml"), "--out", str(out))
-    assert r.returncode == 2 and "missing.toml" in r.stderr
+    # the rest through the same entry point in this process: main() returns the code ``python -m exudyn_wheelrail``
+    # exits with (``__main__``: sys.exit(main())); stderr is captured, not a terminal, as a pipe is
+    capsys.readouterr()
+    assert cli_main(["run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--no-progress",
+                     "--set", "run.duration_s=0.01", "--set", "outputs.plots=false"]) == 0
+    assert "%" not in capsys.readouterr().err
+    assert cli_main(["run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set",
+                     "run.speedd_km_h=1"]) == 2
+    err = capsys.readouterr().err
+    assert "run.speedd_km_h" in err and "harmonic_track.toml" in err
+    assert cli_main(["run", str(EXAMPLES / "harmonic_track.toml"), "--out", str(out), "--set", "run.dt_s=1"]) == 2
+    err = capsys.readouterr().err
+    assert "run.dt_s" in err and "milliseconds" in err
+    assert cli_main(["run", str(tmp_path / "missing.toml"), "--out", str(out)]) == 2
+    assert "missing.toml" in capsys.readouterr().err
 
 
 def test_cli_sweep(tmp_path):

@@ -7,7 +7,8 @@ Invariants (the kernel's documented contract, ``contact/kernel.py``): no excepti
 documented set; a wheel with a non-finite pose has every slot ``STATUS_INVALID_POSE`` and no other wheel does; a
 contact (status > 0) has only finite fields, a positive penetration and normal force, positive semi-axes and
 stiffness; a slot without contact carries no force; the warm-start state holds finite numbers or NaN (never ±inf).
-Default run: 2000 hypothesis examples (~1e4 evaluations); ``-m validation``: > 1e5 evaluations."""
+Default run: 1000 hypothesis examples (~5e3 evaluations) and a batch run of 6400 evaluations; ``-m validation``:
+> 1e5 evaluations."""
 from __future__ import annotations
 
 import functools
@@ -117,7 +118,11 @@ def _coordinate(lo, hi):
 wheel_poses = st.tuples(_coordinate(-0.04, 0.04), _coordinate(-0.005, 0.005), _coordinate(-0.05, 0.05))
 
 
-@settings(max_examples=2000, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+# Sample size of the default run: 1000 examples (~6 s; most of it Hypothesis drawing the nested poses) reach, as 2000
+# did, all 48 combinations of wheel kind, rail kind, inclination, global search and warm-start reset, and every
+# status of the documented set (measured); they raise three of the four flags (2000 raised the blended one too), and
+# the batch run below (test_kernel_batch_fuzz_default) raises all four.  The 20000-example run is under -m validation.
+@settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(spec=profile_pairs(), sequence=st.lists(st.tuples(wheel_poses, wheel_poses), min_size=1, max_size=8),
        global_search=st.booleans(), reset=st.booleans())
 def test_kernel_random_poses_and_profiles(spec, sequence, global_search, reset):
