@@ -11,7 +11,8 @@ This module imports nothing, so that a front end can list the choices before any
 """
 
 __all__ = ["HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_POWER_CAR_TO_END_COACH_M",
-           "HSLM_END_COACH_TO_BOGIE_M", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "TRACK_FORMS", "FRA_CLASSES", "FRA_K", "FRA_OMEGA_C", "GERMAN_SPECTRA", "GERMAN_OMEGA",
+           "HSLM_END_COACH_TO_BOGIE_M", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "TRACK_FORMS", "FRA_CLASSES",
+           "FRA_K", "FRA_OMEGA_C", "GERMAN_SPECTRA", "GERMAN_OMEGA",
            "GERMAN_B", "TRACK_SPECTRA", "DEFAULT_BAND_M"]
 
 # ------------------------------------------------------------------------------- EN 1991-2:2003, HSLM-A trains
