@@ -339,7 +339,7 @@ def plot_sweep(sweep, path, title=""):
     for a in ax:
         a.grid(True, alpha=0.3)
     fig.suptitle(title)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.05, right=0.99, bottom=0.07, top=0.91, wspace=0.25, hspace=0.33)   # no layout pass
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
