@@ -1,0 +1,109 @@
+"""The package's compile decorator (:mod:`exudyn_wheelrail.jit`): what it promises about what gets compiled.
+
+* a kernel called from another kernel with constant arguments is compiled once, for the arguments' types — plain
+  numba (the reference) compiles one specialization per constant value;
+* a first compilation prints its one-line notice once, and only on a terminal;
+* a rigid, straight contact with the online search and a creep law without a table hands ``None`` for every
+  optional part (geometry table, the deck's shapes and residual flexibility, the layout, the creep table), and the
+  kernels that branch on those arguments compile with ``None`` (the other branch dropped by its type) and give the
+  rigid track's values.
+"""
+import io
+import sys
+import types
+
+from numba import njit
+
+from exudyn_wheelrail import jit
+
+
+def _pair(decorate):
+    @decorate
+    def callee(x, k):
+        return x + k
+
+    @decorate
+    def caller(x):
+        return callee(x, 0) + callee(x, 1) + callee(x, 2)
+
+    return caller, callee
+
+
+def test_constant_arguments_share_one_specialization():
+    caller, callee = _pair(jit.compiled)
+    assert caller(1.0) == 6.0
+    assert [str(t) for t in callee.signatures[0]] == ["float64", "int64"] and len(callee.signatures) == 1
+    # the reference: plain numba compiles the callee once per constant value (this is what the decorator removes)
+    caller_ref, callee_ref = _pair(njit)
+    assert caller_ref(1.0) == 6.0
+    assert len(callee_ref.signatures) == 3
+
+
+class _Terminal(io.StringIO):
+    def __init__(self, tty):
+        super().__init__()
+        self.tty = tty
+
+    def isatty(self):
+        return self.tty
+
+
+def _event(module):
+    func = types.FunctionType((lambda: None).__code__, {}, "f")
+    func.__module__ = module
+    return types.SimpleNamespace(data={"dispatcher": types.SimpleNamespace(py_func=func)})
+
+
+def test_compile_notice_once_and_only_on_a_terminal(monkeypatch):
+    for tty, expected in ((True, jit.COMPILE_NOTICE + "\n"), (False, "")):
+        stream = _Terminal(tty)
+        monkeypatch.setattr(sys, "stderr", stream)
+        notice = jit._CompileNotice()
+        notice.on_start(_event("numpy.other_package"))        # not the package's: no notice, not counted
+        assert stream.getvalue() == ""
+        notice.on_start(_event("exudyn_wheelrail.contact.kernel"))
+        notice.on_start(_event("exudyn_wheelrail.contact.search"))
+        assert stream.getvalue() == expected
+
+
+def test_a_rigid_straight_contact_passes_none_for_every_optional_part():
+    """The connector on the rigid straight track with the online search and a law without a table hands the
+    compiled call ``None`` where the optional data would be (the geometry table, the deck's shapes and residual
+    flexibility, the layout, the creep table): that is what keeps their code from being compiled."""
+    import exudyn as exu
+
+    from exudyn_wheelrail.contact import WheelRailPair
+    from exudyn_wheelrail.multibody import connector as C
+    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+
+    mbs = exu.SystemContainer().AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=20.0)
+    pair = WheelRailPair("S1002", "UIC60", inclination="1/40")
+    C.place_on_rails(mbs, model, pair)
+    contact = C.add_wheel_rail_contact(mbs, [model.wheelsets[0].node], pair, speed_m_s=20.0, creep_law="fastsim")
+    vehicle, _, geometry, creep, deck = contact._model
+    assert vehicle[2] is None and vehicle[3] is None                  # no layout
+    assert geometry[5] is None                                        # no geometry table
+    assert creep[4] is None                                           # no creep table
+    assert deck[4] is None and deck[5] is None                        # no structure: no shapes, no residual
+
+
+def test_the_none_branches_compile_and_give_the_rigid_values():
+    """Each kernel that branches on an optional argument compiles with ``None`` there (numba drops the other
+    branch by the argument's type; without that the ``None`` could not be typed) and gives what the rigid straight
+    track means: no table forces, no residual flexibility, no deck, a frame that does not turn."""
+    import numpy as np
+
+    from exudyn_wheelrail.creep import registry
+    from exudyn_wheelrail.multibody import connector_core
+    from exudyn_wheelrail.structures import deck_kinematics
+
+    assert registry._table_law(6e-3, 4e-3, 1e-3, 1e-3, 0.1, 5e4, 0.3, 8e10, 4.0, 3.5, None) == (0.0, 0.0, 0.0)
+    out = np.full(6, np.nan)
+    deck_kinematics.residual_at(1.0, 0.0, np.zeros(1), np.ones(1), np.zeros((1, 2), dtype=np.int64), None, out)
+    assert np.all(out == 0.0)                                          # set by assignment: exact
+    phi, work = np.full((3, 2), np.nan), np.full(9, np.nan)
+    assert not deck_kinematics._shapes_under(1.0, np.zeros(deck_kinematics.N_DECK_PAR), np.zeros(1), np.ones(1),
+                                             np.zeros((1, 2), dtype=np.int64), None, np.ones(2), np.ones(2), phi,
+                                             work)
+    assert connector_core._frame_rate(None, None, 10.0, 30.0, 0.0, np.zeros(8)) == (0.0, 0.0, 0.0)
