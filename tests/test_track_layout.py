@@ -113,13 +113,21 @@ def test_frame_kinematics_against_differences_of_the_rotation(entry):
 
 
 def test_compiled_evaluation_matches_and_clamps_outside(entry):
+    """The compiled layout_at against the transition's closed forms a quarter into the entry clothoid (u = 1/4:
+    κ = u/R, dκ/ds = 1/(R L_T), cant u H: φ = asin(u H / b), dφ/ds = (H/L_T)/(b cos φ), b the rail-centre distance),
+    and straight and level before the first piece and after the last (this layout ends on a straight)."""
     p = entry.packed()
     out = np.zeros(4)
     layout_at(p.pieces, p.par, -100.0, out)
     assert np.all(out == 0.0)  # before the first piece: straight and level, exact zeros
-    layout_at(p.pieces, p.par, LEAD + LT / 4, out)
-    # evaluate runs the same compiled layout_at: bit-equality
-    np.testing.assert_array_equal(out, entry.evaluate([LEAD + LT / 4])[0])
+    layout_at(p.pieces, p.par, entry.end_m + 100.0, out)
+    assert np.all(out == 0.0)  # after the last piece: the final straight's values, exact zeros
+    u = 0.25
+    layout_at(p.pieces, p.par, LEAD + u * LT, out)
+    phi = math.asin(u * H / RAIL_CENTRE_DISTANCE_M)
+    expected = [u / R, 1.0 / (R * LT), phi, H / LT / (RAIL_CENTRE_DISTANCE_M * math.cos(phi))]
+    # a few roundings per value (the piece's interpolation, asin, cos): 8 eps relative
+    np.testing.assert_allclose(out, expected, rtol=8 * np.finfo(float).eps, atol=0.0)
 
 
 @pytest.mark.parametrize("section, key", [(Curve(10.0, -5.0), "radius_m"), (Curve(10.0, 500.0, 150.0), "cant_m"),
