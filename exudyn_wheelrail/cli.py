@@ -1200,8 +1200,7 @@ def cmd_curving(args):
     stream = _progress_bar(args)
     if stream:
         from .scenarios.curving import curving_distances
-        progress = ProgressBar(curving_distances(case, v)["duration_s"], stream=None if stream is True else stream,
-                               label="curving: ")
+        progress = ProgressBar(curving_distances(case, v)["duration_s"], stream=stream, label="curving: ")
     result = run_curving(case, out_dir=args.out, progress=progress)
     s = result.summary
     if progress is not None:

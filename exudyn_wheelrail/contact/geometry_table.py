@@ -55,7 +55,7 @@ from . import kernel as K
 from .layout import (  # noqa: F401  (the table's node fields, grid, counters; re-exported)
     G_C2, G_DELTA, G_FLAGS, G_KR_LAT, G_KR_ROLL, G_KW_LAT, G_KW_ROLL, G_NR_Y, G_NR_Z, G_PR_Y, G_PR_Z, G_PW_Y, G_PW_Z,
     G_QY, G_QZ, G_S_RAIL, G_S_WHEEL, G_STATUS, N_G, N_STATS, N_T, STAT_CONCAVE, STAT_FALLBACK, STAT_FLANGE_SKIPPED,
-    STAT_OFF_DECK, STAT_ON_DECK, STAT_TABLE, STAT_TREAD_SKIPPED, T_DR, T_DY, T_NR, T_NY, T_R0, T_USE, T_Y0)
+    STAT_OFF_DECK, STAT_ON_DECK, STAT_TABLE, STAT_TREAD_SKIPPED, T_DR, T_DY, T_NR, T_NY, T_R0, T_Y0)
 from .normal import hertz_from_penetration
 from .search import _overlap_at_wheel, place_point
 
@@ -492,13 +492,10 @@ def count_fallback(out, stats):
 @compiled
 def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats,
                               scan=K.NO_SCAN):
-    """:func:`~.kernel.evaluate_wheels` with the table (``par[T_USE] != 0``) where the pose is inside it; the
-    online kernel elsewhere (or for every wheel when ``par[T_USE] == 0``; ``scan`` its cached scan points,
-    :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*)."""
-    if par[T_USE] == 0.0:
-        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
-        count_fallback(out, stats)
-        return
+    """:func:`~.kernel.evaluate_wheels` with the table ``(par, cz_ref, data)`` (:meth:`GeometryTable.arrays`)
+    where the pose is inside it; the online kernel elsewhere (``scan`` its cached scan points,
+    :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*).  Without a table the caller runs the online kernel
+    for every wheel and counts it with :func:`count_fallback`."""
     y_hi = par[T_Y0] + par[T_DY] * (par[T_NY] - 1.0)
     r_hi = par[T_R0] + par[T_DR] * (par[T_NR] - 1.0)
     for w in range(poses.shape[0]):
@@ -542,7 +539,6 @@ class GeometryTable:
         self.par = np.zeros(N_T)
         self.par[T_Y0], self.par[T_DY], self.par[T_NY] = ys[0], grid.dy_m, len(ys)
         self.par[T_R0], self.par[T_DR], self.par[T_NR] = rolls[0], grid.droll_rad, len(rolls)
-        self.par[T_USE] = 1.0
 
     def arrays(self):
         return self.par, self.cz_ref, self.data

@@ -115,8 +115,7 @@ T_NY = 2            # lateral node count
 T_R0 = 3            # first roll node [rad]
 T_DR = 4            # roll step [rad]
 T_NR = 5            # roll node count
-T_USE = 6           # 1: the table answers, 0: the online kernel for every wheel
-N_T = 7
+N_T = 6
 
 # ---- evaluation counters: stats[STAT_*] (int64, since the start) -------------------------------------------------
 STAT_TABLE = 0            # wheel evaluations answered by the table

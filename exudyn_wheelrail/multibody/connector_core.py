@@ -23,8 +23,8 @@ in one call, and their Jacobian by structured forward differences.
   - ``geometry = (nodes, meta, mono, curve_ids, params, table, scan)``: the profiles and kernel parameters of a
     :class:`~exudyn_wheelrail.contact.WheelsetContact`, the geometry table's ``(par, cz_ref, data)``
     (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`; ``None`` for the online search,
-    :func:`contact_geometry`) and the coarse scan's cached
-    wheel points (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
+    :func:`contact_geometry`) and the coarse scan's cached wheel points
+    (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
   - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
   - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
     ``par``);

@@ -715,8 +715,7 @@ def run_bridge_crossing(case: BridgeCrossing, out_dir=None, progress=False) -> B
     build_seconds = time.perf_counter() - t_build
     bar = None
     if progress and settings.steps >= PROGRESS_MIN_STEPS:
-        bar = ProgressBar(settings.end_time_s, stream=None if progress is True else progress,
-                          label="bridge-crossing: ")
+        bar = ProgressBar(settings.end_time_s, stream=progress, label="bridge-crossing: ")
     outcome = run(mbs, settings, handle.contact, speed_m_s=case.speed_m_s, recorder=recorder, progress=bar)
     if bar is not None:
         bar.close(outcome.status.kind)

@@ -187,7 +187,7 @@ def run_model(h, *, progress=None, view=None, label: str = ""):
     show = h.run.progress if progress is None else progress
     bar = None
     if show and h.run.steps >= PROGRESS_MIN_STEPS:
-        bar = ProgressBar(h.run.end_time_s, stream=None if show is True else show, label=label)
+        bar = ProgressBar(h.run.end_time_s, stream=show, label=label)
     try:
         outcome = run(h.mbs, h.run, h.contact, speed_m_s=h.speed_m_s, recorder=h.recorder, progress=bar,
                       exu_settings=(h.settings, h.solver_type), user_function=h.flexible_window)

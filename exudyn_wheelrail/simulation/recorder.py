@@ -383,11 +383,12 @@ def vehicle_probes(*, model, contact, track, speed_m_s: float, s_leading0_m: flo
 # ======================================================================================== progress bar
 class ProgressBar:
     """A text progress bar on a stream (stderr by default), redrawn when the run passes the next whole percent:
-    ``[#######-------------]  35 %  t = 0.875 / 2.500 s  elapsed 1.2 s  left 2.2 s``."""
+    ``[#######-------------]  35 %  t = 0.875 / 2.500 s  elapsed 1.2 s  left 2.2 s``.  ``stream``: ``None`` or
+    ``True`` for stderr (a run's ``progress=True``), else the stream to draw on."""
 
     def __init__(self, t_end_s: float, stream=None, label: str = "", width: int = 30):
         self.t_end = float(t_end_s)
-        self.stream = stream if stream is not None else sys.stderr
+        self.stream = sys.stderr if stream is None or stream is True else stream
         self.label = label
         self.width = int(width)
         self.last = -1
