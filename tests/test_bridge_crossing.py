@@ -38,39 +38,69 @@ RUN_TOL = 3e-3
 
 
 # --------------------------------------------------------------------------------------------------- HSLM
-@pytest.mark.parametrize("name", HSLM_NAMES)
-def test_hslm_trains_have_the_layout_of_en1991_2(name):
-    n, D, d, p_kN = HSLM_A[name]
+#: EN 1991-2:2003, 6.4.6.1.1, Table 6.3 "HSLM-A", typed again here from the standard (not read from the package):
+#: universal train -> (N number of intermediate coaches, D coach length [m], d bogie axle spacing [m], P point
+#: force [kN])
+TABLE_6_3 = {"A1": (18, 18.0, 2.0, 170.0), "A2": (17, 19.0, 3.5, 200.0), "A3": (16, 20.0, 2.0, 180.0),
+             "A4": (15, 21.0, 3.0, 190.0), "A5": (14, 22.0, 2.0, 170.0), "A6": (13, 23.0, 2.0, 180.0),
+             "A7": (13, 24.0, 2.0, 190.0), "A8": (12, 25.0, 2.5, 190.0), "A9": (11, 26.0, 2.0, 210.0),
+             "A10": (11, 27.0, 2.0, 210.0)}
+
+
+def _figure_6_12_axles(n, D, d):
+    """Axle places [m] behind the first axle of the HSLM-A train of Figure 6.12 (EN 1991-2:2003), built from the
+    figure's parts, front to rear:
+
+    * power car: two bogies of axle spacing 3.0 m whose inner axles are 11.0 m apart: axles at 0, 3, 14, 17 m;
+    * 3.525 m from the power car's last axle to the end coach's first axle; the end coach's own bogie has the
+      spacing d;
+    * the N intermediate coaches of length D rest on N + 1 shared (articulated) bogies of spacing d, whose centres
+      are D apart; the first of them carries the end coach's inner end;
+    * the rear end coach and power car mirror the front ones: the train is symmetric about its middle.
+
+    The first-to-last-axle length is 37.525 + (N + 2) D m (HSLM-A1: 397.525 m).  With the parts above and the
+    symmetry this fixes the one distance not yet given, from the end coach's first axle to the first articulated
+    bogie's centre, e: 2 (17 + 3.525 + e) + N D = 37.525 + (N + 2) D, i.e. e = D - 3.525/2."""
+    length = 37.525 + (n + 2) * D
+    head = [0.0, 3.0, 14.0, 17.0]
+    first_end = 17.0 + 3.525
+    head += [first_end, first_end + d]
+    e = D - 3.525 / 2.0
+    centres = first_end + e + D * np.arange(n + 1)
+    # the mirrored head must meet the articulated bogies symmetrically (a check of the construction itself)
+    assert abs((centres[0] + centres[-1]) - length) < 1e-9
+    middle = np.column_stack([centres - d / 2.0, centres + d / 2.0]).ravel()
+    head = np.array(head)
+    return np.concatenate([head, middle, length - head[::-1]]), length
+
+
+def test_hslm_table_is_table_6_3_of_en1991_2():
+    """The package's Table 6.3 against the one typed above, row by row (decimal literals on both sides: exact)."""
+    assert HSLM_NAMES == tuple(f"A{k}" for k in range(1, 11))
+    assert set(HSLM_A) == set(TABLE_6_3)
+    for name, row in TABLE_6_3.items():
+        assert tuple(HSLM_A[name]) == row, name
+    assert hslm_a("hslm-a10").name == "HSLM-A10"
+
+
+@pytest.mark.parametrize("name", list(TABLE_6_3))
+def test_hslm_axles_are_the_layout_of_figure_6_12(name):
+    """Every train's axle places and loads against Figure 6.12 built from Table 6.3 typed above.  Places: sums of
+    at most ~40 decimal lengths below 400 m, and the package rounds them to 1e-9 m: 1e-8 m covers both; loads
+    P * 1000 N exactly (one product of the same two numbers on both sides)."""
+    n, D, d, p_kN = TABLE_6_3[name]
     t = hslm_a(name)
-    x = t.x_m
-    # axle count: 2 power cars x 4, 2 end coach bogies x 2, N + 1 articulated bogies x 2
-    assert t.n_axles == 8 + 4 + 2 * (n + 1) == 2 * n + 14
-    assert np.all(t.load_N == p_kN * 1e3)                        # the same product: exact
-    gaps = np.diff(x)
-    # power cars 3 / 11 / 3 m at both ends, then 3.525 m to the end coach, whose bogie has the spacing d
-    np.testing.assert_allclose(gaps[:5], [3.0, 11.0, 3.0, 3.525, d], atol=1e-9)
-    np.testing.assert_allclose(gaps[::-1][:5], [3.0, 11.0, 3.0, 3.525, d], atol=1e-9)
-    # articulated bogies: axle spacing d, centres D apart
-    bogies = x[6:-6].reshape(-1, 2)
-    assert bogies.shape[0] == n + 1
-    np.testing.assert_allclose(bogies[:, 1] - bogies[:, 0], d, atol=1e-9)
-    np.testing.assert_allclose(np.diff(bogies.mean(axis=1)), D, atol=1e-9)
-    # symmetric train; first-to-last-axle length from the parts of Figure 6.12
-    np.testing.assert_allclose(x[::-1], x[-1] - x, atol=1e-9)
-    assert t.length_m == pytest.approx(2 * 17.0 + 2 * 3.525 + 2 * (D - 3.525 / 2) + n * D, abs=1e-9)
-    # Annex E (E.1): a universal train is at most 400 m long and weighs at most 10 000 kN
+    x_ref, length = _figure_6_12_axles(n, D, d)
+    # axle count: 2 power cars x 4, 2 end-coach bogies x 2, N + 1 articulated bogies x 2
+    assert t.n_axles == x_ref.size == 2 * n + 14
+    np.testing.assert_allclose(t.x_m, x_ref, rtol=0, atol=1e-8)
+    assert t.length_m == pytest.approx(length, abs=1e-8)
+    assert np.array_equal(t.load_N, np.full(x_ref.size, p_kN * 1e3))
+    assert t.total_load_N == pytest.approx((2 * n + 14) * p_kN * 1e3, rel=1e-15)
+    # Annex E (E.1, Table E.1): a universal train is at most 400 m long and weighs at most 10 000 kN
     assert t.length_m < 400.0 and t.total_load_N <= 10_000e3
     # the repeating distance is the coach length D (the resonance speeds v = f1 D / i)
-    assert characteristic_spacing_m(x) == pytest.approx(D) and t.spacing_m == D
-
-
-def test_hslm_table_is_the_family_of_table_6_3():
-    """Coach lengths 18 … 27 m in steps of 1 m, spacings 2.0 … 3.5 m, forces 170 … 210 kN, A1 the longest train."""
-    rows = [HSLM_A[k] for k in HSLM_NAMES]
-    assert [r[1] for r in rows] == list(np.arange(18.0, 28.0))
-    assert all(2.0 <= r[2] <= 3.5 and 170.0 <= r[3] <= 210.0 for r in rows)
-    assert hslm_a("A1").length_m == pytest.approx(397.525)
-    assert hslm_a("hslm-a10").name == "HSLM-A10"
+    assert characteristic_spacing_m(x_ref) == pytest.approx(D) and t.spacing_m == D
 
 
 # -------------------------------------------------------------------------------------- closed-form reference
