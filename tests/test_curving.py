@@ -292,3 +292,83 @@ def test_cli_irregularity_options_bad_input_one_line_exit_2(tmp_path, capsys, ar
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {option}:"), lines
     assert not (tmp_path / "o").exists()
+
+
+# ------------------------------------------------------------------------------------------------- gradient
+GRADIENT = 0.08          # rise per length; 8 %: sin(atan(0.08)) and 0.08 differ by 0.32 %, above the tolerance below
+
+
+def _free_rolling_acceleration(gradient, V=30.0, duration_s=0.3, fit_from_s=0.1):
+    """A single wheelset (vehicles/single_wheelset.toml: its axle load a dead vertical force) free to roll along a
+    straight layout of the given gradient: no longitudinal guidance spring or damper and no longitudinal restraint,
+    so only gravity and the contact act along the track.  Returns (the wheelset's longitudinal acceleration relative
+    to the frame moving with V, fitted to its velocity from ``fit_from_s`` on [m/s²], the vehicle data)."""
+    import exudyn as exu
+
+    from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
+    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.scenarios.curving import creep_step_limit_s
+    from exudyn_wheelrail.simulation.runner import run
+    from exudyn_wheelrail.simulation.settings import RunSettings
+    from exudyn_wheelrail.track.layout import Straight, TrackLayout
+
+    veh = load_vehicle_with_overrides("single_wheelset", {"primary.kx_N_per_m": 0.0, "primary.cx_N_s_per_m": 0.0})
+    geo = veh.geometry
+    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    layout = TrackLayout([Straight(1000.0)], gradient=gradient)
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    model = build_vehicle(mbs, veh, speed_m_s=V, s_start_m=0.0, longitudinal="none")
+    contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=0.0, layout=layout)
+    place_on_rails(mbs, model, pair)
+    frame = TrackFollowingFrame(mbs, model, layout)
+    mbs.Assemble()
+    frame.update(mbs, 0.0)
+    node = model.wheelsets[0].node
+    rows = []
+
+    def step(mbs_, t):
+        frame.update(mbs_, t)
+        rows.append((t, mbs_.GetNodeOutput(node, exu.OutputVariableType.Velocity)[0]))
+        return True
+
+    dt = min(1e-3, creep_step_limit_s(veh, V))
+    out = run(mbs, RunSettings(solver="rk44", dt_s=dt, duration_s=duration_s), contact, speed_m_s=V,
+              user_function=step)
+    assert out.status.kind == "ok"
+    t, v = np.array(rows).T
+    on = t >= fit_from_s
+    return float(np.polyfit(t[on], v[on], 1)[0]), veh
+
+
+@pytest.fixture(scope="module")
+def gradient_runs():
+    return {g: _free_rolling_acceleration(g) for g in (GRADIENT, 0.0, -GRADIENT)}
+
+
+def test_a_free_wheelset_rolls_down_a_gradient_with_g_sin_theta_times_its_mass_ratio(gradient_runs):
+    """Reference (rigid wheel rolling without slip; the creepage the creep force needs is constant while the
+    acceleration is, so it does not change the rate): along the track, gravity -m g sin(theta) (theta = atan of
+    the gradient, positive uphill) and the contact force F on the wheelset, m a = -m g sin(theta) + F; about the axle
+    the same F at the rolling radius r spins it up, I_yy a / r = r F; hence
+
+        a = -g sin(theta) m / (m + I_yy / r²)      (uphill: backwards; downhill: forwards)
+
+    with the wheelset's mass and spin inertia only: the axle load of this layout is a dead vertical force (no mass).
+    On level track the same model decelerates slightly (rolling resistance of the spin creepage of the coned
+    contacts, ~6e-4 m/s², the same on the gradient to O(1 - cos theta)): it is taken off by subtracting the level run.
+    Tolerance 1e-3 relative: the rolling radius at the centred contact point differs from r0 by well below 0.5 mm,
+    which moves the mass ratio by 2 (I/r²)/(m + I/r²) dr/r < 5e-4; the least-squares fit over 200 steps of a
+    constant acceleration is exact up to the Hertz vertical oscillation's share (< 1e-5 m/s²)."""
+    a_up, veh = gradient_runs[GRADIENT]
+    a_level, _ = gradient_runs[0.0]
+    a_down, _ = gradient_runs[-GRADIENT]
+    m, I, r = veh.wheelset.mass_kg, veh.wheelset.Iyy_kg_m2, veh.geometry.r0_m
+    ratio = m / (m + I / r ** 2)                                  # 0.774 for this wheelset
+    a_ref = G * math.sin(math.atan(GRADIENT)) * ratio
+    assert abs(a_level) < 2e-3 * a_ref                            # level track: (almost) no acceleration
+    assert a_up < 0.0 < a_down                                    # uphill it rolls back, downhill it speeds up
+    assert a_up - a_level == pytest.approx(-a_ref, rel=1e-3)
+    assert a_down - a_level == pytest.approx(a_ref, rel=1e-3)
