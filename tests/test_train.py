@@ -1,5 +1,7 @@
 """Trains (exudyn_wheelrail.multibody.train): consist files and their validation, the train model against its
-cars alone, the couplers against Hooke's law, the static axle loads against the train's weight."""
+cars alone, the couplers against Hooke's law and their dampers against c times the car ends' relative velocity, the
+static axle loads against the train's weight and, axle by axle, against the lever rule worked by hand from the vehicle
+files (the simulated contact forces and the package's static loads)."""
 from __future__ import annotations
 
 import dataclasses
@@ -154,6 +156,50 @@ def test_coupler_force_is_k_times_prescribed_offset():
     assert f[2] == 0.0  # no vertical offset or rate: an exact zero
 
 
+def test_coupler_damper_force_is_c_times_relative_velocity_at_the_car_ends():
+    """Couplers with four different coefficients (so that no swap of them goes unnoticed); at t = 0 car 2's body is
+    displaced back by dx (the gap has grown: tension) while the cars close at 0.03 m/s (compression rate), car 1
+    yaws at w1, and the bodies move laterally.  In the model frame (x forward, y right, z down) the coupler's force
+    on the front car's rear end is the spring-damper law of the element between the two car-end points:
+
+        f_x = -(kx * gap growth + cx * gap growth rate),   f_y = ky * dy_end + cy * dvy_end,
+
+    gap growth rate = v1x - v2x (the front car's end moving forward opens the gap), the ends' lateral velocities
+    v_y + (w x r)_y = v_y + w_z r_x with r_x = -L/2 for the front car's rear end (a yaw to the right swings it
+    left).  Tolerance 1e-9 relative: a few products and sums (round-off 1e-15) and the positions' cancellation in the
+    gap growth, eps * 26 m / 2 mm ~ 3e-12."""
+    from exudyn_wheelrail.multibody.train import CouplingData
+    cp = CouplingData(kx_N_per_m=8.0e6, cx_N_s_per_m=1.3e5, ky_N_per_m=2.1e5, cy_N_s_per_m=1.7e4, height_m=1.0)
+    consist = _two_cars(cp)
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    train = build_train(mbs, consist, speed_m_s=0.0, wheel_rail="springs")
+    dx, dy = 2.0e-3, 1.5e-3                    # car 2 back by dx (gap grows), right by dy
+    v1, w1 = (0.01, -0.01), 0.002              # car 1: forward 0.01 m/s, left 0.01 m/s, yaw rate 0.002 rad/s
+    v2 = (0.04, 0.02)                          # car 2: forward 0.04 m/s (catching up), right 0.02 m/s
+    for k, (q_set, v_set) in enumerate((({}, {0: v1[0], 1: v1[1], 5: w1}), ({0: -dx, 1: dy}, {0: v2[0], 1: v2[1]}))):
+        node = train.cars[k].car_body.node
+        q0 = np.array(mbs.GetNodeParameter(node, "initialCoordinates"), dtype=float)
+        v0 = np.array(mbs.GetNodeParameter(node, "initialVelocities"), dtype=float)
+        for i, val in q_set.items():
+            q0[i] += val
+        for i, val in v_set.items():
+            v0[i] = val                        # RotVecLG: velocities (3 translational, 3 angular; rotation 0)
+        mbs.SetNodeParameter(node, "initialCoordinates", q0.tolist())
+        mbs.SetNodeParameter(node, "initialVelocities", v0.tolist())
+    mbs.Assemble()
+    f = train.coupler_forces_N(mbs)[0]
+    half = 0.5 * consist.cars[0].length_m                      # the rear end is L/2 behind car 1's centre
+    assert train.cars[0].car_body.p_cg_in_frame[0] == 0.0      # car body CG at the car's centre (lever arm L/2)
+    gap_rate = v1[0] - v2[0]                                   # -0.03 m/s: closing
+    vy_front_end = v1[1] + w1 * (-half)
+    f_x = -(cp.kx_N_per_m * dx + cp.cx_N_s_per_m * gap_rate)   # -16000 + 3900 N
+    f_y = cp.ky_N_per_m * dy + cp.cy_N_s_per_m * (v2[1] - vy_front_end)
+    assert f[0] == pytest.approx(f_x, rel=1e-9)
+    assert f[1] == pytest.approx(f_y, rel=1e-9)
+    assert f[2] == 0.0                  # no vertical stiffness or damping: an exact zero
+
+
 def test_static_axle_loads_sum_to_the_train_weight():
     """CRH6 8-car set: the lever-rule wheel loads of every car sum to its weight (exact up to rounding); the contact
     forces at t = 0, after every car was put on the rails, sum to each car's weight within what the creep forces at
@@ -178,6 +224,88 @@ def test_static_axle_loads_sum_to_the_train_weight():
         car_weight = car.vehicle.total_mass_kg * G
         assert loads[w.start:w.stop].sum() == pytest.approx(car_weight, rel=1e-12)
         assert abs(q[w.start:w.stop].sum() / car_weight - 1.0) <= bound
+
+
+def _offset_cg_consist(tmp_path, cg_x_m=(1.2, -0.7)) -> Path:
+    """A 2-car train of Manchester vehicles 1 (vehicles/manchester_vehicle1.toml) whose car bodies' centres of mass
+    lie ``cg_x_m`` ahead of the car centres (car 1 nose-heavy, car 2 tail-heavy): every bogie then carries a
+    different load."""
+    from exudyn_wheelrail.multibody.vehicle_data import VEHICLES_DIR
+    text = (VEHICLES_DIR / "manchester_vehicle1.toml").read_text()
+    head = "[car_body]\nmass_kg = 32000.0\n"
+    assert text.count(head) == 1
+    lines = []
+    for k, cg in enumerate(cg_x_m):
+        path = tmp_path / f"car{k + 1}.toml"
+        path.write_text(text.replace(head, f"{head}cg_x_m = {cg!r}\n"))
+        lines.append(f'[[car]]\nvehicle = "{path}"\nlength_m = 26.0\n')
+    consist = tmp_path / "offset_cg.toml"
+    consist.write_text('schema_version = 1\n[train]\nname = "offset CG"\nsource = "assumed"\n' + "".join(lines))
+    return consist
+
+
+def test_axle_loads_by_the_lever_rule_are_the_simulated_static_contact_forces(tmp_path):
+    """Per-axle static loads of a 2-car train whose car bodies' centres of mass are off the car centres, by hand
+    from the vehicle files (read here with tomllib, not through the package): the car body's weight W on its two
+    bogie pivots (x = +-l_b) by the lever rule, W (l_b +- x_cg) / (2 l_b) on the front/rear bogie; each bogie's
+    load plus its frame's weight shared equally by its two wheelsets (the bogie frame's centre of mass midway
+    between them); plus the wheelset's weight; left and right wheels equal (no lateral offset).
+
+    Checked against (1) the package's static wheel loads (the same sums: 1e-12 relative) and (2) the simulated
+    vertical contact forces, all wheels and both cars in one connector, 0.2 s at 30 m/s on perfect track.  The
+    model starts each car's wheelsets at the height of the car's mean wheel load, so a wheelset carrying more or less
+    bounces on its Hertz springs (~180 Hz, damping ratio ~0.2 %) about its static load; a Hann-weighted time mean
+    of the contact force removes that oscillation (leakage of a sine over ~36 periods through the Hann window: well
+    below 1e-4 of its amplitude, ~10 % of the load).  What stays is physical: the rolling resistance of the coned
+    contacts (~1 N per wheel, carried to the longitudinal restraint at the car body's height) shifts load between
+    the wheelsets by ~1e-4.  Tolerance 1e-3 of each axle load; a wrong lever (the CG offset's sign) errs by 5-16 %,
+    a bogie frame's weight left out by 12 %."""
+    import tomllib
+
+    from exudyn_wheelrail.simulation.runner import run
+    consist_path = _offset_cg_consist(tmp_path)
+    expected = []
+    for k in (1, 2):
+        data = tomllib.loads((tmp_path / f"car{k}.toml").read_text())
+        m_cb, x_cg = data["car_body"]["mass_kg"], data["car_body"]["cg_x_m"]
+        m_bf, m_ws = data["bogie_frame"]["mass_kg"], data["wheelset"]["mass_kg"]
+        lb, a = data["geometry"]["semi_bogie_centre_distance_m"], data["geometry"]["semi_wheelbase_m"]
+        for x_bogie in (lb, -lb):                                      # front bogie first
+            pivot = m_cb * G * (lb + math.copysign(1.0, x_bogie) * x_cg) / (2.0 * lb)
+            expected += [0.5 * (pivot + m_bf * G) + m_ws * G] * 2     # its wheelsets at x_bogie + a, x_bogie - a
+        assert a < lb
+    expected = np.array(expected)
+    assert np.ptp(expected) > 0.15 * expected.mean()                 # the loads really differ (20 kN)
+
+    consist = load_consist(consist_path)
+    assert [c.vehicle.car_body.cg_x_m for c in consist.cars] == [1.2, -0.7]
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    V = 30.0
+    train = build_train(mbs, consist, speed_m_s=V, pair=_pair(consist.cars[0].vehicle), gravity_m_s2=G)
+    loads = train.static_wheel_loads_N()
+    np.testing.assert_allclose(loads.sum(axis=1), expected, rtol=1e-12)
+    np.testing.assert_allclose(loads, np.column_stack([expected, expected]) / 2, rtol=1e-12)
+    mbs.Assemble()
+    train.contact.warm_up(mbs)
+    rows = []
+
+    def record(mbs_, t):
+        rows.append(-np.nansum(train.contact.results[:, :, RES_F_TRACK_Z], axis=1))   # upward on each wheel
+        return True
+
+    out = run(mbs, RunSettings(solver="rk44", dt_s=1e-3, duration_s=0.2), train.contact, speed_m_s=V,
+              user_function=record)
+    assert out.status.kind == "ok"
+    q = np.array(rows)                                                 # (steps, wheels)
+    assert len(q) >= 199
+    hann = np.sin(np.pi * (np.arange(len(q)) + 0.5) / len(q)) ** 2
+    q_static = hann @ q / hann.sum()
+    per_axle = q_static.reshape(-1, 2).sum(axis=1)
+    np.testing.assert_allclose(per_axle, expected, rtol=1e-3)
+    np.testing.assert_allclose(q_static, np.repeat(expected, 2) / 2, rtol=1e-3)
+    # the start was not already the answer: the wheel loads at t = 0 differ from the static ones by several %
+    assert np.max(np.abs(q[0].reshape(-1, 2).sum(axis=1) / expected - 1.0)) > 0.03
 
 
 # ------------------------------------------------------------------------------------------- the scenario path
