@@ -372,3 +372,32 @@ def test_a_free_wheelset_rolls_down_a_gradient_with_g_sin_theta_times_its_mass_r
     assert a_up < 0.0 < a_down                                    # uphill it rolls back, downhill it speeds up
     assert a_up - a_level == pytest.approx(-a_ref, rel=1e-3)
     assert a_down - a_level == pytest.approx(a_ref, rel=1e-3)
+
+
+def test_gradient_loads_every_body_with_its_weight_in_the_pitched_track_frame():
+    """Manchester vehicle on a straight 8 % gradient: gravity in the track frame pitched nose-up by theta = atan(0.08)
+    is g (-sin(theta), 0, cos(theta)) (x forward, z down); the model integrates with (0, 0, g), so every body (car
+    body, bogie frames, wheelsets) gets m g (-sin(theta), 0, cos(theta) - 1) and no torque (no curvature: the frame
+    does not turn).  Sums of two or three products of numbers of order 1e5: 1e-12 relative."""
+    import exudyn as exu
+
+    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.track.layout import Straight, TrackLayout
+
+    layout = TrackLayout([Straight(500.0)], gradient=GRADIENT)
+    theta = math.atan(GRADIENT)
+    s = np.array([0.0, 100.0])
+    np.testing.assert_allclose(layout.gravity(s, G), [[-G * math.sin(theta), 0.0, G * math.cos(theta)]] * 2,
+                               rtol=0, atol=1e-14 * G)
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=30.0, s_start_m=50.0, gravity_m_s2=G)
+    frame = TrackFollowingFrame(mbs, model, layout)
+    F, T = frame.body_terms(1.0)
+    m = np.array([b.mass_kg for b in frame.bodies])
+    assert len(m) == 7 and m.sum() == pytest.approx(load_vehicle("manchester_vehicle1").total_mass_kg, rel=1e-15)
+    ref = np.outer(m, [-G * math.sin(theta), 0.0, G * (math.cos(theta) - 1.0)])
+    np.testing.assert_allclose(F, ref, rtol=1e-12, atol=1e-12 * m.max() * G)
+    assert np.all(F[:, 0] < 0.0)                 # uphill: the weight pulls every body back
+    np.testing.assert_allclose(T, 0.0, atol=1e-9)
