@@ -1,8 +1,10 @@
 """The flexible car body (exudyn_wheelrail.multibody.flexible_body): free–free beam frequencies against the
 analytic Euler–Bernoulli and St Venant values, mode orthogonality, the rigid-body inertia of the vehicle data, the
 reduced matrices Exudyn receives, energy conservation of the free body with the explicit and the implicit solver,
-the body-point kinematics against Exudyn's mesh-node output, the vehicle-file errors, and the stiff-body limit of the
-RTRI case against the rigid car body."""
+the body-point kinematics against Exudyn's mesh-node output, the vehicle-file errors, the stiff-body limit of the
+RTRI case against the rigid car body, and the shipped flexible vehicle's car body from its raw file values: the
+frequencies Exudyn receives against the free–free Euler–Bernoulli beam and the free decay of every kept mode against
+the logarithmic decrement of the file's modal damping."""
 import math
 
 import exudyn as exu
@@ -387,3 +389,167 @@ def test_explicit_step_beyond_the_stiff_modes_is_rejected_before_the_run(tmp_pat
                     assumptions=dataclasses.replace(RTRI, flexible_vehicle=path), car_body="flexible")
     with pytest.raises(ValueError, match=r"dt_s \(--dt\).*stability limit of rk44.*<= 0.003"):
         run_rtri(case)
+
+
+# ------------------------------------------------------------------------ the shipped vehicle's car body
+# Roots β_n L of the free–free beam's frequency equation cos βL cosh βL = 1, typed from R. D. Blevins, Formulas for
+# Natural Frequency and Mode Shape (1979), Table 8-1, free–free beam: 4.73004074, 7.85320462 (not the package's
+# table).  Their 4-decimal roundings 4.7300 and 7.8532 would put an error of 1.7e-5 and 0.5e-5 into (β L)²: larger
+# than the bending tolerance below.
+BETA_L_FREE_FREE = (4.73004074, 7.85320462)
+
+
+def _raw_car_body() -> dict:
+    """The shipped flexible vehicle's raw file values (SI): [car_body.flexible] of manchester_vehicle1_flexible.toml
+    and [car_body] of the rigid file it extends (mass and inertias)."""
+    import tomllib
+    flex = tomllib.loads((VEHICLES_DIR / "manchester_vehicle1_flexible.toml").read_text())
+    base = tomllib.loads((VEHICLES_DIR / f"{flex['base_vehicle']}.toml").read_text())
+    assert "car_body" not in flex or set(flex["car_body"]) == {"flexible"}    # mass and inertia: the base file's
+    return {**flex["car_body"]["flexible"], **base["car_body"]}
+
+
+def _free_free_shape_integral(beta_L: float) -> float:
+    """``∫φ'² dx / ∫φ² dx · L²`` of the free–free Euler–Bernoulli mode ``φ = cosh βx + cos βx − σ (sinh βx + sin βx)``,
+    ``σ = (cosh βL − cos βL)/(sinh βL − sin βL)`` (Blevins, Table 8-1), by Gauss–Legendre quadrature (64 points on
+    a smooth integrand: exact to round-off)."""
+    b = beta_L
+    x, w = np.polynomial.legendre.leggauss(64)
+    x = 0.5 * (x + 1.0)
+    s = (math.cosh(b) - math.cos(b)) / (math.sinh(b) - math.sin(b))
+    phi = np.cosh(b * x) + np.cos(b * x) - s * (np.sinh(b * x) + np.sin(b * x))
+    dphi = b * (np.sinh(b * x) - np.sin(b * x) - s * (np.cosh(b * x) + np.cos(b * x)))
+    return float(w @ dphi ** 2 / (w @ phi ** 2))
+
+
+def _reference_frequencies(raw: dict, h_max_m: float) -> dict:
+    """``{(kind, n): (f_ref_Hz, tol)}`` of the car body from the raw file values.
+
+    Bending: the free–free Euler–Bernoulli beam, ``f_n = (β_n L)² / (2π L²) sqrt(EI / m')``, ``m' = M / L``.  The
+    model differs from it in two ways, both accounted for:
+
+    * rotary inertia: the body keeps the data's pitch and yaw inertia, the uniform beam has ``M L²/12`` of it; the
+      rest, ``i = (I − M L²/12) / L`` per metre, is the cross-section's rotary inertia (flexible_body docstring).
+      Rayleigh's quotient with the Euler–Bernoulli shape (exact to first order) lowers ``f_n`` by the factor
+      ``1/sqrt(1 + ε)``, ``ε = (i/m') ∫φ'²/∫φ²``; the second-order remainder is below ``ε²`` (ε = 3.0e-3 and 6.7e-3
+      for n = 1, 2 here: the frequencies 0.15 % and 0.33 % below the Euler–Bernoulli beam's);
+    * discretisation: Hermite cubic elements with consistent mass overestimate a wave of wavenumber β by
+      ``(β h)⁴ / 1440`` (leading term of the element's dispersion), h the longest element (≤ 1e-5 here).
+
+    Torsion (St Venant, free–free): ``f_n = n / (2L) sqrt(GJ / I_p)``, ``I_p = Ixx / L``; linear elements with
+    consistent mass overestimate it by ``θ² / 24 + O(θ⁴)``, ``θ = n π h / L`` (their discrete dispersion; on a
+    non-uniform mesh an average over the elements weighted by the mode's energy, so at most the longest
+    element's): bound ``θ²/24 + θ⁴/24`` with the longest h (7.0e-4 here).
+
+    Tolerances: the sums of these bounds, and 1e-9 for round-off of the eigen solution."""
+    L, M = raw["length_m"], raw["mass_kg"]
+    m = M / L
+    out = {}
+    for kind, EI, I in (("vertical", raw["EI_vertical_N_m2"], raw["Iyy_kg_m2"]),
+                        ("lateral", raw["EI_lateral_N_m2"], raw["Izz_kg_m2"])):
+        i_rot = (I - M * L * L / 12.0) / L
+        assert 0.0 <= i_rot < 0.1 * m                     # the model's assumption: a small rotary inertia
+        for n, bl in enumerate(BETA_L_FREE_FREE, start=1):
+            f_eb = bl ** 2 / (2.0 * math.pi * L ** 2) * math.sqrt(EI / m)
+            eps = i_rot / m * _free_free_shape_integral(bl) / L ** 2
+            tol = (bl / L * h_max_m) ** 4 / 1440.0 + eps ** 2 + 1e-9
+            out[(kind, n)] = (f_eb / math.sqrt(1.0 + eps), tol)
+    f_t = 1.0 / (2.0 * L) * math.sqrt(raw["GJ_N_m2"] / (raw["Ixx_kg_m2"] / L))
+    theta = math.pi * h_max_m / L
+    out[("torsion", 1)] = (f_t, theta ** 2 / 24.0 + theta ** 4 / 24.0 + 1e-9)
+    return out
+
+
+def _reduced_frequencies(mbs, fb) -> dict:
+    """``{(kind, n): f_Hz}`` from the reduced mass and stiffness matrices Exudyn holds for the FFRF object (the
+    kind of each mode as the package labels it, n counted per kind)."""
+    Mr = _dense(mbs.GetObjectParameter(fb.body, "massMatrixReduced"))
+    Kr = _dense(mbs.GetObjectParameter(fb.body, "stiffnessMatrixReduced"))
+    f = np.sqrt(np.diag(Kr) / np.diag(Mr)) / (2.0 * math.pi)
+    out, count = {}, {}
+    for kind, fi in zip(fb.modes.kinds, f):
+        count[kind] = count.get(kind, 0) + 1
+        out[(kind, count[kind])] = float(fi)
+    return out
+
+
+def test_shipped_vehicle_frequencies_against_free_free_beam(tmp_path):
+    # The user's path: build_vehicle on the shipped file, the frequencies Exudyn receives (its reduced matrices of
+    # the FFRF body; the suspension attaches through Exudyn's connectors, outside them: these are the free–free
+    # body's) against the free–free beam of the raw file values (_reference_frequencies: rotary inertia and
+    # discretisation accounted for, tolerances ≤ 5e-5 for bending, 7e-4 for torsion).  The shipped file keeps three
+    # modes (first vertical bending, torsion, first lateral bending: its documented 10, 12, 15 Hz); a file that
+    # extends it with eight modes, as a user would, reaches the second bending modes (β_2 L).  A 10 % error in a
+    # stiffness moves a frequency by 5 %.
+    raw = _raw_car_body()
+    checked = set()
+    for vehicle, n_modes in (("manchester_vehicle1_flexible", raw["n_modes"]),
+                             (_flexible_file(tmp_path, "[car_body.flexible]\nn_modes = 8\n"), 8)):
+        sc = exu.SystemContainer()
+        mbs = sc.AddSystem()
+        m = build_vehicle(mbs, vehicle, speed_m_s=30.0, wheel_rail="springs")
+        fb = m.car_body.flexible
+        assert fb.modes.n_modes == n_modes
+        ref = _reference_frequencies(raw, float(np.max(np.diff(fb.modes.beam.mesh_x_m()))))
+        got = _reduced_frequencies(mbs, fb)
+        for key, (f_ref, tol) in ref.items():
+            if key in got:
+                assert abs(got[key] / f_ref - 1.0) <= tol, (vehicle, key, got[key], f_ref, tol)
+                checked.add(key)
+    assert checked == set(ref), checked                 # every reference reached: v1, v2, l1, l2, t1
+    # the documented design values of the shipped file, to the file's three significant digits
+    assert abs(ref[("vertical", 1)][0] - 10.0) < 0.05 and abs(ref[("lateral", 1)][0] - 15.0) < 0.05
+
+
+def test_car_body_bending_free_decay_against_logarithmic_decrement():
+    # The damping Exudyn integrates: the shipped vehicle's car body through the vehicle path's car-body builder
+    # (add_vehicle_car_body, as build_vehicle calls it) alone, free–free and without gravity; every kept mode gets
+    # an initial modal velocity (amplitude 0.1: ~1 mm at the body ends, the FFRF's quadratic terms negligible) and
+    # rings down for 0.5 s, RK44 at 0.5 ms.  The file gives modal damping, one ratio ζ for every mode (the package:
+    # q̈ + 2 ζ ω q̇ + ω² q = 0 per mode); the ratio of successive peaks of each modal coordinate must be the
+    # logarithmic decrement δ = 2π ζ / sqrt(1 − ζ²), the peak spacing the damped period 2π / (ω sqrt(1 − ζ²)) of the
+    # free–free beam (_reference_frequencies).
+    # Tolerance of δ: peaks by a parabola through three samples, whose vertex misses the peak by at most 3Δ⁴/128
+    # of the amplitude (Δ = ω h; worst when a sample is half a step from the peak): 1.2e-7 at the 15 Hz mode, twice
+    # in a ratio, 2e-6 of δ; RK44's amplitude error per period, 2π (ω h)⁴ / 120 (its local error (λh)⁵/120 over
+    # 2π/(ωh) steps), 2.6e-7 (2e-6 of δ): 1e-4 of δ is far above both and 1000 times below a 10 % error in ζ.
+    # Period: the vertex's time errs by at most Δ²/62 of a step, a period between two peaks by Δ³/200 relative
+    # (5e-7); 1e-5 is added to the frequency tolerance.
+    from exudyn_wheelrail.multibody.flexible_body import add_vehicle_car_body
+    raw = _raw_car_body()
+    zeta = np.broadcast_to(np.asarray(raw["damping_ratio"], dtype=float), (raw["n_modes"],))
+    v = load_vehicle("manchester_vehicle1_flexible")
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    h = add_vehicle_car_body(mbs, v, (0.0, 0.0, -1.8), gravity=[0.0, 0.0, 0.0], name="car_body")
+    fb = h.flexible
+    w = fb.modes.omega_rad_s
+    mbs.SetNodeParameter(fb.modal_node, "initialCoordinates_t", (0.1 * w).tolist())
+    mbs.Assemble()
+    dt, t_end = 5e-4, 0.5
+    s, st = solver_settings("rk44", dt, int(round(t_end / dt)))
+    rec = []
+
+    def record(mbs_, t):
+        rec.append(fb.coordinates(mbs_)[0].copy())
+        return True
+
+    mbs.SetPreStepUserFunction(record)
+    mbs.SolveDynamic(s, solverType=st)
+    q_all = np.array(rec)
+    ref = _reference_frequencies(raw, float(np.max(np.diff(fb.modes.beam.mesh_x_m()))))
+    kinds = fb.modes.kinds
+    for i in range(fb.modes.n_modes):
+        q = q_all[:, i]
+        k = np.where((q[1:-1] > q[:-2]) & (q[1:-1] >= q[2:]))[0] + 1
+        a, b, c = q[k - 1], q[k], q[k + 1]
+        off = 0.5 * (a - c) / (a - 2.0 * b + c)
+        peak, t_peak = b - 0.25 * (a - c) * off, (k + off) * dt
+        assert len(peak) >= 4, (kinds[i], len(peak))
+        delta = 2.0 * math.pi * zeta[i] / math.sqrt(1.0 - zeta[i] ** 2)
+        got = np.log(peak[:-1] / peak[1:])
+        assert np.all(np.abs(got / delta - 1.0) < 1e-4), (kinds[i], got, delta)
+        f_n = 1.0 / (np.diff(t_peak) * math.sqrt(1.0 - zeta[i] ** 2))
+        f_ref, tol = ref[(kinds[i], 1)]
+        assert np.all(np.abs(f_n / f_ref - 1.0) < tol + 1e-5), (kinds[i], f_n, f_ref)
+    assert sorted(kinds) == ["lateral", "torsion", "vertical"]
