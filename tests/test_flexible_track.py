@@ -2,7 +2,9 @@
 continuous elastic foundation (static deflection and moment, and the discrete model's convergence to it), the
 continuously supported two-layer track's receptance peaks and the Euler–Bernoulli pinned–pinned frequency, the
 steady state of a beam on a viscoelastic Winkler foundation under a moving load, the deck interface's
-kinematics and force projection, and the rigid-track limit of a vehicle run; bad input."""
+kinematics and force projection, and the rigid-track limit of a vehicle run; bad input.  Laterally: the static
+deflection under a lateral force against the exact discretely supported beam and Zimmermann, and the damped support
+modes of the periodic track against the exact Euler–Bernoulli cell, from the track file's raw values."""
 from __future__ import annotations
 
 import math
@@ -446,3 +448,168 @@ def test_track_on_deck_reduced_equilibrium(track_on_deck):
     assert abs(ballast / F - 1.0) < 0.005, ballast
     w_deck = modes.deck_displacement(16.0, q)[0, 1]
     assert abs(w_deck / (F * 20.0 ** 3 / (48.0 * sec.EI_y_Nm2)) - 1.0) < 0.01, w_deck
+
+
+# ------------------------------------------------------------------------------------------ lateral support
+def _raw_track() -> dict:
+    """The default track file's raw values (the lateral references below are derived from these, not from the
+    package's combined beam parameters)."""
+    return tomllib.loads(DEFAULT_TRACK_FILE.read_text())
+
+
+def _discretely_supported_beam_deflection(EI_Nm2: float, k_seat_N_m: float, d_m: float, F_N: float,
+                                          n_bays: int = 100) -> float:
+    """Deflection under a point load F over a support of an infinite Euler–Bernoulli beam on equal springs
+    ``k_seat`` every ``d`` — exact beam theory, no finite elements.  Between supports the unloaded beam is cubic,
+    its curvature κ linear; slope continuity at support j gives Clapeyron's three-moment equation with support
+    displacements, ``κ_{j-1} + 4 κ_j + κ_{j+1} = 6 (W_{j-1} − 2 W_j + W_{j+1}) / d²``, and the jump of the shear
+    ``EI (κ_{j+1} − 2 κ_j + κ_{j-1}) / d = P_j − k_seat W_j`` (W along the load).  Solved on ``±n_bays`` supports
+    with W = κ = 0 beyond: the solution decays by ~e^(−βd) per bay, e^(−92) at the ends here."""
+    n = 2 * n_bays + 1
+    A = np.zeros((2 * n, 2 * n))
+    b = np.zeros(2 * n)
+    for i in range(n):
+        for j, c in ((i - 1, 1.0), (i, -2.0), (i + 1, 1.0)):
+            if 0 <= j < n:
+                A[i, n + j] += 1.0 + 3.0 * (j == i)            # κ: 1, 4, 1
+                A[i, j] -= 6.0 / d_m ** 2 * c                  # W: second difference
+                A[n + i, n + j] += EI_Nm2 * c / d_m
+        A[n + i, i] += k_seat_N_m
+    b[n + n_bays] = F_N
+    return float(np.linalg.solve(A, b)[n_bays])
+
+
+def _lateral_continuous_limit(params, d_m):
+    """The track with sleeper spacing ``d_m`` and the same lateral support stiffness, damping and sleeper mass per
+    metre."""
+    r = d_m / params.sleeper_spacing_m
+    return params.replace(sleeper_spacing_m=d_m, pad_k_lateral_N_m=params.pad_k_lateral_N_m * r,
+                          pad_c_lateral_Ns_m=params.pad_c_lateral_Ns_m * r, sleeper_mass_kg=params.sleeper_mass_kg * r,
+                          ballast_k_lateral_N_m=params.ballast_k_lateral_N_m * r,
+                          ballast_c_lateral_Ns_m=params.ballast_c_lateral_Ns_m * r)
+
+
+def test_lateral_static_deflection_against_discrete_support_and_zimmermann(params):
+    """A lateral force F on each rail (a wheelset's 2F on the lateral beam) over a sleeper in the middle of a 24 m
+    segment.  Support of one rail per sleeper from the file's raw values: the pad (per rail seat) in series with
+    half the sleeper's lateral ballast, k_seat = k_py (k_by/2) / (k_py + k_by/2) (the sleeper is massless in
+    statics); EI = E I_lateral of one rail.
+
+    (i) Exact reference: the infinite beam on discrete springs (_discretely_supported_beam_deflection).  The
+    finite-element rail is nodally exact for it (Hermite cubics hold the unloaded beam's cubic between nodes; the
+    sleeper condenses to the series spring), so only round-off and the segment's free ends differ: cond(K) ≈ 1e3
+    (1e-12 with the ~200 DOFs) and the ends, 12 m away, act back on the load as e^(−2β 12 m) ≈ 1e-16 — tolerance
+    1e-9.  The reduced model as the connector sees it (the kept lateral modes up to the file's cut-off plus the
+    static correction's residual flexibility) must give the same.
+
+    (ii) Zimmermann, w(0) = F / (8 EI β³), β = (k / (4 EI))^¼ with k = k_seat / d: the continuous support differs
+    from the discrete one by O((βd)⁴) (βd = 0.92 at the file's spacing, 1/β = 0.65 m; the exact discrete beam of
+    (i) gives −0.0100 (βd)⁴ there and −0.0070 (βd)⁴ as d → 0).  Checked as fourth-order convergence when d halves
+    with the support per metre kept (error ratio above 8 per halving; second order would give 4) and, at the
+    file's spacing, a deviation within (βd)⁴/64 = 1.1 %.  A 10 % error in the lateral pad stiffness moves the
+    deflection by 2.1 % (w ∝ k^(−3/4), the pad 2/7 of the series compliance), in the ballast by 5.4 %."""
+    raw = _raw_track()
+    EI = raw["rail"]["E_Pa"] * raw["rail"]["I_lateral_m4"]
+    kp, kb_half = raw["pad"]["k_lateral_N_m"], 0.5 * raw["ballast"]["k_lateral_N_m"]
+    k_seat = kp * kb_half / (kp + kb_half)
+    d = raw["sleeper"]["spacing_m"]
+    F = 10e3
+    model = FlexibleTrackModel(params, 0.0, 24.0)
+    s0 = model.sleeper_s_m[model.n_sleepers // 2]
+    assert abs(s0 - 12.0) < 1e-9
+    w_exact = _discretely_supported_beam_deflection(EI, k_seat, d, F)
+    w_full = float(model.rail_field("lateral", model.static("lateral", [(s0, 2.0 * F)]), s0)[0][0])
+    assert abs(w_full / w_exact - 1.0) < 1e-9, (w_full, w_exact)
+    modes = model.modes(kinds=("lateral",))
+    q = modes.static_coordinates([s0], [[2.0 * F, 0.0, 0.0]])
+    w_reduced = float(modes.shape_at(s0)[0] @ q) + float(modes.residual_at(s0)[0, 0]) * 2.0 * F
+    assert abs(w_reduced / w_exact - 1.0) < 1e-9, (w_reduced, w_exact)
+    # (ii) Zimmermann, and the discrete support's convergence to it
+    errors = []
+    for dd in (d, d / 2.0, d / 4.0):
+        k = k_seat / d                                   # per metre: the same at every spacing
+        beta = (k / (4.0 * EI)) ** 0.25
+        w_z = F / (8.0 * EI * beta ** 3)
+        p = _lateral_continuous_limit(params, dd)
+        mdl = FlexibleTrackModel(p, 0.0, 24.0)
+        s = mdl.sleeper_s_m[mdl.n_sleepers // 2]
+        w = float(mdl.rail_field("lateral", mdl.static("lateral", [(s, 2.0 * F)]), s)[0][0])
+        errors.append((abs(w / w_z - 1.0), beta * dd))
+    assert errors[0][0] < errors[0][1] ** 4 / 64.0, errors
+    assert errors[1][0] < errors[0][0] / 8.0 and errors[2][0] < errors[1][0] / 8.0, errors
+
+
+def test_lateral_support_damping_periodic_cell(params):
+    """The lateral damping of pads and ballast: the two support modes of the infinitely long track moving in phase
+    at every sleeper (Bloch wavenumber 0: the full-track lateral resonance, rail and sleepers on the ballast, and
+    the rail on its pads against the sleepers), their complex eigenvalues λ = −ζ ω ± i ω sqrt(1 − ζ²) against the
+    exact ones from the file's raw values.
+
+    Reference: per bay, the lateral beam (both rails: 2 E I_lateral, 2 m) spans between two supports; moving the
+    same at every sleeper and symmetric about each, it has zero slope there, and the exact Euler–Bernoulli span
+    (y = A cosh κs + B cos κs about mid-span, κ⁴ = −λ² 2m / (2EI)) puts the force D_r Y on the support,
+    D_r = −4 (2EI) κ³ sinh a sin a / (cosh a sin a + sinh a cos a), a = κd/2 (→ λ² 2m d, the bay's rail mass, as
+    λ → 0).  With the pads k̃_p = 2 (k_py + λ c_py), the sleeper m_s and the ballast k̃_b = k_by + λ c_by the cell
+    equations are (k̃_p + D_r) Y_r − k̃_p Y_s = 0 and −k̃_p Y_r + (k̃_p + k̃_b + λ² m_s) Y_s = 0; the roots of their
+    determinant by Newton's method from the lumped two-mass system (rail 2 m d on the pads, sleeper on the
+    ballast; its damping ratios c / (2 sqrt(k m)) are ~0.25 for both layers here: non-proportional, coupled).
+
+    Model: the finite-element lateral beam of a two-bay segment (the file's mesh) made periodic over one bay
+    (node i + n_e the image of node i, every sleeper the image of the first: exactly the in-phase motion).  Its
+    three sleepers then act on two bays of rail; with the rail's mass and EI scaled by 3/2 the cell is exactly
+    three periodic bays (κ unchanged), whose eigenvalues are those of one.
+
+    Tolerance: the Hermite cubic with consistent mass misrepresents the rail's dynamic stiffness at wavenumber κ by
+    ~(κh)⁴/720 (twice its frequency error (κh)⁴/1440); ω and ζ of a mode take at most a part of it with the rail's
+    share — four times it: 2.7e-4 (lower mode), 4.4e-3 (upper).  A 10 % error moves ζ of the pad mode by 9 % (pad
+    damping) and ω by 5 % (pad stiffness), the ballast mode's ζ by 10 % and ω by 5 %."""
+    import scipy.linalg
+    raw = _raw_track()
+    d = raw["sleeper"]["spacing_m"]
+    EI2, m2 = 2.0 * raw["rail"]["E_Pa"] * raw["rail"]["I_lateral_m4"], 2.0 * raw["rail"]["mass_kg_m"]
+    kp, cp = 2.0 * raw["pad"]["k_lateral_N_m"], 2.0 * raw["pad"]["c_lateral_Ns_m"]
+    kb, cb = raw["ballast"]["k_lateral_N_m"], raw["ballast"]["c_lateral_Ns_m"]
+    ms = raw["sleeper"]["mass_kg"]
+
+    def det(lam):
+        kappa = (-lam ** 2 * m2 / EI2) ** 0.25              # any root: D_r is a function of κ⁴
+        a = 0.5 * kappa * d
+        d_r = -4.0 * EI2 * kappa ** 3 * np.sinh(a) * np.sin(a) / (np.cosh(a) * np.sin(a) + np.sinh(a) * np.cos(a))
+        kpt, kbt = kp + lam * cp, kb + lam * cb
+        return (kpt + d_r) * (kpt + kbt + lam ** 2 * ms) - kpt ** 2
+
+    # lumped start: (m1 λ² + c1 λ + k1)(m2 λ² + (c1 + c2) λ + k1 + k2) − (c1 λ + k1)² = 0
+    lumped = np.polysub(np.polymul([m2 * d, cp, kp], [ms, cp + cb, kp + kb]), np.polymul([cp, kp], [cp, kp]))
+    exact = []
+    for lam in sorted((r for r in np.roots(lumped) if r.imag > 0.0), key=abs):
+        for _ in range(50):
+            h = 1e-7 * abs(lam)
+            step = det(lam) / ((det(lam + h) - det(lam - h)) / (2.0 * h))
+            lam -= step
+            if abs(step) < 1e-14 * abs(lam):
+                break
+        exact.append(lam)
+    assert len(exact) == 2
+    # the model: two bays made periodic over one
+    ne = params.elements_per_bay
+    p = params.replace(rail_mass_kg_m=1.5 * params.rail_mass_kg_m, rail_I_lateral_m4=1.5 * params.rail_I_lateral_m4)
+    model = FlexibleTrackModel(p, 0.0, 2.0 * p.sleeper_spacing_m)
+    assert model.n_sleepers == 3 and model.n_nodes == 2 * ne + 1
+    M, K, C = (a.toarray() for a in model.assemble("lateral"))
+    T = np.zeros((model.n_dof, 2 * ne + 1))
+    for i in range(model.n_nodes):
+        T[2 * i, 2 * (i % ne)] = T[2 * i + 1, 2 * (i % ne) + 1] = 1.0
+    T[2 * model.n_nodes:, 2 * ne] = 1.0
+    Mc, Kc, Cc = (T.T @ X @ T for X in (M, K, C))
+    n = Mc.shape[0]
+    Z, I = np.zeros((n, n)), np.eye(n)
+    lam_fe = scipy.linalg.eigvals(np.block([[-Kc, Z], [Z, I]]), np.block([[Cc, Mc], [I, Z]]))
+    lam_fe = sorted((x for x in lam_fe if x.imag > 0.0), key=abs)[:2]
+    h_el = d / ne
+    rows = []                                    # per mode: relative errors of |λ| and ζ, the tolerance
+    for got, ref in zip(lam_fe, exact):
+        kappa = (abs(ref) ** 2 * m2 / EI2) ** 0.25
+        rows.append((abs(got) / abs(ref) - 1.0, (got.real / abs(got)) / (ref.real / abs(ref)) - 1.0,
+                     4.0 * (kappa * h_el) ** 4 / 720.0))
+    assert all(abs(e_w) < tol and abs(e_z) < tol for e_w, e_z, tol in rows), (rows, lam_fe, exact)
+    assert 40.0 < abs(exact[0]) / (2 * math.pi) < 70.0 and 150.0 < abs(exact[1]) / (2 * math.pi) < 300.0
