@@ -636,6 +636,74 @@ def test_sprung_masses_tend_to_the_moving_loads_as_the_suspension_softens():
     assert diff[0.05] < diff[0.5] / 8 and diff[0.05] < 2e-3, diff
 
 
+def test_a_sprung_mass_leaving_the_span_rings_at_its_frequency_and_damping_ratio():
+    """Once its axle has left the span (w = ẇ = 0 there) a sprung mass is a free damped oscillator,
+    m z̈ = -(k z + c ż): with k = m (2π f_v)² and c = 2 ζ_v m 2π f_v its acceleration is A e^(-σt) cos(ω_d t + ϕ),
+    σ = ζ_v ω_v, ω_d = ω_v √(1 - ζ_v²).  Samples h apart of such a signal obey the exact recurrence
+    a(t + mh) = 2 e^(-σmh) cos(ω_d mh) a(t) - e^(-2σmh) a(t - mh) (Prony); the recorded column is |z̈| (one axle),
+    which obeys the same recurrence wherever the three samples share a sign, i.e. within one half-cycle between two
+    minima of |z̈| (the zero crossings).  The two coefficients, fitted by least squares over those triples, give σ and
+    ω_d, hence f_v and ζ_v, independent of how the package computes k and c.  Tolerance 1e-6 relative: RK44's
+    frequency error (ω_v h)⁴/120 = 3e-10 at h = 0.555 ms, its amplitude error (ω_v h)⁵/(144 ζ_v) relative to the
+    decay rate 3e-11, the fit's round-off ~1e-12 (measured 3e-10 and 1e-9)."""
+    P, V, fv, zv = 2e5, 40.0, 4.0, 0.05                # f_v near f1: the crossing sets the mass ringing
+    case = _case(AxleTrain(np.array([0.0]), np.array([P])), V, model="sprung-masses", sprung_frequency_Hz=fv,
+                 sprung_damping_ratio=zv, free_vibration_s=0.6)
+    r = bc.run_bridge_crossing(case)
+    assert r.summary["status"] == "ok"
+    h = r.summary["dt_s"]
+    t = r.timeseries["time_s"]
+    np.testing.assert_allclose(np.diff(t), h, rtol=1e-9)            # equally spaced rows: the recurrence applies
+    start = int(np.ceil(L / V / h)) + 3                              # the axle has left the span (the damper's jump)
+    a = r.timeseries["sprung_max_abs_acceleration_m_s2"][start:]
+    assert np.max(a) > 0.05                                          # it does ring (m/s²)
+    minima = np.flatnonzero((a[1:-1] <= a[:-2]) & (a[1:-1] <= a[2:])) + 1
+    assert minima.size >= 3                                          # several half-cycles in the record
+    m = int(round(1.0 / (8.0 * fv * h)))                            # stride of an eighth of a period
+    edges = np.r_[0, minima, a.size - 1]
+    triples = np.array([(a[n + m], a[n], a[n - m]) for lo, hi in zip(edges[:-1], edges[1:])
+                        for n in range(lo + 2 + m, hi - 1 - m)])
+    assert len(triples) > 150                                        # enough for a fit of two coefficients
+    (alpha, beta), *_ = np.linalg.lstsq(triples[:, 1:], triples[:, 0], rcond=None)
+    sigma = -math.log(-beta) / (2.0 * m * h)
+    omega_d = math.acos(alpha / (2.0 * math.sqrt(-beta))) / (m * h)
+    omega_v = math.hypot(sigma, omega_d)
+    assert omega_v / (2.0 * math.pi) == pytest.approx(fv, rel=1e-6)
+    assert sigma / omega_v == pytest.approx(zv, rel=1e-6)
+
+
+def test_a_sprung_mass_at_walking_pace_deflects_mid_span_by_PL3_over_48EI():
+    """The whole static axle load reaches the deck through the suspension: the sprung mass m = P/g crossing slowly
+    (α = V/(2 f1 L) = 0.025) a heavily damped span (ζ = 0.3) deflects mid-span, when it is there, by P L³/(48 EI)
+    (Euler–Bernoulli, simply supported) times two analytic factors:
+
+    * the three modes kept: a mid-span load excites the odd modes with the static shares (96/π⁴)/j⁴ of P L³/(48 EI)
+      (Σ over odd j of 1/j⁴ = π⁴/96), so modes 1 and 3 carry (96/π⁴)(1 + 1/81) = 0.99770 of it;
+    * mode j forced at Ω = π V/L, r_j = Ω/ω_j = α/j², from rest: its steady part at the moment of the peak forcing
+      is (1 - r²)/((1 - r²)² + (2ζr)²) of the static (1 + 4.0e-4 for mode 1); the start's transient has decayed by
+      e^(-ζ ω1 L/(2V)) = e^(-ζπ/(2α)) = 7e-9.
+
+    Neglected, bounding the tolerance: the mass's inertia, which follows the deflection under the moving axle,
+    w(a) ∝ a²(L - a)², whose second time derivative at mid-span is -16 V²/L² w: 16 V² w/(L² g) = 1.4e-4 of P (the
+    suspension at 1.5 Hz passes the ~0.2 Hz path with a gain within a few % of 1); the FE frequencies (1.6e-5);
+    RK44 at h = 2 ms on a motion at Ω (Ωh)⁴ ~ 1e-11; the interpolation between rows (Ωh)²/8 = 3e-7.  Asserted to
+    3e-4 (measured 1.6e-4; the moving loads on the same deck 7e-7)."""
+    P, V, zeta = 2e5, 5.0, 0.3
+    case = _case(AxleTrain(np.array([0.0]), np.array([P])), V, zeta=zeta, model="sprung-masses",
+                 free_vibration_s=0.0, dt_s=2e-3)
+    r = bc.run_bridge_crossing(case)
+    assert r.summary["status"] == "ok"
+    ts = r.timeseries
+    w_mid = np.interp(L / (2.0 * V), ts["time_s"], ts["deck_midspan_displacement_m"])
+
+    def steady(rj):
+        return (1.0 - rj * rj) / ((1.0 - rj * rj) ** 2 + (2.0 * zeta * rj) ** 2)
+
+    alpha = V / (2.0 * F1 * L)
+    ref = P * L ** 3 / (48.0 * EI) * 96.0 / math.pi ** 4 * (steady(alpha) + steady(alpha / 9.0) / 81.0)
+    assert w_mid == pytest.approx(ref, rel=3e-4)
+
+
 def test_sprung_masses_on_the_command_line(tmp_path, capsys):
     f = _axle_file(tmp_path / "axles.csv", ["0,170000", "2.5,170000"])
     out = tmp_path / "o"
