@@ -401,3 +401,82 @@ def test_gradient_loads_every_body_with_its_weight_in_the_pitched_track_frame():
     np.testing.assert_allclose(F, ref, rtol=1e-12, atol=1e-12 * m.max() * G)
     assert np.all(F[:, 0] < 0.0)                 # uphill: the weight pulls every body back
     np.testing.assert_allclose(T, 0.0, atol=1e-9)
+
+
+# --------------------------------------------------------------------- the turning frame's terms by hand
+@pytest.mark.parametrize("where, s_car", [("mid-transition", 20.0 + 30.0), ("circular curve", 20.0 + 60.0 + 40.0)])
+def test_frame_loads_on_every_body_from_the_clothoid_closed_forms(where, s_car):
+    """Every body of the Manchester vehicle (car body, bogie frames, wheelsets) at V = 100 km/h on a right curve
+    R = 600 m, 150 mm cant, entered by a 60 m clothoid after 20 m of straight, all bodies inside the transition
+    (car-body centre mid-transition) or inside the curve.  Reference, from the clothoid's closed forms alone (not
+    through the layout module): u = (s - 20)/60 m, κ = u/R, dκ/ds = 1/(R L_T), cant h = u H, φ = asin(h/b),
+    dφ/ds = (H/L_T)/(b cos φ) (b the rail-centre distance; in the curve u = 1 and the rates vanish).  The track frame
+    (x forward, y right, z down) yaws at ψ̇ = V κ about the downward vertical and rolls at V dφ/ds about x, so in
+    its own axes Ω = V (dφ/ds, κ sin φ, κ cos φ); Ω̇ by central differences (±1 cm) of that closed form.  The frame
+    origin runs along the centre line at constant V: a_O = V² κ horizontally towards the centre, (0, V²κ cos φ,
+    -V²κ sin φ) in track axes; gravity (0, g sin φ, g cos φ).  With the model integrating (0, 0, g) and the centre
+    of mass at r = (0, y_cg, z_cg) from the frame origin, each body gets
+
+        F = m (g_track - (0, 0, g) - a_O - Ω̇ × r - Ω × (Ω × r)),
+        T = -dH/dt = -(I Ω̇ + Ω × I (Ω + ω_s)),
+
+    the torque from the transport of the angular momentum H = I (Ω + ω_s) carried by the frame (ω_s = (0, -V/r0, 0)
+    the wheelsets' spin, fixed in the frame; zero for the other bodies; valid for I_xx = I_zz, asserted).
+    Tolerance: the differences' truncation (δ/L_T)² ~ 3e-8 of Ω̇, round-off ε V |Ω|/δ ~ 1e-12 of it: 1e-6
+    relative, with an absolute floor of 1e-9 of m g (forces) and of |I| V²/(R L_T) (torques)."""
+    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.track.layout import Curve, Straight, Transition, TrackLayout
+    import exudyn as exu
+
+    lead, lt, V = 20.0, 60.0, 100.0 / 3.6
+    b = RAIL_CENTRE_DISTANCE_M
+    layout = TrackLayout([Straight(lead), Transition(lt), Curve(400.0, R, H, "right")])
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    t = 1.0
+    s0 = s_car - V * t                                 # the frame origin at t = 0 (the car body's centre at x = 0)
+    model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=V, s_start_m=s0, gravity_m_s2=G)
+    frame = TrackFollowingFrame(mbs, model, layout, gravity_m_s2=G)
+    F, T = frame.body_terms(t)
+    vehicle = load_vehicle("manchester_vehicle1")
+
+    def omega(s):
+        u = min(max((s - lead) / lt, 0.0), 1.0)
+        on_ramp = lead < s < lead + lt
+        kappa, phi = u / R, math.asin(u * H / b)
+        dphi = H / lt / (b * math.cos(phi)) if on_ramp else 0.0
+        return V * np.array([dphi, kappa * math.sin(phi), kappa * math.cos(phi)]), kappa, phi
+
+    delta = 1e-2
+    s_all = [s0 + V * t + body.p_cg_in_frame[0] for body in frame.bodies]          # each body's own frame
+    assert all((lead + 1.0 < s < lead + lt - 1.0) if where == "mid-transition" else (s > lead + lt + 1.0)
+               for s in s_all)
+    wheelsets = {id(w) for w in model.wheelsets}
+    n_checked = 0
+    for k, (body, s) in enumerate(zip(frame.bodies, s_all)):
+        Om, kappa, phi = omega(s)
+        dOm = V * (omega(s + delta)[0] - omega(s - delta)[0]) / (2.0 * delta)
+        m = body.mass_kg
+        r = np.array([0.0, body.p_cg_in_frame[1], body.p_cg_in_frame[2]])
+        g_track = np.array([0.0, G * math.sin(phi), G * math.cos(phi)])
+        a_O = V * V * kappa * np.array([0.0, math.cos(phi), -math.sin(phi)])
+        F_ref = m * (g_track - np.array([0.0, 0.0, G]) - a_O - np.cross(dOm, r) - np.cross(Om, np.cross(Om, r)))
+        if id(body) in wheelsets:
+            data, spin = vehicle.wheelset, np.array([0.0, -V / vehicle.geometry.r0_m, 0.0])
+            assert data.Ixx_kg_m2 == data.Izz_kg_m2
+        elif body is model.car_body:
+            data, spin = vehicle.car_body, np.zeros(3)
+        else:
+            data, spin = vehicle.bogie_frame, np.zeros(3)
+        assert m == data.mass_kg
+        inertia = np.diag([data.Ixx_kg_m2, data.Iyy_kg_m2, data.Izz_kg_m2])
+        T_ref = -(inertia @ dOm + np.cross(Om, inertia @ (Om + spin)))
+        np.testing.assert_allclose(F[k], F_ref, rtol=1e-6, atol=1e-9 * m * G, err_msg=f"{where}: body {k} force")
+        t_floor = 1e-9 * np.max(inertia) * V * V / (R * lt)
+        np.testing.assert_allclose(T[k], T_ref, rtol=1e-6, atol=t_floor, err_msg=f"{where}: body {k} torque")
+        n_checked += 1
+    assert n_checked == 7
+    if where == "mid-transition":
+        # the yaw rate V κ cos φ and its rate V² (κ' cos φ - κ sin φ φ') on the car body: nonzero, so T_z is checked
+        assert abs(T[frame.bodies.index(model.car_body), 2]) > 1e3
