@@ -105,7 +105,9 @@ entered with :func:`~..structures.bridge.add_bridge`):
     run, ``shift_bays`` the sleeper bays per move, default 1), ``modes_up_to_Hz`` (the modal reduction's cut-off;
     the static flexibility of the modes above it acts in series with the contacts).  An explicit solver needs a
     step the wheel on the rail's modal mass allows (the build refuses a larger one, naming ``run.dt_s``;
-    ``docs/track.md``).  Output
+    ``docs/track.md``) and one the creep damping on the rails allows (it grows as 1/V; the run monitor warns):
+    without ``run.dt_s`` an explicit run takes :func:`~exudyn_wheelrail.track.flexible_scenario.default_step_s` of
+    its speed (0.052 ms at 50 km/h, 0.21 ms at 200 km/h, at most 0.4 ms).  Output
     group ``"flexible_track"``: rail displacements under each wheelset, the nearest sleeper's displacement, pad and
     ballast forces.
 

@@ -221,6 +221,12 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     # --------------------------------------------------------------------------------- [contact], [run]
     contact = c.settings(ContactSettings, data.get("contact", {}), "contact")
     run = c.settings(RunSettings, data.get("run", {}), "run")
+    if "flexible_track" in out and "dt_s" not in data.get("run", {}):
+        # an explicit solver on the flexible track: the step its stability needs at this speed (flexible_scenario)
+        from ..track.flexible_scenario import EXPLICIT_CHECKED, default_step_s
+        if EXPLICIT_CHECKED.get(run.solver):
+            run = c.settings(RunSettings, {**data.get("run", {}), "dt_s": default_step_s(
+                out["vehicle"]["speed_km_h"] / 3.6, out["flexible_track"]["modes_up_to_Hz"])}, "run")
     out["contact"] = contact.as_dict()
     out["run"] = run.as_dict()
     if out.get("structure", {}).get("formulation") == "ffrf" and run.solver != "newmark":

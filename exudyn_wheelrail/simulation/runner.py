@@ -35,7 +35,11 @@ it the trapezoidal rule has fewer than about 3.3 steps per period of it (its dis
 ``2 atan(ω h/2)/h`` is 32 % low at ω h = 2√2) and a wheel lift or flange impact is integrated as nothing like the
 contact's dynamics — a derailment found then is reported ``diverged``, not ``derailed``, with the step that
 resolves it (:data:`RESOLUTION_LIMIT`).  Rows of a diverged RK44 run after its first ``step_size`` event are
-dropped (the integration is unstable from that state on).
+dropped (the integration is unstable from that state on).  On a flexible track the same evaluation gives the creep
+damping's decay rates with the rails' modal mass (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.
+creep_decay_rate_1_s`): an RK44 step beyond σ h <= 2.785 is warned before the solve (an
+:class:`~exudyn_wheelrail.validation.InputWarning` naming ``run.dt_s`` and the stable step; the command line
+prints it as one line ``warning: ...``): the run would settle into a false steady lateral force (docs/track.md).
 """
 from __future__ import annotations
 
@@ -159,10 +163,16 @@ def contact_omega_rad_s(mbs, contact, t_s: float = 0.0) -> list[float]:
     """Per wheelset the highest natural frequency [rad/s] on its linearised contact stiffness at the current state
     (the run monitor's estimate, :class:`~exudyn_wheelrail.multibody.monitor.RunMonitor`; 0 for a wheelset
     without contact).  Installs a pre-step function: call before the run's own."""
+    return _initial_estimates(mbs, contact, t_s)[0]
+
+
+def _initial_estimates(mbs, contact, t_s: float = 0.0) -> tuple[list[float], list[float]]:
+    """:func:`contact_omega_rad_s` and, from the same evaluation, per wheelset the fastest decay rate of the creep
+    damping [1/s] (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.creep_decay_rate_1_s`)."""
     probe = RunMonitor(contact, stop_on=(), keep_history=False)
     probe.attach(mbs, t_start_s=t_s, rk44_step_s=1.0)
     probe.check(mbs, t_s)
-    return [float(w) for w in probe.max_omega_h]
+    return [float(w) for w in probe.max_omega_h], [float(r) for r in probe.creep_rate_1_s]
 
 
 class _Hook:
@@ -346,17 +356,31 @@ def _completed(mbs, hook: _Hook, monitor, out: RunOutcome, events) -> Status:
     return Status("completed", t_end, None, None, "end time reached" + warn)
 
 
-def _check_flexible_track_step(contact, settings: RunSettings) -> None:
+def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()) -> None:
     """A flexible track under the contact (:mod:`exudyn_wheelrail.track.flexible`): the explicit step against the
     wheel on the rail's modal mass where the wheelsets stand now (the run monitor's estimate does not see that
-    mass), a ``TrackFileError`` naming ``run.dt_s`` before the solve."""
+    mass), a ``TrackFileError`` naming ``run.dt_s`` before the solve; and an RK44 step against the creep damping on
+    the rails (``creep_rate_1_s``: the monitor's decay rates at the initial state, the rails' modal mass included),
+    an :class:`~exudyn_wheelrail.validation.InputWarning` naming ``run.dt_s`` and the stable step."""
     bridge = getattr(contact, "bridge", None)
     if bridge is None or not hasattr(bridge.modes, "residual_table"):
         return
     from ..contact.layout import RES_S_TRACK
     from ..track.flexible_scenario import check_explicit_step
     s = [float(x) for x in contact.results[:, 0, RES_S_TRACK]]      # the wheelsets' track distance now
-    check_explicit_step(bridge.modes, settings.solver, float(settings.dt_s), min(s) - 1.0, max(s) + 1.0)
+    dt = float(settings.dt_s)
+    check_explicit_step(bridge.modes, settings.solver, dt, min(s) - 1.0, max(s) + 1.0)
+    sigma = max(creep_rate_1_s, default=0.0)
+    if settings.solver == "rk44" and sigma * dt > RK44_REAL_LIMIT:
+        import warnings
+
+        from ..validation import InputWarning
+        warnings.warn(f"run.dt_s = {dt:g} s: beyond RK44's stability limit of the creep damping on the flexible "
+                      f"rails (sigma h = {sigma * dt:.3g} > {RK44_REAL_LIMIT:.3f}, sigma = {sigma:.4g} 1/s: the "
+                      "lateral creep force as a damper on the rails' modal mass, growing as 1/V); the run would "
+                      f"settle into a false steady lateral force: use run.dt_s <= {RK44_REAL_LIMIT / sigma:.3g} s (or "
+                      "leave run.dt_s out: the scenario then takes a stable step for its speed)", InputWarning,
+                      stacklevel=3)
 
 
 def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None, progress=None,
@@ -374,8 +398,8 @@ def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None,
     omega = []
     if contact is not None:
         t0 = float(sim.timeIntegration.startTime)
-        omega = contact_omega_rad_s(mbs, contact, t0)
-        _check_flexible_track_step(contact, settings)
+        omega, creep = _initial_estimates(mbs, contact, t0)
+        _check_flexible_track_step(contact, settings, creep)
         monitor = RunMonitor(contact)
         guidance = FlangeClimbCheck(len(contact.nodes_exu), speed_m_s, monitor.nadal_limit)
     return solve(mbs, sim, solver_type, monitor, dt_s=float(settings.dt_s), solver=settings.solver,
