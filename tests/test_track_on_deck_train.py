@@ -289,3 +289,71 @@ def test_example_short_run(tmp_path):
             for c in ("rail_z", "sleeper_z", "pad", "ballast"):
                 unit = "N" if c in ("pad", "ballast") else "m"
                 assert np.all(np.isfinite(ball[f"{c}_w{j}_{side}_{unit}"]))
+
+
+# ================================================================== the deck under the loads the track puts on it
+def _statics_at_mid_span(segment):
+    """The full finite-element statics (no reduction) of the track on the 10 m deck over ``segment`` under one
+    wheelset at mid-span: (model, offsets, DOF vector)."""
+    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
+                      Ip_kgm2_m=4.0e4)
+    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=0.01, rail_height_m=0.0, start_m=DECK_START_M,
+                       elements_per_span=20)
+    mdl = TrackOnDeckModel(PARAMS, *segment, deck, ballast_height_m=0.0)
+    M, K, C, off = mdl.assemble_coupled()
+    s = DECK_START_M + 0.5 * SPAN_M
+    i = int(round((s - mdl.start_m) / mdl.h_m))
+    assert abs(mdl.start_m + i * mdl.h_m - s) < 1e-9                  # the load at a rail node
+    f = np.zeros(K.shape[0])
+    f[off["vertical"] + 2 * i] = sum(Q_LR)
+    f[off["roll"] + 2 * i] = 0.5 * B * (Q_LR[1] - Q_LR[0])
+    return mdl, off, np.linalg.solve(K, f)
+
+
+@pytest.mark.parametrize("segment", [(0.2, 9.6), (-5.8, 22.2)], ids=["deck only", "embankments"])
+def test_the_deck_deflects_as_the_simply_supported_beam_under_the_ballast_forces(segment):
+    """Action and reaction between track and deck, against the statics of a simply supported beam written here.
+    From the full statics, the ballast of every sleeper pushes on what is under it with the force of its two halves
+    (k_b/2 on the rail seat's deflection relative to the ground or to the deck point under it, z down): a force
+    F_j = Σ_sides and a moment T_j = Σ_sides ±(b/2) per sleeper.  Then
+
+    * equilibrium: Σ F_j over all sleepers (ground and deck) is the wheelset's load ΣQ and Σ T_j its roll moment
+      b/2 (Q_right - Q_left); with the track on the deck only, the deck alone receives both;
+    * the deck, loaded by nothing but the F_j and T_j of its sleepers, deflects at mid-span as the Euler–Bernoulli
+      span: w(L/2) = Σ F_j c_j (3L² - 4c_j²)/(48 EI), c_j = min(x_j, L - x_j), and twists as the St Venant shaft
+      fixed in torsion at both ends (fork bearings): θ(L/2) = Σ T_j c_j/(2 GJ).  The deck's Hermite (bending) and
+      linear (torsion) elements reproduce these exactly at their nodes (mid-span is one) for loads placed anywhere
+      by their own shape functions (the elements span the homogeneous solutions).
+
+    Tolerance: the solve's round-off, ε times the condition of K (~1e9, the squared ratio of the highest to the
+    lowest frequency): 1e-6 relative."""
+    mdl, off, u = _statics_at_mid_span(segment)
+    nn, n = mdl.n_nodes, mdl.n_dof
+    zv, zr, ud = u[off["vertical"]:off["vertical"] + n], u[off["roll"]:off["roll"] + n], u[off["deck"]:]
+    k_half = 0.5 * PARAMS.ballast_k_vertical_N_m
+    F, T = np.zeros(mdl.n_sleepers), np.zeros(mdl.n_sleepers)
+    for j in range(mdl.n_sleepers):
+        x = mdl.sleeper_s_m[j] - DECK_START_M
+        for sgn in SIDES.values():
+            seat = zv[2 * nn + j] + sgn * 0.5 * B * zr[2 * nn + j]
+            below = 0.0
+            if mdl.on_deck[j]:
+                below = mdl._deck_row(x, "w") @ ud + sgn * 0.5 * B * (mdl._deck_row(x, "tx") @ ud)
+            F[j] += k_half * (seat - below)
+            T[j] += sgn * 0.5 * B * k_half * (seat - below)
+    moment = 0.5 * B * (Q_LR[1] - Q_LR[0])
+    assert F.sum() == pytest.approx(sum(Q_LR), rel=1e-6)
+    assert T.sum() == pytest.approx(moment, rel=1e-6)
+    on = mdl.on_deck
+    if segment[0] > DECK_START_M:
+        assert on.all()                                        # every sleeper on the deck: it carries everything
+    else:
+        # the rails continuing onto the embankments hold the deck's ends: the ground sleepers there carry (or, near
+        # the abutments, pull) a share, and the deck receives ΣQ minus that share
+        assert abs(F[~on].sum()) > 1e-3 * sum(Q_LR)
+    c = np.minimum(mdl.sleeper_s_m[on] - DECK_START_M, SPAN_M - (mdl.sleeper_s_m[on] - DECK_START_M))
+    w_ref = np.sum(F[on] * c * (3 * SPAN_M ** 2 - 4 * c ** 2)) / (48.0 * DECK_EI)
+    theta_ref = np.sum(T[on] * c) / (2.0 * DECK_EI)           # GJ = DECK_EI in this section
+    mid = 0.5 * SPAN_M
+    assert mdl._deck_row(mid, "w") @ ud == pytest.approx(w_ref, rel=1e-6)
+    assert mdl._deck_row(mid, "tx") @ ud == pytest.approx(theta_ref, rel=1e-6)
