@@ -212,16 +212,18 @@ def test_static_axle_loads_sum_to_the_train_weight():
     train = build_train(mbs, consist, speed_m_s=30.0, pair=_pair(vehicle), contact_options={"mu": 0.3})
     mbs.Assemble()
     train.contact.warm_up(mbs, jacobian=False)
-    weight = consist.total_mass_kg * G
+    # the car's weight by hand from vehicles/crh6_intercity_car.toml ([car_body] 37 200 kg, [bogie_frame] 2 700 kg
+    # twice, [wheelset] 1 935 kg four times), not through the package's mass sums
+    car_weight = (37200.0 + 2 * 2700.0 + 4 * 1935.0) * G
+    weight = 8 * car_weight
     loads = train.static_wheel_loads_N()
     assert loads.shape == (32, 2)
     assert loads.sum() == pytest.approx(weight, rel=1e-12)
     res = train.contact.results
     q = -np.nansum(res[:, :, RES_F_TRACK_Z], axis=1).reshape(-1, 2)     # per wheel
     bound = 0.3 * math.sin(np.nanmax(np.abs(res[:, :, RES_GAMMA])))
-    for k, car in enumerate(train.cars):
+    for k in range(consist.n_cars):
         w = train.wheelset_range(k)
-        car_weight = car.vehicle.total_mass_kg * G
         assert loads[w.start:w.stop].sum() == pytest.approx(car_weight, rel=1e-12)
         assert abs(q[w.start:w.stop].sum() / car_weight - 1.0) <= bound
 
@@ -432,11 +434,16 @@ def test_bridge_crossing_vehicles_checks_the_consist_before_any_work(tmp_path):
 
 
 def test_train_axles_are_the_static_wheelset_loads_behind_the_leader():
-    """The moving-load model of a consist: wheelset distances behind the leading one (car k's wheelsets shifted by
-    the car spacing 26 m) and loads summing to the train's weight."""
+    """The moving-load model of a consist (manchester_x8: 8 Manchester vehicles 1, 26 m long, end to end), by hand
+    from vehicles/manchester_vehicle1.toml: the wheelsets of one car at ±9.5 ± 1.28 m about its centre
+    (semi_bogie_centre_distance_m, semi_wheelbase_m), i.e. 0, 2.56, 19, 21.56 m behind its leading one, car k's
+    shifted by 26 k m; every axle of the symmetric car (centres of mass on the car's and the bogies' centres) carries
+    a quarter of the car body (32 000 kg), half a bogie frame (2 615 kg) and its own wheelset (1 813 kg):
+    11 120.5 kg g; the train 8 (32 000 + 2 x 2 615 + 4 x 1 813) kg g.  Places: sums of a few decimals below 200 m,
+    1e-12 m; loads: a few roundings, 1e-12 relative."""
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import train_axles
     axles = train_axles("manchester_x8")
-    v = load_consist("manchester_x8").cars[0].vehicle
-    one_car = max(v.wheelset_x_m()) - np.array(v.wheelset_x_m())
+    one_car = np.array([0.0, 2.56, 19.0, 21.56])
     assert np.allclose(axles.x_m, np.concatenate([one_car + 26.0 * k for k in range(8)]), rtol=0, atol=1e-12)
-    assert axles.load_N.sum() == pytest.approx(8 * v.total_mass_kg * G, rel=1e-12)
+    np.testing.assert_allclose(axles.load_N, (32000.0 / 4 + 2615.0 / 2 + 1813.0) * G, rtol=1e-12, atol=0)
+    assert axles.load_N.sum() == pytest.approx(8 * (32000.0 + 2 * 2615.0 + 4 * 1813.0) * G, rel=1e-12)
