@@ -44,10 +44,12 @@ prints it as one line ``warning: ...``): the run would settle into a false stead
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 from ..multibody.monitor import (RK44_LIMIT, RK44_REAL_LIMIT, RunMonitor, Status, _contact_state_error,
                                  _status_from_state_error)
+from ..validation import InputWarning
 from . import status as S
 from .guidance import FlangeClimbCheck
 from .settings import RunSettings
@@ -103,7 +105,7 @@ class RunOutcome:
         m = self.monitor
         completed = self.stop.kind in ("completed", "hunting")
         if completed and m is not None and m.stability_exceeded is not None:
-            out.append(f"{m.stability_exceeded} — the run completed, but the integration is near its stability limit")
+            out.append(f"{m.stability_exceeded} — the run completed, but the integration is at or beyond its stability limit")
         elif completed and self.solver != "rk44" and not self.resolved:
             out.append(f"the time step {self.dt_s:g} s does not resolve the wheel–rail contact oscillation (omega h "
                        f"= {self.omega_rad_s * self.dt_s:.3g} > {RESOLUTION_LIMIT:.3f}, omega = "
@@ -358,8 +360,9 @@ def _completed(mbs, hook: _Hook, monitor, out: RunOutcome, events) -> Status:
 
 def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()) -> None:
     """A flexible track under the contact (:mod:`exudyn_wheelrail.track.flexible`): the explicit step against the
-    wheel on the rail's modal mass where the wheelsets stand now (the run monitor's estimate does not see that
-    mass), a ``TrackFileError`` naming ``run.dt_s`` before the solve; and an RK44 step against the creep damping on
+    wheel on the rail's modal mass over the track around the wheelsets' start, a ``TrackFileError`` naming
+    ``run.dt_s`` before the solve (the run monitor checks the same stiffness on the same mass where the wheelsets are
+    during the run); and an RK44 step against the creep damping on
     the rails (``creep_rate_1_s``: the monitor's decay rates at the initial state, the rails' modal mass included),
     an :class:`~exudyn_wheelrail.validation.InputWarning` naming ``run.dt_s`` and the stable step."""
     bridge = getattr(contact, "bridge", None)
@@ -372,9 +375,6 @@ def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()
     check_explicit_step(bridge.modes, settings.solver, dt, min(s) - 1.0, max(s) + 1.0)
     sigma = max(creep_rate_1_s, default=0.0)
     if settings.solver == "rk44" and sigma * dt > RK44_REAL_LIMIT:
-        import warnings
-
-        from ..validation import InputWarning
         warnings.warn(f"run.dt_s = {dt:g} s: beyond RK44's stability limit of the creep damping on the flexible "
                       f"rails (sigma h = {sigma * dt:.3g} > {RK44_REAL_LIMIT:.3f}, sigma = {sigma:.4g} 1/s: the "
                       "lateral creep force as a damper on the rails' modal mass, growing as 1/V); the run would "

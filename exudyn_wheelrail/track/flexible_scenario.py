@@ -208,8 +208,9 @@ def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None 
                         s_to_m: float | None = None) -> None:
     """Raise :class:`~.flexible.TrackFileError` (naming ``run.dt_s`` and the largest stable step) if the explicit
     ``solver`` at ``dt_s`` cannot carry the wheel on the rail's kept modal mass over ``[s_from_m, s_to_m]``
-    (:func:`contact_mode_Hz`); nothing for an implicit solver.  The run monitor's own stability estimate does not
-    see the rail's modal mass: this check is the guard (the scenario build and the runner call it)."""
+    (:func:`contact_mode_Hz`); nothing for an implicit solver.  The scenario build and the runner call it before the
+    solve, over the track the wheelsets will cross; the run monitor checks the same stiffness on the rail's modal mass
+    where the wheelsets are during the run."""
     limit = EXPLICIT_CHECKED.get(solver)
     if limit is None:
         return
