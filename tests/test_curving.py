@@ -424,10 +424,11 @@ def test_frame_loads_on_every_body_from_the_clothoid_closed_forms(where, s_car):
     the wheelsets' spin, fixed in the frame; zero for the other bodies; valid for I_xx = I_zz, asserted).
     Tolerance: the differences' truncation (δ/L_T)² ~ 3e-8 of Ω̇, round-off ε V |Ω|/δ ~ 1e-12 of it: 1e-6
     relative, with an absolute floor of 1e-9 of m g (forces) and of |I| V²/(R L_T) (torques)."""
+    import exudyn as exu
+
     from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
     from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
-    from exudyn_wheelrail.track.layout import Curve, Straight, Transition, TrackLayout
-    import exudyn as exu
+    from exudyn_wheelrail.track.layout import Curve, Straight, TrackLayout, Transition
 
     lead, lt, V = 20.0, 60.0, 100.0 / 3.6
     b = RAIL_CENTRE_DISTANCE_M
