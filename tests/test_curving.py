@@ -481,3 +481,52 @@ def test_frame_loads_on_every_body_from_the_clothoid_closed_forms(where, s_car):
     if where == "mid-transition":
         # the yaw rate V κ cos φ and its rate V² (κ' cos φ - κ sin φ φ') on the car body: nonzero, so T_z is checked
         assert abs(T[frame.bodies.index(model.car_body), 2]) > 1e3
+
+
+def test_chord_geometry_between_bodies_in_the_transition():
+    """Part (c) of the track-following frame inside a clothoid, where the cant twists between bodies (Δφ ≠ 0, which
+    the circular curve cannot show) and the heading is quadratic: every suspension element joining two bodies of
+    the Manchester vehicle, all of them inside a 60 m transition to R = 600 m with a 150 mm cant ramp, against the
+    clothoid's closed forms (not the layout module): with u = s - 20 m into the transition, ψ = u²/(2 R L_T),
+    Ψ = ∫ψ ds = u³/(6 R L_T), φ = asin(u H/(L_T b)).  B's frame origin in A's frame lies at y_h = Ψ(s_B) - Ψ(s_A)
+    - ψ(s_A)(s_B - s_A) (the chord's offset), turned by Δψ about the vertical and by Δφ about x: θ = (Δφ, Δψ sin φ_A,
+    Δψ cos φ_A), δ = (0, y_h cos φ_A, -y_h sin φ_A) + θ × v.  Values below 0.1 m and rad, a few roundings each:
+    1e-12 absolute."""
+    import exudyn as exu
+
+    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.track.layout import Curve, Straight, TrackLayout, Transition
+
+    lead, lt, V, t = 20.0, 60.0, 100.0 / 3.6, 1.0
+    b = RAIL_CENTRE_DISTANCE_M
+    layout = TrackLayout([Straight(lead), Transition(lt), Curve(400.0, R, H, "right")])
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    s0 = lead + 0.5 * lt - V * t                      # the car body's centre mid-transition at t
+    model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=V, s_start_m=s0, gravity_m_s2=G)
+    frame = TrackFollowingFrame(mbs, model, layout, gravity_m_s2=G)
+    delta, theta = frame.offsets(t)
+
+    def psi(s):
+        return (s - lead) ** 2 / (2.0 * R * lt)
+
+    def Psi(s):
+        return (s - lead) ** 3 / (6.0 * R * lt)
+
+    def phi(s):
+        return math.asin((s - lead) / lt * H / b)
+
+    twisted = 0
+    assert len(frame.elements) > 0
+    for k, (_, kind, kA, kB, _, v, _) in enumerate(frame.elements):
+        sA, sB = (s0 + V * t + frame.bodies[i].p_cg_in_frame[0] for i in (kA, kB))
+        assert lead < min(sA, sB) and max(sA, sB) < lead + lt           # inside the transition
+        y_h = Psi(sB) - Psi(sA) - psi(sA) * (sB - sA)
+        d_psi, pA = psi(sB) - psi(sA), phi(sA)
+        th = np.array([phi(sB) - pA, d_psi * math.sin(pA), d_psi * math.cos(pA)])
+        np.testing.assert_allclose(theta[k], th, rtol=0, atol=1e-12, err_msg=f"element {k} ({kind}): theta")
+        ref = np.array([0.0, y_h * math.cos(pA), -y_h * math.sin(pA)]) + np.cross(th, v)
+        np.testing.assert_allclose(delta[k], ref, rtol=0, atol=1e-12, err_msg=f"element {k} ({kind}): delta")
+        twisted += abs(th[0]) > 1e-3
+    assert twisted >= 2                               # the car body to its bogies: a cant twist of a few mrad
