@@ -2,7 +2,11 @@
 
 * **Cached.**  A kernel is compiled once per machine and source version and kept in numba's on-disk cache (the
   ``__pycache__`` folder beside its module, or ``NUMBA_CACHE_DIR``); every later process — a command, a test
-  worker — loads it instead of compiling it again.
+  worker — loads it instead of compiling it again.  "Source version" is the whole package's: numba alone keys a
+  kernel's cache on its own file, yet the machine code it keeps has the kernels it calls and the module constants
+  it reads (from other files) built in, so an edit of ``contact/layout.py`` alone would leave every caller in
+  another file running the old code.  Here each kernel's cache also carries a digest of every ``.py`` file of the
+  package (:func:`package_source_digest`): any change of the package's source makes every kernel compile afresh.
 * **One specialization per argument type, not per constant.**  Called from another kernel with a constant
   argument (``_fill_at(out, w, 0, …)``), numba compiles a separate specialization for the constant's *value*
   (``Literal[int](0)``), and another for every other constant and for a variable.  A kernel made here is compiled
@@ -17,14 +21,17 @@
 """
 from __future__ import annotations
 
+import hashlib
 import sys
-from functools import partial
+from functools import cache, partial
+from pathlib import Path
 
 from numba import njit, types
 from numba.core import event
+from numba.core.caching import FunctionCache, IndexDataCacheFile
 from numba.core.registry import CPUDispatcher
 
-__all__ = ["compiled", "COMPILE_NOTICE"]
+__all__ = ["compiled", "COMPILE_NOTICE", "package_source_digest"]
 
 #: the line shown on a terminal when a process first compiles a kernel of the package
 COMPILE_NOTICE = ("compiling the package's numba kernels (first run after an install or an update only; later runs "
@@ -63,12 +70,37 @@ class _CompileNotice(event.Listener):
 event.register("numba:compile", _CompileNotice())
 
 
+@cache
+def package_source_digest() -> bytes:
+    """SHA-256 of every ``.py`` file of the package (relative path and content, in path order), read once per
+    process: the source version a cached kernel is valid for (module docstring)."""
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0")
+        digest.update(path.read_bytes())
+    return digest.digest()
+
+
+class _PackageSourceCache(FunctionCache):
+    """numba's on-disk cache of one kernel (same place and files), whose index is valid only for the source of its
+    own file *and* of the whole package (:func:`package_source_digest`)."""
+
+    def __init__(self, py_func):
+        super().__init__(py_func)
+        stamp = (self._impl.locator.get_source_stamp(), package_source_digest())
+        self._cache_file = IndexDataCacheFile(cache_path=self._cache_path, filename_base=self._impl.filename_base,
+                                              source_stamp=stamp)
+
+
 def compiled(func=None, **options):
-    """``@compiled`` or ``@compiled(inline="always")``: ``numba.njit(cache=True, **options)``, typed by argument types
-    at calls from other kernels (module docstring).  With ``NUMBA_DISABLE_JIT=1`` the plain Python function."""
+    """``@compiled`` or ``@compiled(inline="always")``: ``numba.njit(**options)`` cached on disk for the package's
+    source version, typed by argument types at calls from other kernels (module docstring).  With
+    ``NUMBA_DISABLE_JIT=1`` the plain Python function."""
     def wrap(f):
-        dispatcher = njit(cache=True, **options)(f)
+        dispatcher = njit(**options)(f)
         if isinstance(dispatcher, CPUDispatcher):
+            dispatcher._cache = _PackageSourceCache(f)
             dispatcher.get_call_template = partial(_typed_call_template, dispatcher.get_call_template)
         return dispatcher
     return wrap(func) if func is not None else wrap

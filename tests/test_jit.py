@@ -6,11 +6,16 @@
 * a rigid, straight contact with the online search and a creep law without a table hands ``None`` for every
   optional part (geometry table, the deck's shapes and residual flexibility, the layout, the creep table), and the
   kernels that branch on those arguments compile with ``None`` (the other branch dropped by its type) and give the
-  rigid track's values.
+  rigid track's values;
+* a cached kernel is compiled afresh when any file of the package changes, not only its own.
 """
 import io
+import os
+import shutil
+import subprocess
 import sys
 import types
+from pathlib import Path
 
 from numba import njit
 
@@ -107,3 +112,33 @@ def test_the_none_branches_compile_and_give_the_rigid_values():
                                              np.zeros((1, 2), dtype=np.int64), None, np.ones(2), np.ones(2), phi,
                                              work)
     assert connector_core._frame_rate(None, None, 10.0, 30.0, 0.0, np.zeros(8)) == (0.0, 0.0, 0.0)
+
+
+def test_a_kernel_compiles_afresh_when_another_file_of_the_package_changes(tmp_path):
+    """A cached kernel whose machine code has a constant of another module built in: after that module alone
+    changes, a new process gets the new value (the cache carries the whole package's source digest).  The
+    reference, plain ``numba.njit(cache=True)``, keys its cache on the kernel's own file only and keeps running the
+    old constant — the stale code this rules out.  Each run is a fresh process on a copy of the package with its
+    own numba cache and no bytecode files (the two versions of the constant's file have the same size)."""
+    pkg = tmp_path / "exudyn_wheelrail"
+    shutil.copytree(Path(jit.__file__).parent, pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    (pkg / "_probe_constant.py").write_text("VALUE = 1.0\n")
+    (pkg / "_probe_kernels.py").write_text(
+        "from numba import njit\n\nfrom ._probe_constant import VALUE\nfrom .jit import compiled\n\n\n"
+        "@compiled\ndef package_kernel():\n    return VALUE\n\n\n"
+        "@njit(cache=True)\ndef plain_kernel():\n    return VALUE\n")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path), NUMBA_CACHE_DIR=str(tmp_path / "numba_cache"),
+               PYTHONDONTWRITEBYTECODE="1")
+    code = ("import exudyn_wheelrail as p; from exudyn_wheelrail import _probe_kernels as k; "
+            "print(p.__file__, k.package_kernel(), k.plain_kernel(), k.package_kernel.stats.cache_hits.total())")
+
+    def run():
+        out = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
+                             check=True).stdout.split()
+        assert Path(out[0]).is_relative_to(tmp_path)               # the copy, not the installed package
+        return out[1:]
+
+    assert run() == ["1.0", "1.0", "0"]                          # compiled and cached
+    assert run() == ["1.0", "1.0", "1"]                          # loaded from the cache: nothing changed
+    (pkg / "_probe_constant.py").write_text("VALUE = 2.0\n")
+    assert run() == ["2.0", "1.0", "0"]                          # compiled afresh; plain numba: stale
