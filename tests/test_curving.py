@@ -487,7 +487,7 @@ def test_chord_geometry_between_bodies_in_the_transition():
     """Part (c) of the track-following frame inside a clothoid, where the cant twists between bodies (Δφ ≠ 0, which
     the circular curve cannot show) and the heading is quadratic: every suspension element joining two bodies of
     the Manchester vehicle, all of them inside a 60 m transition to R = 600 m with a 150 mm cant ramp, against the
-    clothoid's closed forms (not the layout module): with u = s - 20 m into the transition, ψ = u²/(2 R L_T),
+    clothoid's small-angle closed forms (not the layout module): with u = s - 20 m into the transition, ψ = u²/(2 R L_T),
     Ψ = ∫ψ ds = u³/(6 R L_T), φ = asin(u H/(L_T b)).  B's frame origin in A's frame lies at y_h = Ψ(s_B) - Ψ(s_A)
     - ψ(s_A)(s_B - s_A) (the chord's offset), turned by Δψ about the vertical and by Δφ about x: θ = (Δφ, Δψ sin φ_A,
     Δψ cos φ_A), δ = (0, y_h cos φ_A, -y_h sin φ_A) + θ × v.  Values below 0.1 m and rad, a few roundings each:

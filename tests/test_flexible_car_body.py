@@ -434,7 +434,7 @@ def _reference_frequencies(raw: dict, h_max_m: float) -> dict:
       ``1/sqrt(1 + ε)``, ``ε = (i/m') ∫φ'²/∫φ²``; the second-order remainder is below ``ε²`` (ε = 3.0e-3 and 6.7e-3
       for n = 1, 2 here: the frequencies 0.15 % and 0.33 % below the Euler–Bernoulli beam's);
     * discretisation: Hermite cubic elements with consistent mass overestimate a wave of wavenumber β by
-      ``(β h)⁴ / 1440`` (leading term of the element's dispersion), h the longest element (≤ 1e-5 here).
+      ``(β h)⁴ / 1440`` (leading term of the element's dispersion), h the longest element (the term ≤ 1e-5 here).
 
     Torsion (St Venant, free–free): ``f_n = n / (2L) sqrt(GJ / I_p)``, ``I_p = Ixx / L``; linear elements with
     consistent mass overestimate it by ``θ² / 24 + O(θ⁴)``, ``θ = n π h / L`` (their discrete dispersion; on a

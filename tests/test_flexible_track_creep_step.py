@@ -19,6 +19,7 @@ import warnings
 import numpy as np
 import pytest
 
+from exudyn_wheelrail.multibody.monitor import coupled_damper_rate_1_s
 from exudyn_wheelrail.validation import InputWarning
 
 VEHICLE = "manchester_vehicle1"
@@ -102,7 +103,7 @@ def test_centred_vehicle_on_perfect_flexible_track_carries_no_net_lateral_force(
 
 @pytest.fixture(scope="module")
 def warned_run():
-    """The reviewer's case: 50 km/h at the explicit 0.4 ms step (two steps suffice for the check at t = 0)."""
+    """A step beyond the creep limit on the rails: 50 km/h at the explicit 0.4 ms step (two steps suffice for the check at t = 0)."""
     from exudyn_wheelrail.scenarios.build import build_scenario
     from exudyn_wheelrail.scenarios.run import run_model
     from exudyn_wheelrail.scenarios.spec import validate_scenario
@@ -173,3 +174,39 @@ def test_monitor_stable_step_against_brute_force(warned_run):
     assert kind == "ok" and force <= 8.0 * np.finfo(float).eps * 120e3 * steps and not warned, (kind, force)
     kind, force, warned = _brute_force_boundary_run(1.1 * stable)
     assert (kind == "diverged" or force > 1e3) and warned, (kind, force)
+
+
+def test_coupled_damper_rate_against_the_assembled_coupled_system():
+    """The monitor's creep estimate on a structure, ``B = A Aᵀ + H W Hᵀ``, against brute force: the damping matrix
+    of the coupled body and modes assembled in full, ``D = Σ c_i d_i d_iᵀ`` with ``d_i = (g_i, -Φᵀ h_i)`` over the
+    body's 6 coordinates and 5 mass-normalised modes, and the largest eigenvalue of ``diag(M, 1)^-1/2 D
+    diag(M, 1)^-1/2`` by LAPACK (random dampers, body inertia and shapes, fixed seed; both sides are symmetric
+    eigenvalue problems of condition ~1e2: 1e-10).  And by hand: one lateral damper through the body's centre on a
+    structure with lateral inverse modal mass w has σ = c (1/m + w), the rigid body alone c/m."""
+    rng = np.random.default_rng(7)
+    n_d, n_m = 4, 5
+    c = rng.uniform(1e4, 1e6, n_d)
+    g = rng.normal(size=(n_d, 6))
+    h = rng.normal(size=(n_d, 3))
+    Phi = rng.normal(scale=0.1, size=(3, n_m))
+    Q = np.linalg.qr(rng.normal(size=(6, 6)))[0]
+    M = Q @ np.diag(rng.uniform(100.0, 2000.0, 6)) @ Q.T
+    lam, V = np.linalg.eigh(M)
+    Mh = V @ np.diag(lam ** -0.5) @ V.T
+    D = np.zeros((6 + n_m, 6 + n_m))
+    for i in range(n_d):
+        d = np.concatenate([g[i], -Phi.T @ h[i]])
+        D += c[i] * np.outer(d, d)
+    S = np.eye(6 + n_m)
+    S[:6, :6] = Mh
+    brute = np.linalg.eigvalsh(S @ D @ S)[-1]
+    sc = np.sqrt(c)[:, None]
+    assert coupled_damper_rate_1_s(sc * g, sc * h, Mh, Phi @ Phi.T) == pytest.approx(brute, rel=1e-10)
+
+    m, w, c0 = 1813.0, 1.0 / 62.0, 3.0e5
+    g1 = np.array([[0.0, 1.0, 0.0, 0.0, 0.0, 0.0]]) * math.sqrt(c0)
+    h1 = np.array([[1.0, 0.0, 0.0]]) * math.sqrt(c0)
+    Mh1 = np.diag([m ** -0.5] * 3 + [0.01] * 3)
+    W1 = np.diag([w, 0.0, 0.0])
+    assert coupled_damper_rate_1_s(g1, h1, Mh1, W1) == pytest.approx(c0 * (1.0 / m + w), rel=1e-12)
+    assert coupled_damper_rate_1_s(g1, h1, Mh1, 0.0 * W1) == pytest.approx(c0 / m, rel=1e-12)

@@ -23,7 +23,8 @@ Record 838 (1981), fitted to US track-geometry measurements; tabulated per class
 
     level       k A_v Ω_c² / (Ω² (Ω² + Ω_c²))
     alignment   k A_a Ω_c² / (Ω² (Ω² + Ω_c²))
-    cross level 4 k A_v Ω_c² / ((Ω² + Ω_c²)(Ω² + Ω_s²))      (gauge: the same, as the package documents)
+    cross level 4 k A_v Ω_c² / ((Ω² + Ω_c²)(Ω² + Ω_s²))      (gauge: the same; ASSUMPTION, the package's
+                                                             documented convention, not a published spectrum)
 
 German high-speed spectra, low and high interference (the DB/ORE B176 spectra as quoted in Zhai 2020, ch. 2, and
 in Guo, Xia, De Roeck & Liu, Computers & Structures 112-113 (2012) 205-216), with A in m·rad, S in m²/(rad/m)::

@@ -189,14 +189,14 @@ def test_train_on_the_moving_window_starts_in_equilibrium():
     400 Hz with the correction): at t = 0 every wheel carries its static load (0.1 %, as the single car above: the
     train's start on the flexible track is the same static solve), the window moves with the train (at 200 km/h it
     passes a 0.6 m bay every 11 ms) and the run ends ok; the wheel loads stay within ±10 % on the level track.  The
-    step, 0.6 ms, is within RK44's limits of the contact stiffness and of the creep damping on the rails at this
-    speed (0.62 ms): no warning."""
+    step, 0.5 ms, is within RK44's limits of the contact stiffness and, by 20 %, of the creep damping on the rails
+    at this speed (the monitor's estimate 0.62 ms, within a few % of the measured boundary): no warning."""
     from exudyn_wheelrail.scenarios.build import build_scenario
     from exudyn_wheelrail.scenarios.run import run_model
     from exudyn_wheelrail.scenarios.spec import validate_scenario
 
     d = {"schema_version": 2, "vehicle": {"consist": "manchester_x2", "speed_km_h": 200.0, "start_s_m": 10.0},
-         "run": {"duration_s": 0.06, "solver": "rk44", "dt_s": 0.0006},
+         "run": {"duration_s": 0.06, "solver": "rk44", "dt_s": 0.0005},
          "outputs": {"plots": False, "criteria": False, "timeseries": ["Q", "flexible_track"]},
          "flexible_track": {"modes_up_to_Hz": 400.0, "length_m": "window"}}
     h = build_scenario(validate_scenario(d))

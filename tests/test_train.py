@@ -264,7 +264,6 @@ def test_axle_loads_by_the_lever_rule_are_the_simulated_static_contact_forces(tm
     a bogie frame's weight left out by 12 %."""
     import tomllib
 
-    from exudyn_wheelrail.simulation.runner import run
     consist_path = _offset_cg_consist(tmp_path)
     expected = []
     for k in (1, 2):

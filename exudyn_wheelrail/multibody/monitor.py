@@ -128,7 +128,8 @@ from . import monitor_core as MC
 from .connector_core import compiled_for
 from .rotations import rotation_from_vector
 
-__all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "run_monitored", "STATUS_KINDS", "STOP_KINDS"]
+__all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "run_monitored", "STATUS_KINDS", "STOP_KINDS",
+           "coupled_damper_rate_1_s"]
 
 #: every status kind; the first two are completed runs
 STATUS_KINDS = ("completed", "hunting", "derailment", "invalid_state", "time_limit", "solver_failure")
@@ -259,6 +260,19 @@ def _reason_names(bits: int) -> set:
 #: interval kinds of the compiled records -> (event kind, WheelRecord list)
 _INTERVALS = ((MC.IV_FLANGE, "flange_climb", "flange_climbs"), (MC.IV_LIFT, "lift_off", "lift_offs"),
               (MC.IV_DEEP, "deep_penetration", "deep_penetrations"))
+
+
+def coupled_damper_rate_1_s(rows_g: np.ndarray, rows_h: np.ndarray, Mh: np.ndarray, W: np.ndarray) -> float:
+    """The fastest decay rate [1/s] of dampers between a rigid body and a structure's modes: damper i (coefficient
+    c_i) acts along ``g_i`` on the body (6: force direction and its moment) and along ``h_i`` on the structure at the
+    same point (its directions in the structure's rows), ``rows_g[i] = √c_i g_i``, ``rows_h[i] = √c_i h_i``;
+    ``Mh = M^-1/2`` of the body, ``W = Φ Φᵀ`` the structure's inverse modal mass there (mass-normalised modes Φ).
+    The coupled damping ``D = Σ c_i d_i d_iᵀ``, ``d_i = (g_i, -Φᵀ h_i)``, against ``diag(M, 1)`` has the nonzero
+    eigenvalues of ``B = A Aᵀ + H W Hᵀ`` (``A = rows_g Mh``, ``H = rows_h``; B is one row per damper): the largest
+    is returned (:meth:`RunMonitor.creep_decay_rate_1_s`)."""
+    A = rows_g @ Mh
+    H = rows_h
+    return float(np.linalg.eigvalsh(A @ A.T + H @ W @ H.T)[-1])
 
 
 class RunMonitor:
@@ -609,9 +623,7 @@ class RunMonitor:
         Mh = self._mass_scaling(k, q)
         if not on_rails:
             return float(np.linalg.eigvalsh(Mh @ D @ Mh)[-1])
-        A = np.array(rows_g) @ Mh
-        H = np.array(rows_h)
-        return float(np.linalg.eigvalsh(A @ A.T + H @ W @ H.T)[-1])
+        return coupled_damper_rate_1_s(np.array(rows_g), np.array(rows_h), Mh, W)
 
     def _mass_scaling(self, k: int, q) -> np.ndarray:
         """``M^-1/2`` of wheelset k at its current rotation (6x6, global: ``1/√m`` and ``(R I Rᵀ)^-1/2``) in a

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
-from ..track.flexible_scenario import FLEXIBLE_TRACK_GROUP
+from ..track.flexible_scenario import EXPLICIT_CHECKED, FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
 from ..validation import Quantity, read_toml
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
 
@@ -212,7 +212,6 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     if "structure" in data:
         out["structure"] = _structure(c, data["structure"])
     if "flexible_track" in data:                  # rails on pads, sleepers and ballast (track/flexible_scenario.py)
-        from ..track.flexible_scenario import normalise_flexible_track
         if "structure" in data:
             raise c.error("flexible_track", "cannot be combined with a [structure] in a scenario (the track on a deck "
                                             "is the Python model track/flexible_deck.py): remove one of the two "
@@ -223,7 +222,6 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     run = c.settings(RunSettings, data.get("run", {}), "run")
     if "flexible_track" in out and "dt_s" not in data.get("run", {}):
         # an explicit solver on the flexible track: the step its stability needs at this speed (flexible_scenario)
-        from ..track.flexible_scenario import EXPLICIT_CHECKED, default_step_s
         if EXPLICIT_CHECKED.get(run.solver):
             run = c.settings(RunSettings, {**data.get("run", {}), "dt_s": default_step_s(
                 out["vehicle"]["speed_km_h"] / 3.6, out["flexible_track"]["modes_up_to_Hz"])}, "run")

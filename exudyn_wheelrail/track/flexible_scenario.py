@@ -34,8 +34,11 @@ before the run.  The creep damping on the rail's lateral modal mass sets a secon
 (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.creep_decay_rate_1_s`) and warns, naming the stable step.
 
 Default step (:func:`default_step_s`): a scenario with a flexible track, an explicit solver and no ``run.dt_s``
-runs at ``min(DEFAULT_STEP_CAP_S (800 Hz / modes_up_to_Hz above 800 Hz), DEFAULT_STEP_MARGIN x
-CREEP_STEP_S_PER_M_S x V)``, at least :data:`DEFAULT_STEP_MIN_S` — the one place these numbers are declared.
+runs at ``min(DEFAULT_STEP_CAP_S r, DEFAULT_STEP_MARGIN x CREEP_STEP_S_PER_M_S x V √r)`` with ``r = min(1,
+STEP_REFERENCE_MODES_HZ / modes_up_to_Hz)``, at least :data:`DEFAULT_STEP_MIN_S` — the one place these numbers
+are declared.  Both limits were found with modes to 800 Hz; more modes lower them: the highest kept mode in
+proportion to the cut-off, the creep limit as the rails' inverse modal mass under a wheel grows, Σ φ_i² over the
+kept modes, i.e. as their number — for bending modes (ω ~ k²) the square root of the cut-off.
 
 Moving window (:func:`flexible_track_window`, after the contact is built): the runner's ``user_function``; the
 recorded columns and the sleeper under a wheelset follow the window's current start.
@@ -57,7 +60,8 @@ from .flexible_window import DEFAULT_SHIFT_BAYS, FlexibleTrackWindow, window_len
 
 __all__ = ["FLEXIBLE_TRACK_KEYS", "FLEXIBLE_TRACK_GROUP", "AUTO", "WINDOW", "RK44_OMEGA_DT_LIMIT", "EXPLICIT_CHECKED",
            "CONTACT_STIFFNESS_N_M", "normalise_flexible_track", "flexible_track_modes", "flexible_track_window",
-           "CREEP_STEP_S_PER_M_S", "DEFAULT_STEP_MARGIN", "DEFAULT_STEP_CAP_S", "DEFAULT_STEP_MIN_S", "default_step_s",
+           "STEP_REFERENCE_MODES_HZ", "CREEP_STEP_S_PER_M_S", "DEFAULT_STEP_MARGIN", "DEFAULT_STEP_CAP_S",
+           "DEFAULT_STEP_MIN_S", "default_step_s",
            "contact_mode_Hz", "check_explicit_step", "start_on_flexible_track", "flexible_track_probes",
            "flexible_track_summary"]
 
@@ -79,6 +83,8 @@ EXPLICIT_CHECKED = {"rk44": RK44_OMEGA_DT_LIMIT, "rk33": math.sqrt(3.0), "rk67":
 CONTACT_STIFFNESS_N_M = 4.0e9
 
 # ---- the default explicit step of a flexible-track scenario (default_step_s): declared here only -----------------
+#: the track's mode cut-off [Hz] at which the limits below were found (their scaling above it: module docstring)
+STEP_REFERENCE_MODES_HZ = 800.0
 #: the creep-damping limit of RK44 per unit speed [s per m/s]: the Manchester vehicle (56 kN wheels, S1002 on 60E1
 #: 1:40) on the shipped ballasted track (modes to 800 Hz, 62 kg lateral modal mass of the rails per wheelset) with
 #: Kalker's linear law was stable at 0.105 ms and diverged at 0.110 ms at 50 km/h (13.9 m/s), and stable at 0.22 ms,
@@ -90,16 +96,18 @@ DEFAULT_STEP_MARGIN = 0.5
 #: the largest default step [s] (modes to 800 Hz: the wheel on the rail's modal mass allows 0.46 ms, the check of
 #: :func:`check_explicit_step`); scaled by 800 Hz / ``modes_up_to_Hz`` for a higher cut-off
 DEFAULT_STEP_CAP_S = 0.4e-3
-#: the smallest default step [s] (4.7 km/h: below it the creep limit falls further; give ``run.dt_s``)
+#: the smallest default step [s] (it takes over below 9.5 km/h with modes to 800 Hz, where the creep limit falls
+#: further; give ``run.dt_s`` there)
 DEFAULT_STEP_MIN_S = 1.0e-5
 
 
 def default_step_s(speed_m_s: float, modes_up_to_Hz: float = 800.0) -> float:
     """The RK44 step of a flexible-track scenario that gives no ``run.dt_s`` [s]: the creep-damping limit
-    :data:`CREEP_STEP_S_PER_M_S` x V times :data:`DEFAULT_STEP_MARGIN`, at most :data:`DEFAULT_STEP_CAP_S` (x 800 Hz /
-    ``modes_up_to_Hz`` above 800 Hz), at least :data:`DEFAULT_STEP_MIN_S`; rounded down to whole microseconds."""
-    cap = DEFAULT_STEP_CAP_S * min(1.0, 800.0 / float(modes_up_to_Hz))
-    h = min(cap, DEFAULT_STEP_MARGIN * CREEP_STEP_S_PER_M_S * abs(float(speed_m_s)))
+    :data:`CREEP_STEP_S_PER_M_S` x V times :data:`DEFAULT_STEP_MARGIN`, at most :data:`DEFAULT_STEP_CAP_S`, the two
+    scaled for a cut-off above :data:`STEP_REFERENCE_MODES_HZ` (module docstring), at least
+    :data:`DEFAULT_STEP_MIN_S`; rounded down to whole microseconds."""
+    r = min(1.0, STEP_REFERENCE_MODES_HZ / float(modes_up_to_Hz))
+    h = min(DEFAULT_STEP_CAP_S * r, DEFAULT_STEP_MARGIN * CREEP_STEP_S_PER_M_S * abs(float(speed_m_s)) * math.sqrt(r))
     return max(DEFAULT_STEP_MIN_S, math.floor(h * 1e6 + 1e-9) / 1e6)
 
 
