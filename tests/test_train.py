@@ -54,6 +54,19 @@ _GOOD = {"schema_version": 1, "train": {"name": "t", "source": "assumed"},
          "car": [{"vehicle": "manchester_vehicle1", "length_m": 26.0, "count": 2}]}
 
 
+def test_cars_stand_gap_apart_end_to_end():
+    """A consist with a gap between car ends (the shipped ones have none): three cars of 26, 24.5 and 26 m, 0.8 m
+    apart — by hand, the centres at 0, -(13 + 0.8 + 12.25) = -26.05 and -26.05 - (12.25 + 0.8 + 13) = -52.1 m and
+    the length 76.5 + 2 x 0.8 = 78.1 m (sums of short decimals: 1e-12 m)."""
+    data = {"schema_version": 1, "train": {"name": "t", "source": "assumed", "gap_m": 0.8},
+            "car": [{"vehicle": "manchester_vehicle1", "length_m": 26.0},
+                    {"vehicle": "manchester_vehicle1", "length_m": 24.5},
+                    {"vehicle": "manchester_vehicle1", "length_m": 26.0}]}
+    c = consist_from_dict(data, source="gap.toml")
+    np.testing.assert_allclose(c.car_x_m(), [0.0, -26.05, -52.1], rtol=0, atol=1e-12)
+    assert c.length_m == pytest.approx(78.1, abs=1e-12)
+
+
 @pytest.mark.parametrize("edit, key, words", [
     (lambda d: d["train"].update(gap_m=-0.5), "train.gap_m", "overlap"),
     (lambda d: d["car"][0].update(length_m=20.0), "car.0.length_m", "overlap"),
