@@ -4,6 +4,7 @@ static deflection with the track layer against the bare span's, a short run of a
 layer against static equilibrium and the track's load spreading, and the example's bad-input errors."""
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import json
 import math
@@ -430,3 +431,67 @@ def test_rail_sleeper_and_deck_deflection_against_a_brute_force_model(segment):
     for name, g, ref in zip(("rail", "sleeper", "deck"), got, (rail, sleeper, deck)):
         assert g == pytest.approx(ref, abs=tol), name
     assert rail - deck > 0.3 * rail          # the track's own share (pads, ballast, rail bending): ~half the rail's
+
+
+def test_a_lateral_load_bends_and_twists_the_deck_through_the_ballast_above_its_axis():
+    """A lateral force at mid-span on the rails of the track on the 10 m deck (deck only), the ballast's underside
+    e = 0.5 m above the deck's axis: by each sleeper's statics the ballast passes on to the deck exactly the lateral
+    force its pads take from the rails, F_j = 2 k_pad,lat (u_rail - u_sleeper) (raw track values), at height e.  So
+    the deck, loaded by nothing else, bends laterally as the simply supported span, v(L/2) = Σ F_j c_j (3L² -
+    4c_j²)/(48 EI_z), and twists as the fork-supported shaft under the moments e F_j: with z down, a force +y at
+    z = -e has the moment +e F_y about x; the rails, bent in roll by the deck's varying twist, add their pads'
+    moments R_j = (k_pad b²/2)(φ_rail - φ_sleeper) (summing to zero); θ(L/2) = Σ (e F_j + R_j) c_j/(2 GJ) (the
+    deck's elements reproduce both at a node, as above; the round-off ε cond(K): 1e-6).  And Σ F_j is the applied
+    force."""
+    e, F_y = 0.5, 30.0e3
+    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
+                      Ip_kgm2_m=4.0e4)
+    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=0.01, rail_height_m=0.0, start_m=DECK_START_M,
+                       elements_per_span=20)
+    mdl = TrackOnDeckModel(PARAMS, 0.2, 9.6, deck, ballast_height_m=e)
+    _, K, _, off = mdl.assemble_coupled()
+    s = DECK_START_M + 0.5 * SPAN_M
+    i = int(round((s - mdl.start_m) / mdl.h_m))
+    assert abs(mdl.start_m + i * mdl.h_m - s) < 1e-9 and mdl.on_deck.all()
+    f = np.zeros(K.shape[0])
+    f[off["lateral"] + 2 * i] = F_y
+    u = np.linalg.solve(K, f)
+    nn, n = mdl.n_nodes, mdl.n_dof
+    lat, rol, ud = u[off["lateral"]:off["lateral"] + n], u[off["roll"]:off["roll"] + n], u[off["deck"]:]
+    seat = 2 * np.asarray(mdl.sleeper_node)
+    F = 2.0 * PARAMS.pad_k_lateral_N_m * (lat[seat] - lat[2 * nn:])
+    # the rails resist the deck's varying twist in roll: their pads' moments (two pads b/2 off the centre line) pass
+    # through the sleepers to the deck as well
+    R = PARAMS.pad_k_vertical_N_m * B ** 2 / 2.0 * (rol[seat] - rol[2 * nn:])
+    assert F.sum() == pytest.approx(F_y, rel=1e-6)
+    assert abs(R.sum()) < 1e-6 * e * F_y                       # no roll load applied: the rails' moments cancel
+    c = np.minimum(mdl.sleeper_s_m - DECK_START_M, SPAN_M - (mdl.sleeper_s_m - DECK_START_M))
+    v_ref = np.sum(F * c * (3 * SPAN_M ** 2 - 4 * c ** 2)) / (48.0 * 10 * DECK_EI)
+    theta_ref = np.sum((e * F + R) * c) / (2.0 * DECK_EI)       # GJ = DECK_EI in this section
+    mid = 0.5 * SPAN_M
+    assert mdl._deck_row(mid, "v") @ ud == pytest.approx(v_ref, rel=1e-6)
+    assert mdl._deck_row(mid, "tx") @ ud == pytest.approx(theta_ref, rel=1e-6)
+    assert theta_ref > 0.0
+
+
+def test_the_deck_carries_its_damping_ratio_in_its_first_mode():
+    """The deck in the coupled model has stiffness-proportional damping for the deck's damping ratio ζ (0.01 here):
+    with the ballast's dampers set to zero, the coupled damping's deck block is the deck's alone, and the deck's
+    first mode (of its own mass and stiffness, by LAPACK here) has φᵀCφ / (2 ω φᵀMφ) = ζ, every higher mode
+    ζ ω/ω_1 (a property of C ∝ K).  Tolerance: the lowest eigenvalue of the deck's (M, K) is known to ε times its
+    spread λ_max/λ_min (~1e8: the axial modes), here and in the package's own solve for ω_1: 10 ε λ_max/λ_min."""
+    zeta = 0.01
+    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
+                      Ip_kgm2_m=4.0e4)
+    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=zeta, rail_height_m=0.0,
+                       start_m=DECK_START_M, elements_per_span=20)
+    params = dataclasses.replace(PARAMS, ballast_c_vertical_Ns_m=0.0, ballast_c_lateral_Ns_m=0.0)
+    _, _, C, off = TrackOnDeckModel(params, 0.2, 9.6, deck, ballast_height_m=0.5).assemble_coupled()
+    Cd = C[off["deck"]:, off["deck"]:]
+    Md, Kd = (m.toarray() for m in deck.assemble(supported=True))
+    L = np.linalg.cholesky(Md)
+    w2, phi = np.linalg.eigh(np.linalg.solve(L, np.linalg.solve(L, Kd).T))
+    w = np.sqrt(w2[:4])
+    shapes = np.linalg.solve(L.T, phi[:, :4])                  # M-orthonormal deck modes
+    ratio = np.einsum("ik,ij,jk->k", shapes, Cd, shapes) / (2.0 * w)
+    np.testing.assert_allclose(ratio, zeta * w / w[0], rtol=10.0 * np.finfo(float).eps * w2[-1] / w2[0])
