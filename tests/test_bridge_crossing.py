@@ -193,6 +193,49 @@ def test_one_moving_load_against_frybas_series():
     assert r.summary["frequencies_Hz"] == pytest.approx([F1 * j * j for j in range(1, 6)], rel=1e-4)
 
 
+def test_en1990_peak_is_the_largest_of_the_nine_check_points_not_the_mid_span():
+    """EN 1990:2002/A1:2005 A2.4.4.2.1(4)P judges the peak vertical deck acceleration over the span, with the modes up
+    to max(30 Hz, 1.5 f1, f3) = max(30, 7.5, 45) = 45 Hz here: all three modes (5, 20, 45 Hz).  The package samples
+    the span at x = L/10 ... 9L/10.  Reference: the closed-form modal response of the simply supported span at those
+    nine points on the run's time grid.  One load at 30 m/s excites the antisymmetric second mode, which has its node
+    at mid-span: the nine points' peak is 13 % above the mid-span peak (checked below), so a check that read the
+    mid-span column would be off by far more than the tolerance.  Tolerance: RUN_TOL, the runs' budget against the
+    closed form (module docstring)."""
+    axles = AxleTrain(np.array([0.0]), np.array([2e5]))
+    case = _case(axles, 30.0, free_vibration_s=0.1)
+    r = bc.run_bridge_crossing(case)
+    assert r.summary["status"] == "ok"
+    t = r.timeseries["time_s"]
+    x = L * np.arange(1, 10) / 10.0
+    _, a = modal_moving_load_response(x, t, axles, speed_m_s=30.0, span_m=L, EI_Nm2=EI, m_kg_m=M,
+                                      damping_ratio=ZETA, n_modes=3)
+    peak_points, peak_mid = np.max(np.abs(a)), np.max(np.abs(a[:, 4]))
+    assert peak_points > (1.0 + 10 * RUN_TOL) * peak_mid           # the case tells the two apart
+    en = r.summary["EN1990_A2_deck_acceleration"]
+    assert en["modes_used"] == 3 and en["cutoff_Hz"] == pytest.approx(45.0)
+    assert en["peak_acceleration_m_s2"] == pytest.approx(peak_points, rel=RUN_TOL)
+    # ballasted track (the default form): the limit of A2.4.4.2.1(4)P, 3.5 m/s2, and the check's verdict
+    assert en["limit_m_s2"] == 3.5 and en["passed"] is True
+    assert en["utilisation"] == pytest.approx(peak_points / 3.5, rel=RUN_TOL)
+
+
+def test_each_span_of_a_chain_has_its_resonance_speeds_in_km_h():
+    """Resonance speeds v_i = f1 d/i (i = 1 ... 4; EN 1991-2:2003 6.4.4, the speeds at which the axle spacing d is
+    travelled in i periods of the first mode) per span, in km/h (x 3.6).  Spans of 20 m and 40 m with the same
+    section: f1 scales as 1/L^2, so 5 Hz and 1.25 Hz; uniform axles 12 m apart.  Worked by hand: 3.6 x 5 x 12 / i =
+    216/i km/h and 3.6 x 1.25 x 12 / i = 54/i km/h; the whole train's (first span) 60/i m/s = 216/i km/h.  A few ulp
+    of the products (rel 1e-12)."""
+    axles = AxleTrain(12.0 * np.arange(3), np.full(3, 1e5))
+    r = bc.run_bridge_crossing(_chain_case(axles, 50.0, (L, 2 * L)))
+    assert r.summary["status"] == "ok"
+    spans = r.summary["spans"]
+    assert spans[0]["resonance_speeds_km_h"] == pytest.approx([216.0 / i for i in range(1, 5)], rel=1e-12)
+    assert spans[1]["resonance_speeds_km_h"] == pytest.approx([54.0 / i for i in range(1, 5)], rel=1e-12)
+    res = r.summary["resonance_speeds"]
+    assert [v["speed_m_s"] for v in res] == pytest.approx([60.0 / i for i in range(1, 5)], rel=1e-12)
+    assert [v["speed_km_h"] for v in res] == pytest.approx([216.0 / i for i in range(1, 5)], rel=1e-12)
+
+
 # ---------------------------------------------------------------------------------------- command line
 ARGS = ["bridge-crossing", "--span-m", "20", "--bridge-mass-kg-per-m", "15000", "--bridge-frequency-hz", "5",
         "--damping-ratio", "0.01", "--modes", "3", "--model", "moving-loads", "--speed-kmh", "250"]
@@ -324,6 +367,25 @@ def test_default_time_step_resolves_the_highest_mode_and_the_passage():
                                   axles=case.axles, speed_m_s=100.0)
     assert bc.default_dt_s(slow_span) <= 2 * 2.0 / (bc.STEPS_PER_PERIOD * 100.0)
     assert math.isclose(bc.default_dt_s(slow_span), float(f"{bc.default_dt_s(slow_span):.3g}"))
+
+
+@pytest.mark.parametrize("span_m, f1_Hz, n_modes, V, expected_s", [
+    # the highest mode governs: f_N = 4^2 x 5 Hz = 80 Hz, 1/(40 x 80 Hz) = 3.125e-4 s -> 3.12e-4 s
+    # (passage 2 x 20/(40 x 4 x 90) = 2.78e-3 s)
+    (20.0, 5.0, 4, 90.0, 3.12e-4),
+    # the passage governs: 2 x 2 m/(40 x 3 x 100 m/s) = 3.333e-4 s -> 3.33e-4 s (f_N = 9 x 0.2 = 1.8 Hz: 1.39e-2 s)
+    (2.0, 0.2, 3, 100.0, 3.33e-4),
+    # the 10 ms cap governs: 1/(40 x 0.2 Hz) = 0.125 s and 2 x 100 m/(40 x 1 x 10 m/s) = 0.5 s
+    (100.0, 0.2, 1, 10.0, 1.0e-2),
+], ids=["highest mode", "passage", "cap"])
+def test_default_time_step_is_the_documented_rule_worked_by_hand(span_m, f1_Hz, n_modes, V, expected_s):
+    """The default step against its rule (module docstring of scenarios/bridge_crossing.py): dt = min(1/(40 f_N),
+    2L/(40 N V), 10 ms) rounded down to 3 significant digits, f_N = N^2 f1 (Euler-Bernoulli span), each branch
+    governing once, the values worked by hand (40 steps per period typed here, not read from the package).  The
+    rounding lands on a 3-digit decimal: equal up to a few ulp of the product floor(.) x 10^k (rel 1e-12)."""
+    case = bc.BridgeCrossing(span_m=span_m, mass_kg_m=M, f1_Hz=f1_Hz, damping_ratio=0.0, n_modes=n_modes,
+                             axles=AxleTrain(np.array([0.0]), np.array([1e5])), speed_m_s=V)
+    assert bc.default_dt_s(case) == pytest.approx(expected_s, rel=1e-12)
 
 
 # ------------------------------------------------------------------------------------------- speed sweep

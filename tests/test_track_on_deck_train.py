@@ -16,7 +16,7 @@ import pytest
 from exudyn_wheelrail.structures.bridge import BridgeModel, DeckSection
 from exudyn_wheelrail.track.flexible import TrackParameters
 from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
-from exudyn_wheelrail.track.flexible_outputs import SIDES, support_force_totals_N, track_under_wheels
+from exudyn_wheelrail.track.flexible_outputs import support_force_totals_N, track_under_wheels
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = TrackParameters.from_file()
@@ -26,6 +26,13 @@ SPAN_M, DECK_START_M = 10.0, 0.0
 DECK_EI = 1.0e4 * (2.0 * SPAN_M ** 2 * 10.0 / math.pi) ** 2
 #: the wheelset's wheel loads (left, right) [N]: unequal, so that the roll beam is loaded too
 Q_LR = (60.0e3, 80.0e3)
+#: the rails' lateral places over b/2 in the track frame of track/flexible.py (y right, z down, looking in the running
+#: direction): the left rail at y = -b/2, the right at +b/2.  A roll theta about x moves a point at y by z = y theta
+#: ((theta e_x) x (y e_y) = y theta e_z), so a rail's vertical motion is z + (+-b/2) theta.  Typed here from that
+#: definition, not read from the package.
+RAIL_Y_OVER_HALF_B = {"left": -1.0, "right": 1.0}
+#: the support-force totals and their references (not per-point quantities)
+TOTALS = ("ballast_total_N", "ballast_ground_N", "ballast_deck_N")
 
 
 def _model():
@@ -65,7 +72,7 @@ def _reference(mdl, off, s, i, u):
     j = int(round((s - mdl.start_m) / PARAMS.sleeper_spacing_m))
     n_sl = 2 * mdl.sleeper_node[j]
     ref = {}
-    for side, sgn in SIDES.items():
+    for side, sgn in RAIL_Y_OVER_HALF_B.items():
         ref[f"rail_z_{side}_m"] = zv[2 * i] + sgn * 0.5 * B * zr[2 * i]
         seat = zv[2 * nn + j] + sgn * 0.5 * B * zr[2 * nn + j]
         ref[f"sleeper_z_{side}_m"] = seat
@@ -77,17 +84,23 @@ def _reference(mdl, off, s, i, u):
         ref[f"ballast_vertical_{side}_N"] = 0.5 * PARAMS.ballast_k_vertical_N_m * (seat - below)
     xd = s - mdl.deck.start_m
     ref["deck_z_m"] = mdl._deck_row(xd, "w") @ ud if 0.0 <= xd <= mdl.deck.length_m else 0.0
-    # the ballast of every sleeper: all of them carry the wheelset's load in statics
+    # the ballast of every sleeper: all of them carry the wheelset's load in statics; split into the sleepers on
+    # the deck (strictly between its ends, by their track distance) and those on the ground
     tot = 0.0
+    on_deck = {"ballast_ground_N": 0.0, "ballast_deck_N": 0.0}
     for jj in range(ns):
-        for sgn in SIDES.values():
+        s_j = mdl.sleeper_s_m[jj]
+        where = "ballast_deck_N" if DECK_START_M < s_j < DECK_START_M + SPAN_M else "ballast_ground_N"
+        for sgn in RAIL_Y_OVER_HALF_B.values():
             seat = zv[2 * nn + jj] + sgn * 0.5 * B * zr[2 * nn + jj]
             below = 0.0
             if mdl.on_deck[jj]:
                 xx = mdl.sleeper_s_m[jj] - mdl.deck.start_m
                 below = mdl._deck_row(xx, "w") @ ud + sgn * 0.5 * B * (mdl._deck_row(xx, "tx") @ ud)
             tot += 0.5 * PARAMS.ballast_k_vertical_N_m * (seat - below)
+            on_deck[where] += 0.5 * PARAMS.ballast_k_vertical_N_m * (seat - below)
     ref["ballast_total_N"] = tot
+    ref.update(on_deck)
     return ref
 
 
@@ -101,13 +114,16 @@ def _errors(mdl, off, statics, modes) -> dict:
         got = track_under_wheels(modes, [s], q, np.zeros_like(q))
         assert got["on_segment"][0]
         for key, v in ref.items():
-            if key != "ballast_total_N":
-                scale = max(abs(ref[k]) for k in ref if k[-2:] == key[-2:] and k != "ballast_total_N")
+            if key not in TOTALS:
+                scale = max(abs(ref[k]) for k in ref if k[-2:] == key[-2:] and k not in TOTALS)
                 out[name, key] = (float(got[key][0]), v, scale)
         # equilibrium: the ballast of all sleepers, on the ground and on the deck, carries the wheelset
         assert ref["ballast_total_N"] == pytest.approx(sum(Q_LR), rel=1e-9)
-        out[name, "ballast_total_N"] = (support_force_totals_N(modes, q, np.zeros_like(q))["total_N"], sum(Q_LR),
-                                        sum(Q_LR))
+        totals = support_force_totals_N(modes, q, np.zeros_like(q))
+        out[name, "ballast_total_N"] = (totals["total_N"], sum(Q_LR), sum(Q_LR))
+        # and its two parts, the sleepers on the ground and those on the deck (the full model's ballast forces)
+        out[name, "ballast_ground_N"] = (totals["ground_N"], ref["ballast_ground_N"], sum(Q_LR))
+        out[name, "ballast_deck_N"] = (totals["deck_N"], ref["ballast_deck_N"], sum(Q_LR))
     return out
 
 
@@ -335,7 +351,7 @@ def test_the_deck_deflects_as_the_simply_supported_beam_under_the_ballast_forces
     F, T = np.zeros(mdl.n_sleepers), np.zeros(mdl.n_sleepers)
     for j in range(mdl.n_sleepers):
         x = mdl.sleeper_s_m[j] - DECK_START_M
-        for sgn in SIDES.values():
+        for sgn in RAIL_Y_OVER_HALF_B.values():
             seat = zv[2 * nn + j] + sgn * 0.5 * B * zr[2 * nn + j]
             below = 0.0
             if mdl.on_deck[j]:

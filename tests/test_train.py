@@ -394,6 +394,27 @@ def _scaled_wheelset_consist(tmp_path, scale: float) -> Path:
     return consist
 
 
+
+@pytest.mark.parametrize("scale", [1.0, 0.1])
+def test_hertz_step_bound_is_half_the_resolution_step_of_the_wheelset_bounce_worked_by_hand(tmp_path, scale):
+    """The bridge crossing's step bound with vehicles (scenarios/bridge_crossing_vehicles.py module docstring): half the
+    step h at which the wheelset bouncing on its two wheels' linearised Hertz springs (in parallel: 2 k_H, mass m)
+    reaches omega h = 2 sqrt 2 (RK44's stability limit), omega = sqrt(2 k_H/m).  Worked here for
+    vehicles/single_wheelset.toml with its wheelset mass m = 1813 kg x scale: Q = 45653.29 N + m x 9.81 m/s2 / 2 per
+    wheel (the file's dead load per side and half the wheelset's weight; 54546.0 N at scale 1), r0 = 0.46 m; k_H = 1.5 Q/delta from
+    RailSprings.from_hertz (the contact module's Hertz solution, tested against Hertz's tables elsewhere).
+    Tolerance: the wheel load by hand against the load path's sum (a few ulp), through k_H ~ Q^(1/3): 1e-9."""
+    from exudyn_wheelrail.multibody.train import load_consist
+    from exudyn_wheelrail.multibody.vehicle_builder import RailSprings
+    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import hertz_dt_bound_s
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                    # 181 kg is an unusual wheelset mass
+        consist = load_consist(_scaled_wheelset_consist(tmp_path, scale))
+    q_wheel = 45653.29 + 1813.0 * scale * 9.81 / 2.0
+    k_h = RailSprings.from_hertz(wheel_load_N=q_wheel, r0_m=0.46).k_vertical_N_per_m
+    omega = math.sqrt(2.0 * k_h / (1813.0 * scale))
+    assert hertz_dt_bound_s(consist) == pytest.approx(0.5 * 2.0 * math.sqrt(2.0) / omega, rel=1e-9)
 def test_full_interaction_tends_to_moving_load_as_unsprung_mass_vanishes(tmp_path):
     """One wheelset under a dead load (single_wheelset: the load above it is a constant force, the limit of an
     infinitely soft suspension) crossing a 20 m span, full interaction (bridge-crossing --model vehicles) against
