@@ -220,8 +220,8 @@ def test_en1990_peak_is_the_largest_of_the_nine_check_points_not_the_mid_span():
 
 
 def test_each_span_of_a_chain_has_its_resonance_speeds_in_km_h():
-    """Resonance speeds v_i = f1 d/i (i = 1 ... 4; EN 1991-2:2003 6.4.4, the speeds at which the axle spacing d is
-    travelled in i periods of the first mode) per span, in km/h (x 3.6).  Spans of 20 m and 40 m with the same
+    """Resonance speeds v_i = f1 d/i (i = 1 ... 4: the speeds at which the loads repeat every i periods of the first
+    mode, the axle spacing d passed in i/f1; EN 1991-2's v = n0 lambda with lambda = d/i) per span, in km/h (x 3.6).  Spans of 20 m and 40 m with the same
     section: f1 scales as 1/L^2, so 5 Hz and 1.25 Hz; uniform axles 12 m apart.  Worked by hand: 3.6 x 5 x 12 / i =
     216/i km/h and 3.6 x 1.25 x 12 / i = 54/i km/h; the whole train's (first span) 60/i m/s = 216/i km/h.  A few ulp
     of the products (rel 1e-12)."""
