@@ -583,11 +583,13 @@ class RunMonitor:
         mass at the wheelset is ``W = Φ Φᵀ`` (rows y, z, θ; :func:`.monitor_core.rail_mobility`): σ is then the
         largest eigenvalue of ``B = A Aᵀ + H W Hᵀ`` over the dampers (rows ``√c g M^-1/2`` and ``√c h``, h the
         damper's direction on the rails: y and its moment about the rails' centre line; the longitudinal damper
-        has none), the same nonzero eigenvalues as the coupled system's ``M^-1/2 D M^-1/2``.  A flexible rail's
-        lateral modal mass per wheelset is tens of kilograms (62 kg on the shipped ballasted track, modes to 800 Hz)
-        against the wheelset's 1.8 t: the Manchester vehicle at 50 km/h has σ = 2.5e4 1/s there, 4.5e3 1/s on the
-        rigid track, and an explicit step beyond it settles into a false steady lateral force of nearly μ Q per
-        wheel instead of diverging (docs/track.md, "The creep damping on the rails")."""
+        has none), the same nonzero eigenvalues as the coupled system's ``M^-1/2 D M^-1/2``
+        (:func:`coupled_damper_rate_1_s`, used in every case: on the rigid track ``W = 0``, and B has those of the
+        wheelset's ``M^-1/2 D M^-1/2``).  A flexible rail's lateral modal mass per wheelset is tens of kilograms
+        (62 kg on the shipped ballasted track, modes to 800 Hz) against the wheelset's 1.8 t: the Manchester vehicle
+        at 50 km/h has σ = 2.5e4 1/s there, 4.5e3 1/s on the rigid track, and an explicit step beyond it settles
+        into a false steady lateral force of nearly μ Q per wheel instead of diverging (docs/track.md, "The creep
+        damping on the rails")."""
         from ..creep.linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients
         c = self.contact
         inertia = self._inertia[k] if self._inertia is not None else None
@@ -596,10 +598,6 @@ class RunMonitor:
         G_mod, nu = float(c.cp[L.CP_G]), min(max(float(c.cp[L.CP_NU]), 0.0), 0.5)
         res = c.results
         centre = np.asarray(c.p_ref[k], dtype=float) + np.asarray(q[6 * k:6 * k + 3], dtype=float)
-        phi = self._phi_ws[k] if self._phi_ws.shape[2] else None
-        W = phi @ phi.T if phi is not None else None                  # the rails' inverse modal mass (y, z, θ)
-        on_rails = W is not None and W.any()
-        D = np.zeros((6, 6))
         rows_g, rows_h = [], []
         for w in (2 * k, 2 * k + 1):
             for r in res[w]:
@@ -609,21 +607,16 @@ class RunMonitor:
                 c11, c22, _ = kalker_coefficients(min(max(a / b, A_OVER_B_MIN), A_OVER_B_MAX), nu)
                 lever = np.array([r[L.RES_P_X], r[L.RES_P_Y], r[L.RES_P_Z]]) - centre
                 for coefficient, t_dir in ((c11, (1.0, 0.0, 0.0)), (c22, (0.0, 1.0, 0.0))):
-                    g = np.concatenate([t_dir, np.cross(lever, t_dir)])
-                    c_damp = G_mod * a * b * coefficient / V
-                    D += c_damp * np.outer(g, g)
-                    if on_rails:
-                        # the damper's direction on the rails (y, z, θ about their centre line, as contact_rows)
-                        h = (t_dir[1], t_dir[2], t_dir[2] * (r[L.RES_P_Y] - r[L.RES_DECK_Y])
-                             - t_dir[1] * (r[L.RES_P_Z] - r[L.RES_DECK_Z]))
-                        rows_g.append(math.sqrt(c_damp) * g)
-                        rows_h.append(math.sqrt(c_damp) * np.array(h))
-        if not D.any():
+                    root_c = math.sqrt(G_mod * a * b * coefficient / V)
+                    # the damper on the wheelset (direction and moment about the axle centre) and on the rails (y, z,
+                    # θ about their centre line, as contact_rows)
+                    rows_g.append(root_c * np.concatenate([t_dir, np.cross(lever, t_dir)]))
+                    rows_h.append(root_c * np.array((t_dir[1], t_dir[2], t_dir[2] * (r[L.RES_P_Y] - r[L.RES_DECK_Y])
+                                                     - t_dir[1] * (r[L.RES_P_Z] - r[L.RES_DECK_Z]))))
+        if not rows_g:
             return 0.0
-        Mh = self._mass_scaling(k, q)
-        if not on_rails:
-            return float(np.linalg.eigvalsh(Mh @ D @ Mh)[-1])
-        return coupled_damper_rate_1_s(np.array(rows_g), np.array(rows_h), Mh, W)
+        phi = self._phi_ws[k]                                         # no structure: no columns, W = 0
+        return coupled_damper_rate_1_s(np.array(rows_g), np.array(rows_h), self._mass_scaling(k, q), phi @ phi.T)
 
     def _mass_scaling(self, k: int, q) -> np.ndarray:
         """``M^-1/2`` of wheelset k at its current rotation (6x6, global: ``1/√m`` and ``(R I Rᵀ)^-1/2``) in a
@@ -646,8 +639,8 @@ class RunMonitor:
         if sh > RK44_REAL_LIMIT and self.stability_exceeded is None:
             st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the creep "
                         f"damping (sigma h = {sh:.3g} > {RK44_REAL_LIMIT:.3f}, sigma = {sh / h:.4g} 1/s, growing as "
-                        f"1/V at low speed: stable below {RK44_REAL_LIMIT / (sh / h):.3g} s; use dt_s <= "
-                        f"{RK44_REAL_LIMIT / (sh / h):.3g} s or the implicit solver newmark)")
+                        f"1/V at low speed): use dt_s <= {RK44_REAL_LIMIT / (sh / h):.3g} s or the implicit solver "
+                        "newmark")
             self.stability_exceeded = st
             self._stop(st)
 

@@ -101,7 +101,7 @@ DEFAULT_STEP_CAP_S = 0.4e-3
 DEFAULT_STEP_MIN_S = 1.0e-5
 
 
-def default_step_s(speed_m_s: float, modes_up_to_Hz: float = 800.0) -> float:
+def default_step_s(speed_m_s: float, modes_up_to_Hz: float) -> float:
     """The RK44 step of a flexible-track scenario that gives no ``run.dt_s`` [s]: the creep-damping limit
     :data:`CREEP_STEP_S_PER_M_S` x V times :data:`DEFAULT_STEP_MARGIN`, at most :data:`DEFAULT_STEP_CAP_S`, the two
     scaled for a cut-off above :data:`STEP_REFERENCE_MODES_HZ` (module docstring), at least
