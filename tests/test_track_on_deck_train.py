@@ -35,11 +35,16 @@ RAIL_Y_OVER_HALF_B = {"left": -1.0, "right": 1.0}
 TOTALS = ("ballast_total_N", "ballast_ground_N", "ballast_deck_N")
 
 
-def _model():
+def _deck(damping_ratio: float = 0.01) -> BridgeModel:
+    """The 10 m simply supported test deck (EI_z = 10 EI_y, GJ = EI_y), on which the track is laid."""
     sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
                       Ip_kgm2_m=4.0e4)
-    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=0.01, rail_height_m=0.0, start_m=DECK_START_M,
-                       elements_per_span=20)
+    return BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=damping_ratio, rail_height_m=0.0,
+                       start_m=DECK_START_M, elements_per_span=20)
+
+
+def _model():
+    deck = _deck()
     return TrackOnDeckModel(PARAMS, -5.8, 22.2, deck, ballast_height_m=0.0)        # mid-span on a sleeper
 
 
@@ -188,10 +193,7 @@ def test_deck_deflection_with_the_track_layer(segment, rel):
     Tolerance on the predicted change: 5 % with the track on the deck only (second order in ratios of 3e-3, and the
     discrete sleepers); 15 % with the embankments (the end moment is computed for the unrestrained deck rotation
     and a rigid ground, both neglected in the estimate)."""
-    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
-                      Ip_kgm2_m=4.0e4)
-    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=0.01, rail_height_m=0.0, start_m=DECK_START_M,
-                       elements_per_span=20)
+    deck = _deck()
     mdl = TrackOnDeckModel(PARAMS, *segment, deck, ballast_height_m=0.0)
     k = PARAMS.support_stiffness_per_rail_N_m2()
     EI_r = PARAMS.rail_E_Pa * PARAMS.rail_I_vertical_m4
@@ -312,10 +314,7 @@ def test_example_short_run(tmp_path):
 def _statics_at_mid_span(segment):
     """The full finite-element statics (no reduction) of the track on the 10 m deck over ``segment`` under one
     wheelset at mid-span: (model, offsets, DOF vector)."""
-    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
-                      Ip_kgm2_m=4.0e4)
-    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=0.01, rail_height_m=0.0, start_m=DECK_START_M,
-                       elements_per_span=20)
+    deck = _deck()
     mdl = TrackOnDeckModel(PARAMS, *segment, deck, ballast_height_m=0.0)
     M, K, C, off = mdl.assemble_coupled()
     s = DECK_START_M + 0.5 * SPAN_M
@@ -460,10 +459,7 @@ def test_a_lateral_load_bends_and_twists_the_deck_through_the_ballast_above_its_
     deck's elements reproduce both at a node, as above; the round-off ε cond(K): 1e-6).  And Σ F_j is the applied
     force."""
     e, F_y = 0.5, 30.0e3
-    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
-                      Ip_kgm2_m=4.0e4)
-    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=0.01, rail_height_m=0.0, start_m=DECK_START_M,
-                       elements_per_span=20)
+    deck = _deck()
     mdl = TrackOnDeckModel(PARAMS, 0.2, 9.6, deck, ballast_height_m=e)
     _, K, _, off = mdl.assemble_coupled()
     s = DECK_START_M + 0.5 * SPAN_M
@@ -497,10 +493,7 @@ def test_the_deck_carries_its_damping_ratio_in_its_first_mode():
     ζ ω/ω_1 (a property of C ∝ K).  Tolerance: the lowest eigenvalue of the deck's (M, K) is known to ε times its
     spread λ_max/λ_min (~1e8: the axial modes), here and in the package's own solve for ω_1: 10 ε λ_max/λ_min."""
     zeta = 0.01
-    sec = DeckSection(m_kg_m=1.0e4, EI_y_Nm2=DECK_EI, EI_z_Nm2=10 * DECK_EI, GJ_Nm2=DECK_EI, EA_N=1e3 * DECK_EI,
-                      Ip_kgm2_m=4.0e4)
-    deck = BridgeModel((SPAN_M,), sec, continuous=False, damping_ratio=zeta, rail_height_m=0.0,
-                       start_m=DECK_START_M, elements_per_span=20)
+    deck = _deck(damping_ratio=zeta)
     params = dataclasses.replace(PARAMS, ballast_c_vertical_Ns_m=0.0, ballast_c_lateral_Ns_m=0.0)
     _, _, C, off = TrackOnDeckModel(params, 0.2, 9.6, deck, ballast_height_m=0.5).assemble_coupled()
     Cd = C[off["deck"]:, off["deck"]:]
