@@ -21,7 +21,7 @@ against the rigid track, and of the modal against the FFRF formulation.
    warm-up contact call outside); no output recording.  Every configuration is repeated (default 3 times, fresh
    model each time, interleaved) and the **minimum** is reported (the machine is shared), with all repeats.
 
-2. **Modal vs FFRF formulation** of the deck alone: :func:`~exudyn_wheelrail.structures.bridge.benchmark_formulations`
+2. **Modal vs FFRF formulation** of the deck alone: :func:`~exudyn_wheelrail.scenarios.moving_forces.benchmark_formulations`
    (simply supported 20 m span, all 25 modes up to 150 Hz, one 200 kN force at 40 m/s, generalized-α ρ∞ = 1,
    Δt = 0.5 ms, 1500 steps, best of ``--repeats``), with the mid-span error against Frýba's solution.
 
@@ -42,11 +42,13 @@ from pathlib import Path
 import exudyn as exu
 
 from exudyn_wheelrail.contact import WheelRailPair
-from exudyn_wheelrail.multibody import build_vehicle, simulation_settings
+from exudyn_wheelrail.multibody import build_vehicle
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 from exudyn_wheelrail.multibody import connector as C
-from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
+from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle
 from exudyn_wheelrail.scenarios.scenario import build_bridge_modes, load_scenario
-from exudyn_wheelrail.structures import add_bridge, benchmark_formulations
+from exudyn_wheelrail.scenarios.moving_forces import benchmark_formulations
+from exudyn_wheelrail.structures import add_bridge
 from exudyn_wheelrail.structures.support_motion import SmoothHarmonicSupportMotion
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -81,7 +83,7 @@ def run_once(track: str, solver: str, steps: int, modes) -> dict:
     bridge = None
     irregular = None
     if track == "rigid+lat_irr":
-        from exudyn_wheelrail.multibody.track import Harmonic, RigidStraightTrack
+        from exudyn_wheelrail.track.rigid import Harmonic, RigidStraightTrack
         irregular = RigidStraightTrack(Harmonic(amplitude_m=2e-3, wavelength_m=V / 1.5))
     elif track != "rigid":
         bridge = add_bridge(mbs, modes)

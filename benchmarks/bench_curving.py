@@ -23,7 +23,7 @@ import numpy as np
 
 from exudyn_wheelrail.contact.pair import WheelRailPair
 from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
-from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
 from exudyn_wheelrail.track.layout import TrackLayout
 
 OUT = Path(__file__).resolve().parent / "results" / "curving.json"

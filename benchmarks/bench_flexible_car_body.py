@@ -37,7 +37,8 @@ def _springs_profile(vehicle: str, solver: str, dt_s: float, steps: int) -> dict
     """Per-step cost and Exudyn's CPU-time shares of the vehicle on rail springs (no contact)."""
     import exudyn as exu
 
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle, solver_settings
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.simulation.exudyn_settings import solver_settings
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     build_vehicle(mbs, vehicle, speed_m_s=250 / 3.6, wheel_rail="springs")

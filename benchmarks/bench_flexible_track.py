@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from exudyn_wheelrail.track.flexible import FlexibleTrackModel, TrackParameters
+from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -119,15 +120,16 @@ def _flexible_run(vehicle_name: str, length_m: str, duration_s: float, dt_s: flo
 
     from exudyn_wheelrail.contact.pair import WheelRailPair
     from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle_with_overrides
-    from exudyn_wheelrail.scenarios.build import build_track, start_on_track
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
+    from exudyn_wheelrail.rolling_stock.placement import start_on_track
+    from exudyn_wheelrail.scenarios.build import build_track
     from exudyn_wheelrail.scenarios.spec import validate_scenario
     from exudyn_wheelrail.simulation.recorder import Recorder
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings
     from exudyn_wheelrail.track.flexible import add_flexible_track
-    from exudyn_wheelrail.track.flexible_scenario import (flexible_track_modes, flexible_track_probes,
+    from exudyn_wheelrail.scenarios.flexible_track import (flexible_track_modes, flexible_track_probes,
                                                           flexible_track_window, normalise_flexible_track,
                                                           start_on_flexible_track)
 
@@ -184,7 +186,7 @@ def _flexible_run(vehicle_name: str, length_m: str, duration_s: float, dt_s: flo
     rec = Recorder([Wheels()] + flexible_track_probes(contact=contact, handle=handle, model=model, window=win),
                    n_rows_hint=int(duration_s / dt_s) + 2)
     settings = RunSettings(solver="rk44", dt_s=dt_s, duration_s=duration_s)
-    sim, solver_type = settings.exudyn()
+    sim, solver_type = run_solver_settings(settings)
     sim.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     contact.warm_up(mbs, jacobian=False)
     t_build = time.perf_counter() - t0

@@ -5,13 +5,13 @@ Models (public API only):
 * 1 wheelset: ``vehicles/single_wheelset.toml`` (the Manchester wheelset under its static axle load);
 * 4, 16, 32 wheelsets: a train of 1, 4, 8 Manchester vehicles (``vehicles/manchester_vehicle1.toml``): the first
   n cars of the consist ``vehicles/trains/manchester_x8.toml`` (car length :data:`SPACING_M`, end to end, its
-  couplers), built by :func:`~exudyn_wheelrail.multibody.train.build_train` — every car at its own place in the
+  couplers), built by :func:`~exudyn_wheelrail.rolling_stock.train.build_train` — every car at its own place in the
   model frame (car k's centre at ``x = -(k - 1) SPACING_M``), one frame ``s_start_m = S_START_M`` for all.
 
 Track: straight, rigid, a lateral harmonic (:data:`LATERAL_AMPLITUDE_M`, wavelength = the spacing) plus a vertical
 one (:data:`VERTICAL_AMPLITUDE_M`, half the spacing), so every wheel's contact moves (creepages, lateral creep
 forces, varying loads) and every vehicle of the train sees the same track; speed 250 km/h, the vehicles start in
-equilibrium on the displaced track (``place_on_rails``, ``scenarios.build.start_on_track``).
+equilibrium on the displaced track (``place_on_rails``, ``rolling_stock.placement.start_on_track``).
 
 Wheel–rail coupling, three ways:
 
@@ -87,7 +87,7 @@ TARGET = dict(wheelsets=32, solver="rk44", record=True, real_time_factor_min=1.5
 
 
 def track():
-    from exudyn_wheelrail.multibody.track import Harmonic, IrregularitySum, RigidStraightTrack
+    from exudyn_wheelrail.track.rigid import Harmonic, IrregularitySum, RigidStraightTrack
     return RigidStraightTrack(IrregularitySum([
         Harmonic(amplitude_m=LATERAL_AMPLITUDE_M, wavelength_m=SPACING_M, direction="lateral"),
         Harmonic(amplitude_m=VERTICAL_AMPLITUDE_M, wavelength_m=SPACING_M / 2, direction="vertical")]))
@@ -99,8 +99,9 @@ def build(n_wheelsets: int, coupling: str, record: bool):
 
     from exudyn_wheelrail.contact import WheelRailPair
     from exudyn_wheelrail.multibody import add_wheel_rail_contact, build_vehicle, load_vehicle, place_on_rails
-    from exudyn_wheelrail.multibody.train import build_train, load_consist, place_train_on_track
-    from exudyn_wheelrail.scenarios.build import start_on_track, train_probes
+    from exudyn_wheelrail.rolling_stock.train import build_train, load_consist, place_train_on_track
+    from exudyn_wheelrail.rolling_stock.placement import start_on_track
+    from exudyn_wheelrail.scenarios.build import train_probes
     from exudyn_wheelrail.scenarios.spec import DEFAULT_FLOOR_HEIGHT_M
     from exudyn_wheelrail.simulation.recorder import Recorder, vehicle_probes
 

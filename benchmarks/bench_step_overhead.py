@@ -18,7 +18,7 @@ The model is the CLI's (:func:`exudyn_wheelrail.scenarios.rtri.run_rtri`'s case 
    around the piece, ``--clock cpu`` for the thread's CPU time).  Pieces (exclusive of the pieces nested in them):
    ``contact kernel`` (the compiled call, ``WheelRailContact._forces_core``); ``forces() wrapper`` (argument
    checks, the kept-evaluation test); ``evaluate_state`` (keeping the monitor's evaluation for the first stage);
-   ``monitor`` (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.check` besides the contact call: coordinates,
+   ``monitor`` (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.check` besides the contact call: coordinates,
    the compiled checks); ``guidance`` (the 2 m flange-climb window); ``recorder`` (one row); ``hook`` (the runner's
    pre-step function besides all of these: time bookkeeping, grid check); ``Exudyn`` (the rest: the vehicle's
    step, the integrator, the calls into Python).  Two views: the **mean** (sums over the run / steps; they add up
@@ -49,7 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
-from exudyn_wheelrail.multibody.monitor import RunMonitor
+from exudyn_wheelrail.simulation.monitor import RunMonitor
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
 from exudyn_wheelrail.simulation import runner as R

@@ -115,7 +115,7 @@ _PEAKS = ("max_abs_deck_midspan_displacement_m", "max_abs_deck_midspan_accelerat
 
 
 def main(argv=None) -> int:
-    from exudyn_wheelrail.multibody.train import load_consist
+    from exudyn_wheelrail.rolling_stock.train import load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import CONTACT_DT_S, hertz_dt_bound_s
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--parts", nargs="+", choices=("cost", "resonance"), default=["cost", "resonance"])

@@ -44,7 +44,7 @@ import time
 from collections import defaultdict
 
 
-from exudyn_wheelrail.multibody.monitor import RunMonitor
+from exudyn_wheelrail.simulation.monitor import RunMonitor
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
 from exudyn_wheelrail.simulation import runner as R

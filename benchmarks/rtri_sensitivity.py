@@ -124,7 +124,7 @@ def flank_jump(pair=None) -> dict:
     from exudyn_wheelrail.analysis.geometry_functions import contact_geometry_sweep
     from exudyn_wheelrail.contact.pair import WheelRailPair
     from exudyn_wheelrail.contact.wheelset import WheelsetContact
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle
 
     g = load_vehicle("manchester_vehicle1").geometry
     if pair is None:

@@ -80,7 +80,7 @@ import numpy as np
 
 from exudyn_wheelrail.scenarios import rtri_run as rtri
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
-from exudyn_wheelrail.simulation.settings import SOLVERS
+from exudyn_wheelrail.simulation.solvers import SOLVERS
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"

@@ -27,7 +27,7 @@ import numpy as np
 
 from exudyn_wheelrail.analysis.safety import EN14363_YQ_LIMIT, prudhomme_limit_N
 from exudyn_wheelrail.conventions import outward_sign
-from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
+from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle
 from exudyn_wheelrail.scenarios.curving import CurvingCase, run_curving, spectral_irregularity
 from exudyn_wheelrail.track.spectra import SPECTRA
 

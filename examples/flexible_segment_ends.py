@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 
 
 #: the leading wheelset starts this far before the segment [m] and the run ends this far after the car left it
@@ -40,7 +41,7 @@ def main(argv=None) -> dict:
 
     import exudyn as exu
 
-    from exudyn_wheelrail.multibody.train import consist_from_dict
+    from exudyn_wheelrail.rolling_stock.train import consist_from_dict
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import build_train_on_straight_track
     from exudyn_wheelrail.scenarios.build import train_probes
     from exudyn_wheelrail.simulation.recorder import Recorder
@@ -72,7 +73,7 @@ def main(argv=None) -> dict:
                            duration_s=(2.0 * RUN_IN_M + a.segment_m + float(x[0] - x[-1])) / V)
     rec = Recorder(probes, n_rows_hint=settings.steps + 2)
     mbs.Assemble()
-    sim, solver_type = settings.exudyn()
+    sim, solver_type = run_solver_settings(settings)
     sim.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     outcome = run(mbs, settings, train.contact, speed_m_s=V, recorder=rec, exu_settings=(sim, solver_type))
     ts = rec.table()

@@ -21,10 +21,10 @@ import numpy as np
 
 from exudyn_wheelrail.contact import WheelRailPair
 from exudyn_wheelrail.multibody import add_wheel_rail_contact
-from exudyn_wheelrail.multibody.placement import place_on_rails
-from exudyn_wheelrail.multibody.track import RigidStraightTrack
-from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
-from exudyn_wheelrail.multibody.vehicle_data import load_vehicle_with_overrides
+from exudyn_wheelrail.rolling_stock.placement import place_on_rails
+from exudyn_wheelrail.track.rigid import RigidStraightTrack
+from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
 from exudyn_wheelrail.scenarios.run import run_scenario
 from exudyn_wheelrail.scenarios.spec import load_scenario
 from exudyn_wheelrail.simulation.recorder import Recorder
@@ -33,7 +33,10 @@ from exudyn_wheelrail.simulation.settings import RunSettings
 from exudyn_wheelrail.structures.bridge import BridgeModel, DeckSection
 from exudyn_wheelrail.track.flexible import TrackParameters, add_flexible_track, segment_for_run
 from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
-from exudyn_wheelrail.track.flexible_scenario import CONTACT_STIFFNESS_N_M, contact_mode_Hz, start_on_flexible_track
+from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
+from exudyn_wheelrail.simulation.solvers import RK44
+from exudyn_wheelrail.track.flexible_contact import CONTACT_STIFFNESS_N_M, contact_mode_Hz
+from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 
 SCENARIO = Path(__file__).resolve().parent / "scenarios" / "bridge_20m.toml"
 #: ASSUMPTION: the ballast's bottom (the deck slab's top) above the deck's beam axis [m] — the scenario's rail height
@@ -70,9 +73,9 @@ def flexible_run(scn: dict, duration_s: float, dt_s: float) -> dict:
     t0 = time.perf_counter()
     modes = TrackOnDeckModel(params, *seg, deck, BALLAST_HEIGHT_M).modes()
     f_c = contact_mode_Hz(modes, s_start + x.min(), s_start + V * duration_s + x.max())
-    if 2.0 * np.pi * f_c * dt_s >= 2.0 * np.sqrt(2.0):
+    if 2.0 * np.pi * f_c * dt_s >= RK44.imaginary_axis_limit:
         raise SystemExit(f"--dt {dt_s}: RK44 is unstable for the wheel on the rail ({f_c:.0f} Hz at "
-                         f"{CONTACT_STIFFNESS_N_M:.0e} N/m); use --dt <= {2.83 / (2 * np.pi * f_c):.2g}")
+                         f"{CONTACT_STIFFNESS_N_M:.0e} N/m); use --dt <= {RK44.imaginary_axis_limit / (2 * np.pi * f_c):.2g}")
     print(f"  {modes}  [{time.perf_counter() - t0:.1f} s]")
     geo = vehicle.geometry
     sc = exu.SystemContainer()
@@ -91,7 +94,7 @@ def flexible_run(scn: dict, duration_s: float, dt_s: float) -> dict:
     rec = Recorder([_DeckMid(handle, s_mid)], n_rows_hint=int(duration_s / dt_s) + 2)
     mbs.Assemble()
     settings = RunSettings(solver="rk44", dt_s=dt_s, duration_s=duration_s)
-    sim, solver_type = settings.exudyn()
+    sim, solver_type = run_solver_settings(settings)
     sim.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     t0 = time.perf_counter()
     out = run(mbs, settings, contact, speed_m_s=V, recorder=rec, exu_settings=(sim, solver_type))

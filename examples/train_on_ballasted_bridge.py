@@ -14,7 +14,7 @@ EI_y, 1 % damping) and onto the embankment beyond, twice:
 
 Both: one wheel–rail connector for all wheelsets (the crossing's contact settings), the train in static equilibrium
 on its rails at t = 0 with the leading wheelset over the first abutment (in (b) with the track's static deflection
-under every wheelset, :func:`~exudyn_wheelrail.track.flexible_scenario.start_on_flexible_track`), explicit RK44 at
+under every wheelset, :func:`~exudyn_wheelrail.scenarios.flexible_track.start_on_flexible_track`), explicit RK44 at
 ``--dt``, the project's runner (every state watched; the run's status), until the last wheelset leaves the span.
 
 The flexible segment (b).  It carries the whole run: from the rearmost wheelset at t = 0 (or the first abutment,
@@ -98,6 +98,7 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 
 EXAMPLES = Path(__file__).resolve().parent
 #: the deck: the span, mass, first frequency (from its EI_y) and damping of this scenario's [structure]
@@ -158,10 +159,10 @@ def parse_args(argv=None):
 def check(a) -> None:
     """Every option checked, the consist read, before any work (:class:`InputError` naming the option)."""
     from exudyn_wheelrail.cli import SPEED_KM_H
-    from exudyn_wheelrail.multibody.train import ConsistError, load_consist
+    from exudyn_wheelrail.rolling_stock.train import ConsistError, load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing import MAX_MODES
     from exudyn_wheelrail.track.flexible import TrackParameters
-    from exudyn_wheelrail.track.flexible_scenario import RK44_OMEGA_DT_LIMIT
+    from exudyn_wheelrail.simulation.solvers import RK44
 
     def positive(opt, v):
         if not (math.isfinite(v) and v > 0.0):
@@ -172,7 +173,7 @@ def check(a) -> None:
         raise InputError(f"--speed-kmh: {problem}")
     positive("--dt", a.dt)
     params = TrackParameters.from_file()
-    dt_max = RK44_OMEGA_DT_LIMIT / (2.0 * math.pi * params.modes_up_to_Hz)
+    dt_max = RK44.imaginary_axis_limit / (2.0 * math.pi * params.modes_up_to_Hz)
     if a.dt >= dt_max:
         raise InputError(f"--dt: {a.dt:g} s: RK44 is unstable for the track's modes up to {params.modes_up_to_Hz:g} "
                          f"Hz at this step; use --dt < {dt_max:.3g} s")
@@ -302,7 +303,7 @@ def _finish(mbs, a, case, duration, contact, handle, probes, t_build0, extra):
     mbs.Assemble()
     contact.warm_up(mbs, jacobian=False)
     build_s = time.perf_counter() - t_build0
-    sim, solver_type = settings.exudyn()
+    sim, solver_type = run_solver_settings(settings)
     sim.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     load0, t0 = _load(), time.perf_counter()
     outcome = run(mbs, settings, contact, speed_m_s=case.speed_m_s, recorder=rec, exu_settings=(sim, solver_type))
@@ -364,17 +365,18 @@ def track_on_deck_modes(case, s_from_m: float, s_to_m: float):
 def ballasted_modes(a, case, duration) -> dict:
     """(b)'s reduced model for the run (:func:`track_on_deck_modes`) and the check of ``--dt`` against the wheel on
     the flexible rail (:class:`InputError`), before either run starts."""
-    from exudyn_wheelrail.track.flexible_scenario import CONTACT_STIFFNESS_N_M, RK44_OMEGA_DT_LIMIT, contact_mode_Hz
+    from exudyn_wheelrail.simulation.solvers import RK44
+    from exudyn_wheelrail.track.flexible_contact import CONTACT_STIFFNESS_N_M, contact_mode_Hz
     t0 = time.perf_counter()
     x = a.consist.wheelset_x_m()
     s0 = case.deck_start_m - float(x[0])
     s_rear0, s_front1 = s0 + float(x.min()), s0 + case.speed_m_s * duration + float(x.max())
     modes, m_track = track_on_deck_modes(case, s_rear0, s_front1)
     f_c = contact_mode_Hz(modes, s_rear0, s_front1)
-    if 2.0 * math.pi * f_c * a.dt >= RK44_OMEGA_DT_LIMIT:
+    if 2.0 * math.pi * f_c * a.dt >= RK44.imaginary_axis_limit:
         raise InputError(f"--dt: {a.dt:g} s: RK44 is unstable for the wheel on the flexible rail ({f_c:.0f} Hz at "
                          f"{CONTACT_STIFFNESS_N_M:.0e} N/m); use --dt <= "
-                         f"{RK44_OMEGA_DT_LIMIT / (2.0 * math.pi * f_c):.2g}")
+                         f"{RK44.imaginary_axis_limit / (2.0 * math.pi * f_c):.2g}")
     return {"modes": modes, "m_track": m_track, "f_c": f_c, "modes_s": time.perf_counter() - t0}
 
 
@@ -383,7 +385,7 @@ def run_ballasted(a, case, duration, prepared):
     import exudyn as exu
 
     from exudyn_wheelrail.track.flexible import add_flexible_track
-    from exudyn_wheelrail.track.flexible_scenario import start_on_flexible_track
+    from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
     t0 = time.perf_counter()
     modes, m_track, f_c, modes_s = (prepared[k] for k in ("modes", "m_track", "f_c", "modes_s"))
     mbs = exu.SystemContainer().AddSystem()

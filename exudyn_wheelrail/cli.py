@@ -556,7 +556,7 @@ def cmd_rtri_sweep(args):
 
 def _add_rtri_common(p: argparse.ArgumentParser, duration_default: str):
     from .simulation.presets import PRESETS
-    from .simulation.settings import SOLVERS
+    from .simulation.solvers import SOLVERS
     p.add_argument("--preset", default=None, choices=tuple(PRESETS),
                    help="accuracy/speed preset (integrator, dt, contact geometry, creep law; explicit options "
                         "override it; the summary states what it set): "
@@ -1054,7 +1054,7 @@ def _add_bridge_crossing_parser(sub) -> None:
 def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
     from .scenarios.defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
                                      SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
-    from .simulation.settings import SOLVERS
+    from .simulation.solvers import SOLVERS
     from .standards import HSLM_NAMES, TRACK_FORMS
     bc.add_argument("--span-m", type=float, required=True, help="span length L [m]")
     bc.add_argument("--bridge-mass-kg-per-m", type=float, required=True, help="deck mass per length m [kg/m]")

@@ -23,7 +23,7 @@ from exudyn_wheelrail.contact.normal import HertzContact, effective_modulus
 from exudyn_wheelrail.creep import (fastsim, kalker_coefficients, kalker_exact, linear_creep_forces, polach,
                                     shen_hedrick_elkins, table_forces)
 from exudyn_wheelrail.creep.build_table import build_table
-from exudyn_wheelrail.multibody.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle
+from exudyn_wheelrail.rolling_stock.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle
 from exudyn_wheelrail.profiles import RailProfile, WheelProfile
 from exudyn_wheelrail.profiles.profiles import RAIL_PROFILE_NAMES, WHEEL_PROFILE_NAMES, resolve_rail, resolve_wheel
 from exudyn_wheelrail.profiles.readers import ProfileError, profile_shape, read_simpack_profile

@@ -29,7 +29,8 @@ from exudyn_wheelrail.structures import (
     modal_shape_at,
     rail_state_at,
 )
-from exudyn_wheelrail.structures.bridge import MovingForces, element_matrices, simulate_moving_forces
+from exudyn_wheelrail.scenarios.moving_forces import simulate_moving_forces
+from exudyn_wheelrail.structures.bridge import MovingForces, element_matrices
 
 # a 20 m steel-concrete deck: f1 (vertical) 4.53 Hz, lateral 10.1 Hz, torsion 7.91 Hz
 SEC = DeckSection(m_kg_m=15e3, EI_y_Nm2=2.0e10, EI_z_Nm2=1.0e11, GJ_Nm2=6e9, EA_N=2e11, Ip_kgm2_m=6e4)
@@ -251,7 +252,7 @@ def test_compiled_functions_agree_with_the_wrappers_and_finite_differences(span_
 # ------------------------------------------------------------------------------------ (ii) moving force
 def newton_relative_tolerance():
     """Relative residual tolerance of the implicit solver's Newton iteration in the library's simulation settings."""
-    from exudyn_wheelrail.multibody.vehicle_builder import simulation_settings
+    from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 
     return simulation_settings(1.0, 1.0).timeIntegration.newton.relativeTolerance
 
@@ -389,7 +390,7 @@ def test_coupling_generic_object_over_rigid_and_modal_nodes(formulation, solver)
     from exudyn.itemInterface import (LoadMassProportional, MarkerBodyMass, NodeRigidBodyRotVecLG, ObjectGenericODE2,
                                       ObjectRigidBody, SensorNode)
 
-    from exudyn_wheelrail.multibody.vehicle_builder import simulation_settings
+    from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 
     modes = BridgeModel((L,), SEC, damping_ratio=0.02, rail_height_m=0.8).modes(n_modes=6)
     n = modes.n_modes

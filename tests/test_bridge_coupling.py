@@ -25,9 +25,10 @@ import numpy as np
 import pytest
 
 from exudyn_wheelrail.contact import WheelRailPair
-from exudyn_wheelrail.multibody import build_vehicle, simulation_settings, vehicle_from_dict
+from exudyn_wheelrail.multibody import build_vehicle, vehicle_from_dict
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 from exudyn_wheelrail.multibody import connector as C
-from exudyn_wheelrail.multibody.track import Harmonic, RigidStraightTrack
+from exudyn_wheelrail.track.rigid import Harmonic, RigidStraightTrack
 from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge, fryba_moving_force
 from exudyn_wheelrail.validation import InputWarning
 

@@ -644,7 +644,7 @@ def test_one_sprung_mass_against_a_separately_integrated_modal_system():
     of the peak deflection, 8e-5 of the peak acceleration)."""
     from scipy.integrate import solve_ivp
 
-    from exudyn_wheelrail.multibody.vehicle_builder import GRAVITY_M_S2
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import GRAVITY_M_S2
     P, V, fv, zv = 2e5, 40.0, 4.0, 0.05
     case = _case(AxleTrain(np.array([0.0]), np.array([P])), V, model="sprung-masses", sprung_frequency_Hz=fv,
                  sprung_damping_ratio=zv, free_vibration_s=0.3)

@@ -29,10 +29,11 @@ from scipy.integrate import solve_ivp
 from exudyn_wheelrail.contact import WheelRailPair
 from exudyn_wheelrail.contact import kernel as K
 from exudyn_wheelrail.creep.linear import kalker_coefficients
-from exudyn_wheelrail.multibody import build_vehicle, simulation_settings, vehicle_from_dict
+from exudyn_wheelrail.multibody import build_vehicle, vehicle_from_dict
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 from exudyn_wheelrail.multibody import connector as C
 from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge
-from exudyn_wheelrail.structures.bridge import simulate_moving_forces
+from exudyn_wheelrail.scenarios.moving_forces import simulate_moving_forces
 from exudyn_wheelrail.structures.support_motion import (
     SmoothHarmonicSupportMotion,
     SupportMotion,

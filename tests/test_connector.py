@@ -13,7 +13,8 @@ import pytest
 from exudyn.itemInterface import LoadTorqueVector, MarkerNodeRigid
 
 from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
-from exudyn_wheelrail.multibody import build_vehicle, simulation_settings, vehicle_from_dict
+from exudyn_wheelrail.multibody import build_vehicle, vehicle_from_dict
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 from exudyn_wheelrail.multibody import connector as C
 from exudyn_wheelrail.profiles import WheelProfile
 from exudyn_wheelrail.scenarios.validation_report import klingel_run, zero_crossing_wavelengths

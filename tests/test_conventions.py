@@ -90,7 +90,7 @@ def test_cross_level_and_gauge_per_rail(pair):
     placed rail heads; cross level = z_right - z_left (+ right rail lower) is a positive roll; gauge = y_right -
     y_left (+ wider)."""
     from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M
-    from exudyn_wheelrail.multibody.track import Harmonic
+    from exudyn_wheelrail.track.rigid import Harmonic
     from exudyn_wheelrail.track.irregularities import IsolatedDefect, channel_values, rail_values
     # the head's centre at the gauge depth: midway between its gauge face (at gauge/2) and its field face; UIC60's
     # 72 mm head on a 1435 mm gauge puts the centres 1.507 m apart: 1.5 m within 1 %

@@ -15,7 +15,7 @@ from exudyn_wheelrail.analysis.curving import flange_play_m, minimum_radius_m
 from exudyn_wheelrail.analysis.geometry_functions import contact_geometry_sweep
 from exudyn_wheelrail.contact.pair import WheelRailPair
 from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M
-from exudyn_wheelrail.multibody.vehicle_data import load_vehicle, load_vehicle_with_overrides
+from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle, load_vehicle_with_overrides
 from exudyn_wheelrail.profiles.profiles import WheelProfile
 from exudyn_wheelrail.scenarios.curving import CurvingCase, build_curving, run_curving
 
@@ -306,8 +306,8 @@ def _free_rolling_acceleration(gradient, V=30.0, duration_s=0.3, fit_from_s=0.1)
     import exudyn as exu
 
     from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
-    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
     from exudyn_wheelrail.scenarios.curving import creep_step_limit_s
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings
@@ -381,8 +381,8 @@ def test_gradient_loads_every_body_with_its_weight_in_the_pitched_track_frame():
     does not turn).  Sums of two or three products of numbers of order 1e5: 1e-12 relative."""
     import exudyn as exu
 
-    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
     from exudyn_wheelrail.track.layout import Straight, TrackLayout
 
     layout = TrackLayout([Straight(500.0)], gradient=GRADIENT)
@@ -426,8 +426,8 @@ def test_frame_loads_on_every_body_from_the_clothoid_closed_forms(where, s_car):
     relative, with an absolute floor of 1e-9 of m g (forces) and of |I| V²/(R L_T) (torques)."""
     import exudyn as exu
 
-    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
     from exudyn_wheelrail.track.layout import Curve, Straight, TrackLayout, Transition
 
     lead, lt, V = 20.0, 60.0, 100.0 / 3.6
@@ -494,8 +494,8 @@ def test_chord_geometry_between_bodies_in_the_transition():
     1e-12 absolute."""
     import exudyn as exu
 
-    from exudyn_wheelrail.multibody.track_following import TrackFollowingFrame
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.track_following import TrackFollowingFrame
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
     from exudyn_wheelrail.track.layout import Curve, Straight, TrackLayout, Transition
 
     lead, lt, V, t = 20.0, 60.0, 100.0 / 3.6, 1.0

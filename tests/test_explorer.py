@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 from exudyn_wheelrail.cli import main as cli_main  # noqa: E402
 from exudyn_wheelrail.interactive.explorer import PARAMETERS, RtriExplorer, compare_with_full_run  # noqa: E402
 from exudyn_wheelrail.multibody import connector as C  # noqa: E402
-from exudyn_wheelrail.multibody.vehicle_data import load_vehicle  # noqa: E402
+from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle  # noqa: E402
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri  # noqa: E402
 from exudyn_wheelrail.scenarios.scenario import build_scenario  # noqa: E402
 

@@ -1,4 +1,4 @@
-"""The flexible car body (exudyn_wheelrail.multibody.flexible_body): free–free beam frequencies against the
+"""The flexible car body (exudyn_wheelrail.rolling_stock.flexible_body): free–free beam frequencies against the
 analytic Euler–Bernoulli and St Venant values, mode orthogonality, the rigid-body inertia of the vehicle data, the
 reduced matrices Exudyn receives, energy conservation of the free body with the explicit and the implicit solver,
 the body-point kinematics against Exudyn's mesh-node output, the vehicle-file errors, the stiff-body limit of the
@@ -11,7 +11,7 @@ import exudyn as exu
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.multibody.flexible_body import (
+from exudyn_wheelrail.rolling_stock.flexible_body import (
     DEFAULT_ELEMENTS,
     BodyPointKinematics,
     CarBodyBeam,
@@ -19,8 +19,9 @@ from exudyn_wheelrail.multibody.flexible_body import (
     add_flexible_car_body,
     beam_from_car_body,
 )
-from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle, solver_settings
-from exudyn_wheelrail.multibody.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle
+from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+from exudyn_wheelrail.simulation.exudyn_settings import solver_settings
+from exudyn_wheelrail.rolling_stock.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle
 
 # a uniform car body without rotary inertia (the analytic references hold for it); values of a 25 m coach
 BEAM = dict(length_m=25.0, mass_kg_m=1400.0, EI_vertical_N_m2=3.0e9, EI_lateral_N_m2=2.0e10, GJ_N_m2=4.0e9,
@@ -309,7 +310,7 @@ def test_modes_from_an_external_fe_model(tmp_path):
     import scipy.sparse as sp
     from exudyn.FEM import FEMinterface
 
-    from exudyn_wheelrail.multibody.flexible_body import modes_from_fe_file
+    from exudyn_wheelrail.rolling_stock.flexible_body import modes_from_fe_file
     pts, M, K = _truss_fe_model(tmp_path / "truss.npz")
     modes = modes_from_fe_file(tmp_path / "truss.npz", 4, 0.0)
     fem = FEMinterface()                              # the same model through Exudyn's own file format
@@ -521,7 +522,7 @@ def test_car_body_bending_free_decay_against_logarithmic_decrement():
     # 2π/(ωh) steps), 2.6e-7 (2e-6 of δ): 1e-4 of δ is far above both and 1000 times below a 10 % error in ζ.
     # Period: the vertex's time errs by at most Δ²/62 of a step, a period between two peaks by Δ³/200 relative
     # (5e-7); 1e-5 is added to the frequency tolerance.
-    from exudyn_wheelrail.multibody.flexible_body import add_vehicle_car_body
+    from exudyn_wheelrail.rolling_stock.flexible_body import add_vehicle_car_body
     raw = _raw_car_body()
     zeta = np.broadcast_to(np.asarray(raw["damping_ratio"], dtype=float), (raw["n_modes"],))
     v = load_vehicle("manchester_vehicle1_flexible")

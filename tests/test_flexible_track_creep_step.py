@@ -19,7 +19,7 @@ import warnings
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.multibody.monitor import coupled_damper_rate_1_s
+from exudyn_wheelrail.simulation.monitor import coupled_damper_rate_1_s
 from exudyn_wheelrail.validation import InputWarning
 
 VEHICLE = "manchester_vehicle1"
@@ -33,7 +33,7 @@ def _first_move_start():
     """``(start_s_m, gap_m)``: the leading wheelset's start such that the moving window's first move comes after
     ``gap_m`` of running (the least gap its sleeper grid allows, plus 1 mm): the shift re-projects the rails' modal
     state, which rounds asymmetrically, and seeds an unstable lateral mode."""
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle_with_overrides
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
     from exudyn_wheelrail.track.flexible import DEFAULT_TRACK_FILE, TrackParameters
     from exudyn_wheelrail.track.flexible_window import window_length_m, window_margin_m
     params = TrackParameters.from_file(DEFAULT_TRACK_FILE)
@@ -90,7 +90,7 @@ def test_centred_vehicle_on_perfect_flexible_track_carries_no_net_lateral_force(
     stable integration does not amplify them: at most 8 eps Q per step, summed over the run's steps as if they never
     decayed.  (Measured on this machine: 3e-12 N after 2707 steps; the bound is 5e-7 N there; the false state is
     ten orders of magnitude above it.)"""
-    from exudyn_wheelrail.track.flexible_scenario import default_step_s
+    from exudyn_wheelrail.scenarios.flexible_track import default_step_s
     h, out, pre = _centred_run(speed_km_h)
     assert h.run.dt_s == default_step_s(speed_km_h / 3.6, MODES_HZ)      # the pipeline chose the step
     assert h.flexible_window.shifts >= 1                                 # the seed happened inside the run

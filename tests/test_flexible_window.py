@@ -12,6 +12,7 @@ from exudyn_wheelrail.track.flexible import FlexibleTrackModel, TrackFileError, 
 from exudyn_wheelrail.track.flexible_window import (FlexibleTrackWindow, shift_gather, shift_matrix, shifted_state,
                                                     transfer_modal_state, window_length_m, window_margin_m,
                                                     window_start_m)
+from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 
 V_M_S = 250.0 / 3.6
 
@@ -117,7 +118,7 @@ def test_exudyn_continues_from_the_shifted_state(params):
     mbs.SetNodeParameter(h.modal_node, "initialCoordinates_t", v0.tolist())
     mbs.Assemble()
     rs = RunSettings(solver="rk44", dt_s=dt, duration_s=n * dt)
-    sim, solver_type = rs.exudyn()
+    sim, solver_type = run_solver_settings(rs)
     moved = []
 
     def user_function(mbs, t):           # t: the end of the coming step; the state is at t - dt
@@ -148,14 +149,15 @@ def _wheelset_run(params, length_m, duration_s, dt_s=2.5e-4):
 
     from exudyn_wheelrail.contact.pair import WheelRailPair
     from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle_with_overrides
-    from exudyn_wheelrail.scenarios.build import build_track, start_on_track
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
+    from exudyn_wheelrail.rolling_stock.placement import start_on_track
+    from exudyn_wheelrail.scenarios.build import build_track
     from exudyn_wheelrail.scenarios.spec import validate_scenario
     from exudyn_wheelrail.simulation.recorder import Recorder
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings
-    from exudyn_wheelrail.track.flexible_scenario import (flexible_track_modes, flexible_track_probes,
+    from exudyn_wheelrail.scenarios.flexible_track import (flexible_track_modes, flexible_track_probes,
                                                           flexible_track_window, normalise_flexible_track,
                                                           start_on_flexible_track)
 
@@ -197,7 +199,7 @@ def _wheelset_run(params, length_m, duration_s, dt_s=2.5e-4):
     rec = Recorder([Wheel()] + flexible_track_probes(contact=contact, handle=handle, model=model, window=win),
                    n_rows_hint=int(duration_s / dt_s) + 2)
     settings = RunSettings(solver="rk44", dt_s=dt_s, duration_s=duration_s)
-    sim, solver_type = settings.exudyn()
+    sim, solver_type = run_solver_settings(settings)
     sim.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     out = run(mbs, settings, contact, speed_m_s=V_M_S, recorder=rec, exu_settings=(sim, solver_type),
               user_function=win)
@@ -250,7 +252,7 @@ def test_window_run_against_fixed_segment(params):
 # ------------------------------------------------------------------------------------------------ (d) bad input
 def test_bad_window_input(params):
     from exudyn_wheelrail.scenarios.spec import ScenarioError, validate_scenario
-    from exudyn_wheelrail.track.flexible_scenario import flexible_track_modes, normalise_flexible_track
+    from exudyn_wheelrail.scenarios.flexible_track import flexible_track_modes, normalise_flexible_track
 
     def scenario(solver="rk44", **flex):
         return validate_scenario({"schema_version": 2, "vehicle": {"name": "manchester_vehicle1",
@@ -295,8 +297,8 @@ def test_window_object_checks(params):
 
     from exudyn_wheelrail.contact.pair import WheelRailPair
     from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle_with_overrides
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
 
     vehicle = load_vehicle_with_overrides("single_wheelset")
     geo = vehicle.geometry
@@ -333,9 +335,9 @@ def test_shift_moves_the_connector_and_drops_its_kept_evaluation(params):
 
     from exudyn_wheelrail.contact.pair import WheelRailPair
     from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle_with_overrides
-    from exudyn_wheelrail.track.flexible_scenario import start_on_flexible_track
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
+    from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
 
     vehicle = load_vehicle_with_overrides("single_wheelset")
     geo = vehicle.geometry

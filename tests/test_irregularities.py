@@ -18,7 +18,7 @@ from exudyn_wheelrail.contact.layout import RES_N, RES_P_X, RES_P_Y, RES_P_Z
 from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M, STANDARD_GAUGE_M
 from exudyn_wheelrail.multibody import RigidStraightTrack, build_vehicle
 from exudyn_wheelrail.multibody import connector as C
-from exudyn_wheelrail.multibody.track import Harmonic, SpanDeflection
+from exudyn_wheelrail.track.rigid import Harmonic, SpanDeflection
 from exudyn_wheelrail.track.irregularities import ChannelTable, IsolatedDefect, channel_values, rail_values
 from exudyn_wheelrail.track.measured import read_irregularity_csv
 

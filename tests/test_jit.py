@@ -79,7 +79,7 @@ def test_a_rigid_straight_contact_passes_none_for_every_optional_part():
 
     from exudyn_wheelrail.contact import WheelRailPair
     from exudyn_wheelrail.multibody import connector as C
-    from exudyn_wheelrail.multibody.vehicle_builder import build_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
 
     mbs = exu.SystemContainer().AddSystem()
     model = build_vehicle(mbs, "single_wheelset", speed_m_s=20.0)

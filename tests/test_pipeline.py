@@ -33,13 +33,8 @@ from exudyn_wheelrail.scenarios.scenario import (
     validate_scenario,
 )
 from exudyn_wheelrail.simulation import status as S
-from exudyn_wheelrail.simulation.settings import (
-    SOLVERS,
-    ContactSettings,
-    RunSettings,
-    SettingsError,
-    settings_from_mapping,
-)
+from exudyn_wheelrail.simulation.settings import ContactSettings, RunSettings, SettingsError, settings_from_mapping
+from exudyn_wheelrail.simulation.solvers import SOLVERS
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "scenarios"
 V_RTRI = 250.0 / 3.6
@@ -211,7 +206,7 @@ def test_rk44_past_the_creep_damping_limit_at_low_speed_is_flagged():
     it, and RK44 at 1 ms must be flagged where σ h > 2.785 (36 km/h) and not at 250 km/h."""
     from exudyn_wheelrail.contact import layout as L
     from exudyn_wheelrail.creep.linear import kalker_coefficients
-    from exudyn_wheelrail.multibody.monitor import RK44_REAL_LIMIT
+    from exudyn_wheelrail.simulation.solvers import RK44
     from exudyn_wheelrail.scenarios.scenario import build_scenario
     from exudyn_wheelrail.simulation import runner as R
 
@@ -239,7 +234,7 @@ def test_rk44_past_the_creep_damping_limit_at_low_speed_is_flagged():
         assert bound * (1 - 1e-9) <= sigma[0] < 10 * bound
         rates[v_kmh] = (sigma[0], out)
     (slow, out_slow), (fast, out_fast) = rates[36.0], rates[250.0]
-    assert slow * 1e-3 > RK44_REAL_LIMIT > fast * 1e-3
+    assert slow * 1e-3 > RK44.real_axis_limit > fast * 1e-3
     assert slow / fast == pytest.approx(250.0 / 36.0, rel=0.05)      # ∝ 1/V (the same patches at rest)
     warn = " ".join(out_slow.warnings)
     assert "creep damping" in warn and "stability limit" in warn

@@ -251,7 +251,7 @@ def test_duration_auto_covers_the_whole_car_and_short_runs_say_what_they_miss():
     r = run_rtri(RtriCase(span_m=40.0, speed_km_h=100.0, solver="rk44", duration_s=0.002, record=True))
     assert any("before the leading wheelset has left the span" in n for n in r.summary["notes"])
     c = RtriCase(span_m=40.0, speed_km_h=100.0, duration_s="auto")
-    from exudyn_wheelrail.multibody.vehicle_data import load_vehicle
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle
     x = load_vehicle("manchester_vehicle1").wheelset_x_m()
     distance = RTRI.lead_in_m + 40.0 + RTRI.transition_length_m + (max(x) - min(x)) + RTRI.run_out_m
     assert c.run_settings().steps == math.ceil(distance / (100 / 3.6) / 1e-3)

@@ -2,7 +2,7 @@
 
 References, independent of the code under test:
 
-* the bridge deck alone under the static axle loads moving at V (structures.simulate_moving_forces, a separate
+* the bridge deck alone under the static axle loads moving at V (scenarios.moving_forces.simulate_moving_forces, a separate
   Exudyn model without vehicle) for the deck deflection of the bridge scenario; the EN 1990 cut-off computed by
   hand from the stated section; the trapezoidal rule's identity (w₊ − 2w + w₋)/h² = (a₊ + 2a + a₋)/4 between
   the recorded deck deflection and acceleration; the total static wheel load = vehicle weight; the FE beam's
@@ -275,8 +275,8 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
     """bridge_40m.toml: the deck deflection of the coupled crossing against the deck alone under the static axle
     loads moving at V (the vehicle-bridge interaction of a heavy concrete deck is small: within 1 %)."""
     from exudyn_wheelrail.multibody import load_vehicle
-    from exudyn_wheelrail.multibody.vehicle_builder import static_load_path
-    from exudyn_wheelrail.structures import simulate_moving_forces
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import static_load_path
+    from exudyn_wheelrail.scenarios.moving_forces import simulate_moving_forces
 
     scn = apply_overrides(load_scenario(EXAMPLES / "bridge_40m.toml"), {"outputs.plots": False})
     r = run_scenario(scn, None, progress=False)

@@ -27,7 +27,7 @@ from exudyn_wheelrail.analysis.geometry_functions import solve_rigid_contact
 from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
 from exudyn_wheelrail.contact.layout import RES_S_TRACK
 from exudyn_wheelrail.multibody import add_wheel_rail_contact, load_vehicle
-from exudyn_wheelrail.multibody.track import Harmonic, RigidStraightTrack
+from exudyn_wheelrail.track.rigid import Harmonic, RigidStraightTrack
 from exudyn_wheelrail.structures import BridgeModel, DeckSection, add_bridge
 
 N_VEHICLES = 8

@@ -1,8 +1,9 @@
-"""The integrators offered by ``vehicle_builder.solver_settings`` (the one list: ``simulation.settings.SOLVERS``).
+"""The integrators offered by ``simulation.exudyn_settings.solver_settings`` (the one list: the table of
+``simulation.solvers``).
 
 Checked: every name gives Exudyn settings of the stated integrator with a fixed step (step size, number of steps,
 the scheme's parameters); unknown names and a spectral radius outside [0, 1] are clear errors; the run settings'
-``SOLVERS`` list agrees with the helper.  One short RTRI run (300 steps of 1 ms, 250 km/h, the leading wheelset
+settings accept every name of the table.  One short RTRI run (300 steps of 1 ms, 250 km/h, the leading wheelset
 before the deviation) with the new implicit (generalized-α) and a new explicit integrator (RK33) completes, and
 its car-body acceleration peak and mean wheel load agree with the Newmark run of the same case — independent
 integrators of the same equations must agree to within their truncation errors.
@@ -11,15 +12,16 @@ import exudyn as exu
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.multibody.vehicle_builder import (
-    GENERALIZED_ALPHA_SPECTRAL_RADIUS,
-    IMPLICIT_SOLVERS,
-    SOLVER_TYPES,
-    solver_description,
-    solver_settings,
-)
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
-from exudyn_wheelrail.simulation import settings as run_settings
+from exudyn_wheelrail.simulation.exudyn_settings import solver_settings
+from exudyn_wheelrail.simulation.settings import RunSettings
+from exudyn_wheelrail.simulation.solvers import (GENERALIZED_ALPHA_SPECTRAL_RADIUS, IMPLICIT_SOLVERS, SOLVERS,
+                                                 solver_description)
+
+#: the Exudyn solver each name stands for (typed from the solvers' descriptions: Newmark is Exudyn's generalized-α
+#: with useNewmark; the others by their names)
+SOLVER_TYPES = {"newmark": "GeneralizedAlpha", "generalized_alpha": "GeneralizedAlpha",
+                "explicit_midpoint": "ExplicitMidpoint", "rk33": "RK33", "rk44": "RK44", "rk67": "RK67"}
 
 DT = 1e-3
 STEPS = 300
@@ -66,9 +68,11 @@ def test_unknown_solver_and_bad_spectral_radius_are_clear_errors():
         RtriCase(solver="dopri5")
 
 
-def test_the_run_settings_offer_the_helpers_solvers():
-    assert set(run_settings.SOLVERS) == set(SOLVER_TYPES)
-    assert set(run_settings.IMPLICIT_SOLVERS) == set(IMPLICIT_SOLVERS) <= set(SOLVER_TYPES)
+def test_the_run_settings_offer_every_solver_of_the_table():
+    assert set(SOLVERS) == set(SOLVER_TYPES)
+    assert set(IMPLICIT_SOLVERS) == {"newmark", "generalized_alpha"}
+    for solver in SOLVERS:
+        assert RunSettings(solver=solver).implicit == (solver in IMPLICIT_SOLVERS)
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.multibody import monitor_core as MC
+from exudyn_wheelrail.simulation import monitor_core as MC
 from exudyn_wheelrail.multibody.connector import ContactStateError
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario

@@ -1,4 +1,4 @@
-"""Track irregularities (exudyn_wheelrail.multibody.track): continuity, shape, derivatives, tables, numba use.
+"""Track irregularities (exudyn_wheelrail.track.rigid): continuity, shape, derivatives, tables, numba use.
 
 References: the analytic sine of the span deflection, finite differences, the closed-form limit of the transition
 (quartic for a short transition), np.interp-free spline facts (interpolation at the samples, zero end slopes)."""
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from exudyn_wheelrail.multibody.track import (
+from exudyn_wheelrail.track.rigid import (
     Harmonic,
     NoIrregularity,
     RigidStraightTrack,

@@ -247,12 +247,12 @@ def test_runner_refuses_an_explicit_step_the_rail_cannot_carry():
     is refused before the solve with an error naming run.dt_s and the largest stable step (0.51 ms); 0.4 ms runs."""
     import exudyn as exu
 
-    from exudyn_wheelrail.multibody.train import load_consist
+    from exudyn_wheelrail.rolling_stock.train import load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import build_train_on_straight_track
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings
     from exudyn_wheelrail.track.flexible import TrackFileError, add_flexible_track
-    from exudyn_wheelrail.track.flexible_scenario import start_on_flexible_track
+    from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
 
     modes = FlexibleTrackModel(TrackParameters.from_file(), -70.0, 100.0).modes(f_max_Hz=600.0)
     for dt, refused in ((7.5e-4, True), (4e-4, False)):
@@ -277,12 +277,12 @@ def test_monitor_estimate_sees_the_rail_modal_mass():
     diverge there — while on rigid rails the same train is far below it."""
     import exudyn as exu
 
-    import exudyn_wheelrail.multibody.monitor_core as MC
-    from exudyn_wheelrail.multibody.train import load_consist
+    import exudyn_wheelrail.simulation.monitor_core as MC
+    from exudyn_wheelrail.rolling_stock.train import load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import build_train_on_straight_track
     from exudyn_wheelrail.simulation.runner import contact_omega_rad_s
     from exudyn_wheelrail.track.flexible import add_flexible_track
-    from exudyn_wheelrail.track.flexible_scenario import start_on_flexible_track
+    from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
 
     rng = np.random.default_rng(5)
     G = rng.normal(size=(2, 4, MC.N_G))

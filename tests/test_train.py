@@ -1,4 +1,4 @@
-"""Trains (exudyn_wheelrail.multibody.train): consist files and their validation, the train model against its
+"""Trains (exudyn_wheelrail.rolling_stock.train): consist files and their validation, the train model against its
 cars alone, the couplers against Hooke's law and their dampers against c times the car ends' relative velocity, the
 static axle loads against the train's weight and, axle by axle, against the lever rule worked by hand from the vehicle
 files (the simulated contact forces and the package's static loads)."""
@@ -15,11 +15,11 @@ import pytest
 
 from exudyn_wheelrail.contact import WheelRailPair
 from exudyn_wheelrail.contact.layout import RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA
-from exudyn_wheelrail.multibody import add_wheel_rail_contact, build_vehicle, place_on_rails
-from exudyn_wheelrail.multibody.track import Harmonic, IrregularitySum, RigidStraightTrack
-from exudyn_wheelrail.multibody.train import (ConsistError, build_train, consist_from_dict, load_consist,
+from exudyn_wheelrail.multibody import add_train_contact, add_wheel_rail_contact, build_vehicle, place_on_rails
+from exudyn_wheelrail.track.rigid import Harmonic, IrregularitySum, RigidStraightTrack
+from exudyn_wheelrail.rolling_stock.train import (ConsistError, build_train, consist_from_dict, load_consist,
                                               shipped_trains)
-from exudyn_wheelrail.scenarios.build import start_on_track
+from exudyn_wheelrail.rolling_stock.placement import start_on_track
 from exudyn_wheelrail.simulation.runner import run
 from exudyn_wheelrail.simulation.settings import RunSettings
 
@@ -115,7 +115,8 @@ def test_two_car_train_without_couplers_equals_each_car_alone():
     settings = RunSettings(solver="rk44", dt_s=1e-3, duration_s=0.15)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    train = build_train(mbs, consist, speed_m_s=V, s_start_m=s0, pair=pair, track=track)
+    train = build_train(mbs, consist, speed_m_s=V, s_start_m=s0)
+    add_train_contact(mbs, train, pair, track=track)
     assert train.couplers == [] and len(train.wheelsets) == 8 and train.car_of_wheelset == [0] * 4 + [1] * 4
     names = [mbs.GetObject(i)["name"] for i in range(mbs.systemData.NumberOfObjects())]
     assert "car_body_c1" in names and "car_body_c2" in names
@@ -181,7 +182,7 @@ def test_coupler_damper_force_is_c_times_relative_velocity_at_the_car_ends():
     v_y + (w x r)_y = v_y + w_z r_x with r_x = -L/2 for the front car's rear end (a yaw to the right swings it
     left).  Tolerance 1e-9 relative: a few products and sums (round-off 1e-15) and the positions' cancellation in the
     gap growth, eps * 26 m / 2 mm ~ 3e-12."""
-    from exudyn_wheelrail.multibody.train import CouplingData
+    from exudyn_wheelrail.rolling_stock.train import CouplingData
     cp = CouplingData(kx_N_per_m=8.0e6, cx_N_s_per_m=1.3e5, ky_N_per_m=2.1e5, cy_N_s_per_m=1.7e4, height_m=1.0)
     consist = _two_cars(cp)
     sc = exu.SystemContainer()
@@ -222,7 +223,8 @@ def test_static_axle_loads_sum_to_the_train_weight():
     vehicle = consist.cars[0].vehicle
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    train = build_train(mbs, consist, speed_m_s=30.0, pair=_pair(vehicle), contact_options={"mu": 0.3})
+    train = build_train(mbs, consist, speed_m_s=30.0)
+    add_train_contact(mbs, train, _pair(vehicle), mu=0.3)
     mbs.Assemble()
     train.contact.warm_up(mbs, jacobian=False)
     # the car's weight by hand from vehicles/crh6_intercity_car.toml ([car_body] 37 200 kg, [bogie_frame] 2 700 kg
@@ -245,7 +247,7 @@ def _offset_cg_consist(tmp_path, cg_x_m=(1.2, -0.7)) -> Path:
     """A 2-car train of Manchester vehicles 1 (vehicles/manchester_vehicle1.toml) whose car bodies' centres of mass
     lie ``cg_x_m`` ahead of the car centres (car 1 nose-heavy, car 2 tail-heavy): every bogie then carries a
     different load."""
-    from exudyn_wheelrail.multibody.vehicle_data import VEHICLES_DIR
+    from exudyn_wheelrail.rolling_stock.vehicle_data import VEHICLES_DIR
     text = (VEHICLES_DIR / "manchester_vehicle1.toml").read_text()
     head = "[car_body]\nmass_kg = 32000.0\n"
     assert text.count(head) == 1
@@ -296,7 +298,8 @@ def test_axle_loads_by_the_lever_rule_are_the_simulated_static_contact_forces(tm
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     V = 30.0
-    train = build_train(mbs, consist, speed_m_s=V, pair=_pair(consist.cars[0].vehicle), gravity_m_s2=G)
+    train = build_train(mbs, consist, speed_m_s=V, gravity_m_s2=G)
+    add_train_contact(mbs, train, _pair(consist.cars[0].vehicle))
     loads = train.static_wheel_loads_N()
     np.testing.assert_allclose(loads.sum(axis=1), expected, rtol=1e-12)
     np.testing.assert_allclose(loads, np.column_stack([expected, expected]) / 2, rtol=1e-12)
@@ -380,7 +383,7 @@ def test_scenario_train_bad_input(tmp_path):
 def _scaled_wheelset_consist(tmp_path, scale: float) -> Path:
     """A consist of one vehicles/single_wheelset.toml whose wheelset mass and inertias are scaled by ``scale`` (its
     dead load, the 'car' above an infinitely soft suspension, unchanged)."""
-    from exudyn_wheelrail.multibody.vehicle_data import VEHICLES_DIR
+    from exudyn_wheelrail.rolling_stock.vehicle_data import VEHICLES_DIR
     text = (VEHICLES_DIR / "single_wheelset.toml").read_text()
     for key, value in (("mass_kg", 1813.0), ("Ixx_kg_m2", 1120.0), ("Iyy_kg_m2", 112.0), ("Izz_kg_m2", 1120.0)):
         old = f"{key} = {value}"
@@ -404,8 +407,8 @@ def test_hertz_step_bound_is_half_the_resolution_step_of_the_wheelset_bounce_wor
     wheel (the file's dead load per side and half the wheelset's weight; 54546.0 N at scale 1), r0 = 0.46 m; k_H = 1.5 Q/delta from
     RailSprings.from_hertz (the contact module's Hertz solution, tested against Hertz's tables elsewhere).
     Tolerance: the wheel load by hand against the load path's sum (a few ulp), through k_H ~ Q^(1/3): 1e-9."""
-    from exudyn_wheelrail.multibody.train import load_consist
-    from exudyn_wheelrail.multibody.vehicle_builder import RailSprings
+    from exudyn_wheelrail.rolling_stock.train import load_consist
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import RailSprings
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import hertz_dt_bound_s
 
     with warnings.catch_warnings():
@@ -424,7 +427,7 @@ def test_full_interaction_tends_to_moving_load_as_unsprung_mass_vanishes(tmp_pat
     mass, linearly (the inertia force is m z̈): by at least 8 x for a 10 x smaller mass (measured 9.9 x; the margin
     covers what the Hertz spring's own dynamics add) — and be below 0.1 % of the peak at 0.1 x (measured 0.075 %).
     Same time step for both models (the stiffer contact's bound), so the rows are at the same times."""
-    from exudyn_wheelrail.multibody.train import load_consist
+    from exudyn_wheelrail.rolling_stock.train import load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing import BridgeCrossing, run_bridge_crossing
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import hertz_dt_bound_s, train_axles
 

@@ -15,13 +15,9 @@ import scipy.integrate
 from exudyn.itemInterface import SensorNode
 from reference_paths import SHARED_REFERENCE
 
-from exudyn_wheelrail.multibody.vehicle_builder import (
-    SIDES,
-    RailSprings,
-    build_vehicle,
-    simulation_settings,
-)
-from exudyn_wheelrail.multibody.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle, shipped_vehicles
+from exudyn_wheelrail.rolling_stock.vehicle_builder import SIDES, RailSprings, build_vehicle
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
+from exudyn_wheelrail.rolling_stock.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle, shipped_vehicles
 
 G = 9.81
 

@@ -37,6 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..contact_defaults import LAWS, CreepLaw  # noqa: F401  (the laws by name, importable from here)
 from ..contact.layout import CP_AB_MAX, CP_AB_MIN, CP_G, CP_MU, CP_NU, CP_NX, CP_NY, CP_V_MIN, N_CP
 from ..jit import compiled
 from . import linear as _linear
@@ -52,25 +53,6 @@ __all__ = ["CreepLaw", "LAWS", "CREEP_LAWS", "CREEP_AB_CLAMPED", "CreepModel", "
 CREEP_AB_CLAMPED = 64
 
 
-class CreepLaw(NamedTuple):
-    """One creep law of :data:`LAWS`."""
-
-    code: int                  #: the value :func:`creep_forces` switches on
-    summary: str               #: what it is (for listings)
-    needs_table: bool          #: evaluates the USETAB-style table of the exact theory (:mod:`.table`), loaded once
-    uses_fastsim_grid: bool    #: evaluates FASTSIM on the ``(n_x, n_y)`` grid of ``cp[CP_NX]``, ``cp[CP_NY]``
-    coulomb_bound: bool        #: the resultant is held on μN
-
-
-#: the creep laws by name (the connector's ``creep_law=``); the codes are the dispatch's switch values
-LAWS = {
-    "fastsim": CreepLaw(0, "Kalker's simplified theory FASTSIM", False, True, True),
-    "linear": CreepLaw(1, "Kalker's linear theory, unsaturated (small-creepage studies)", False, False, False),
-    "none": CreepLaw(2, "no creep forces (normal forces only)", False, False, True),
-    "table": CreepLaw(3, "USETAB-style table of Kalker's exact theory", True, False, True),
-    "shen_hedrick_elkins": CreepLaw(4, "Shen-Hedrick-Elkins saturation of the linear theory", False, False, True),
-    "polach": CreepLaw(5, "Polach's law, k_A = k_S = 1", False, False, True),
-}
 #: name -> code of the compiled dispatch (derived from :data:`LAWS`)
 CREEP_LAWS = {name: law.code for name, law in LAWS.items()}
 

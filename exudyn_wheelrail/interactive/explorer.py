@@ -163,7 +163,7 @@ class RtriExplorer:
     def case(self, **values) -> RtriCase:
         """The :class:`RtriCase` of the given slider values (missing ones: the current values)."""
         v = {**self.values, **self._checked(values)}
-        from ..multibody.vehicle_data import load_vehicle
+        from ..rolling_stock.vehicle_data import load_vehicle
         vehicle = load_vehicle(RTRI.vehicle)
         base = {"primary": vehicle.primary, "secondary": vehicle.secondary}
         axis = {"kx": 0, "ky": 1, "cy": 1}

@@ -5,7 +5,7 @@ r"""Exudyn 3-D view of a wheel–rail model: wheels, rails, bridge deck, contact
 >>> view.configure(h.system_container)        # camera on the leading bogie                       # doctest: +SKIP
 >>> h.system_container.renderer.Start(); h.mbs.SolveDynamic(h.settings, solverType=h.solver_type) # doctest: +SKIP
 
-What is drawn (all in the model frame of :mod:`exudyn_wheelrail.multibody.vehicle_builder`: the track frame —
+What is drawn (all in the model frame of :mod:`exudyn_wheelrail.rolling_stock.vehicle_builder`: the track frame —
 x forward, y right, z **down** — translating with the running speed; the camera puts -z up)
 ---------------------------------------------------------------------------------------------------------------
 * **wheels**: solids of revolution of the actual wheel profile in place (:func:`.shapes.wheel_contour`: flange and
@@ -125,10 +125,10 @@ class WheelRailView:
     ----------
     mbs : the Exudyn ``MainSystem``.  The view adds body graphics and one ground object with a
         ``graphicsDataUserFunction``; call ``mbs.Assemble()`` afterwards (:meth:`for_rtri` does).
-    model : the :class:`~exudyn_wheelrail.multibody.vehicle_builder.VehicleModel`.
+    model : the :class:`~exudyn_wheelrail.rolling_stock.vehicle_builder.VehicleModel`.
     pair : the :class:`~exudyn_wheelrail.contact.WheelRailPair` of the contact.
     contact : the :class:`~exudyn_wheelrail.multibody.connector.WheelRailContact` (its ``results`` are drawn).
-    track : the :class:`~exudyn_wheelrail.multibody.track.RigidStraightTrack` (irregularity) or ``None``.
+    track : the :class:`~exudyn_wheelrail.track.rigid.RigidStraightTrack` (irregularity) or ``None``.
     bridge : an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` or ``None``.
     """
 

@@ -90,12 +90,13 @@ from .connector_core import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_ST
                              WS_HALF_GAUGE, compiled_for, contact_data, contact_forces_core, contact_jacobian_core,
                              work_arrays)
 from .contact_jacobian import JACOBIAN_METHODS, N_BLOCK, needs_differences, semi_analytic_jacobian
-from .placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
+from ..rolling_stock.placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
+from ..rolling_stock.train import place_train_on_track
 from .rotations import rotation_from_vector  # noqa: F401  (importable from here)
 from .rotations import rotation_vector_from_matrix as _rotation_vector_from_matrix  # noqa: F401
-from .track import RigidStraightTrack
+from ..track.rigid import RigidStraightTrack
 
-__all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", "contact_jacobian_core",
+__all__ = ["WheelRailContact", "add_wheel_rail_contact", "add_train_contact", "contact_forces_core", "contact_jacobian_core",
            "ContactStateError", "CREEP_LAWS", "GEOMETRY_MODES", "place_on_rails", "static_axle_offset_m", "N_RES",
            "RES_STATUS", "RES_N", "RES_FX", "RES_FY", "RES_MZ", "RES_F_TRACK_X", "RES_F_TRACK_Y", "RES_F_TRACK_Z",
            "RES_P_X", "RES_P_Y", "RES_P_Z", "RES_GAMMA", "RES_XI", "RES_ETA", "RES_PHI", "RES_A", "RES_B",
@@ -157,7 +158,7 @@ class WheelRailContact:
         track).  Each wheelset's coordinates are then relative to the local track frame at its own s, and the
         creepages get the terms of the turning frame (:mod:`.connector_core`, "Curved track"); the bodies' inertia
         terms and the suspension geometry of the curve are
-        :class:`~exudyn_wheelrail.multibody.track_following.TrackFollowingFrame`'s.  Needs ``frame="moving"``.
+        :class:`~exudyn_wheelrail.rolling_stock.track_following.TrackFollowingFrame`'s.  Needs ``frame="moving"``.
     """
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
@@ -646,3 +647,20 @@ def add_wheel_rail_contact(mbs, wheelset_nodes, pair: WheelRailPair, **options) 
     """Add the wheel–rail contact of the given wheelset nodes to ``mbs`` (before ``mbs.Assemble()``); options as
     :class:`WheelRailContact`.  Returns the contact handle (results, forces, the Exudyn object number)."""
     return WheelRailContact(mbs, wheelset_nodes, pair, **options)
+
+
+def add_train_contact(mbs, train, pair: WheelRailPair, *, track=None, place: bool = True,
+                      **options) -> WheelRailContact:
+    """Couple every wheelset of a train (:func:`exudyn_wheelrail.rolling_stock.train.build_train` with
+    ``wheel_rail="none"``), car after car, front first, to the rails by **one** connector (the run monitor and the
+    recorder watch one connector), before ``mbs.Assemble()``.  ``track``: default a perfect straight track;
+    ``options`` as :class:`WheelRailContact` (``creep_law``, ``mu``, ``bridge``, ...); the train's speed and start
+    are its own.  ``place``: every car in static equilibrium on the rails and on the displaced track
+    (:func:`~exudyn_wheelrail.rolling_stock.train.place_train_on_track`).  Returns the connector, also kept as
+    ``train.contact``."""
+    track = track if track is not None else RigidStraightTrack()
+    train.contact = add_wheel_rail_contact(mbs, train.wheelset_nodes, pair, speed_m_s=train.speed_m_s, track=track,
+                                           s_start_m=train.s_start_m, **options)
+    if place:
+        place_train_on_track(mbs, train, pair, track)
+    return train.contact

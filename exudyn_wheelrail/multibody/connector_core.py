@@ -57,7 +57,7 @@ computes the creepages and the creep law (:mod:`exudyn_wheelrail.creep.registry`
 goes to the rails and, on the deck, to the modal coordinates.
 
 Curved track (``frame[FRAME_CURVED]`` set): each wheelset's coordinates are relative to the local track frame at
-its own s (:mod:`~exudyn_wheelrail.multibody.track_following`), which turns with
+its own s (:mod:`~exudyn_wheelrail.rolling_stock.track_following`), which turns with
 ``Ω = V (φ' − κ sin θ, κ cos θ sin φ, κ cos θ cos φ)`` (:mod:`exudyn_wheelrail.track.layout`).  Seen from it the
 rail material at the contact point ``r`` (from the wheelset frame's origin on the centre line at rail top) moves
 with ``−V e_x − Ω × r`` and turns with ``−Ω``: the longitudinal creepage of a wheel at ``y = ±b`` gains ``∓ κ b``
@@ -93,7 +93,7 @@ from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESI
                                           series_contacts)
 from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, N_LAYOUT, layout_at
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
-from .track import irregularity_channels_at
+from ..track.rigid import irregularity_channels_at
 
 __all__ = ["contact_forces_core", "contact_jacobian_core", "contact_data", "ContactData", "work_arrays", "compiled_for",
            "wheelset_poses", "wheel_forces", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED",

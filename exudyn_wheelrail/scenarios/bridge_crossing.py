@@ -256,7 +256,7 @@ class BridgeCrossing:
     sprung_damping_ratio: float = SPRUNG_DAMPING_RATIO
 
     def __post_init__(self):
-        from ..simulation.settings import SOLVERS
+        from ..simulation.solvers import SOLVERS
         for name in ("span_m", "mass_kg_m", "f1_Hz", "speed_m_s"):
             object.__setattr__(self, name, _positive(name, getattr(self, name)))
         z = _positive("damping_ratio", self.damping_ratio, allow_zero=True)

@@ -5,7 +5,7 @@ the deck.
 [--sprung-damping-ratio Z_V]``: between the constant axle loads (``moving-loads``) and the full vehicle–bridge
 interaction (``vehicles``).  Axle k (static load ``P_k``, from ``--axles``, ``--hslm`` or a consist's static axle
 loads) carries a sprung mass ``m_k = P_k/g`` (the whole static axle load is sprung; ``g`` =
-:data:`~exudyn_wheelrail.multibody.vehicle_builder.GRAVITY_M_S2`) on a spring ``k_k = m_k (2π f_v)²`` and a
+:data:`~exudyn_wheelrail.rolling_stock.vehicle_builder.GRAVITY_M_S2`) on a spring ``k_k = m_k (2π f_v)²`` and a
 viscous damper ``c_k = 2 ζ_v m_k (2π f_v)`` whose lower end follows the deck at the axle's place
 ``s_k(t) = deck_start_m + V t - x_k`` (no unsprung mass, the wheel always in contact).  ``f_v`` and ``ζ_v``
 (:data:`~exudyn_wheelrail.scenarios.bridge_crossing.SPRUNG_FREQUENCY_HZ` = 1.5 Hz,
@@ -39,7 +39,7 @@ __all__ = ["SPRUNG_MASSES", "sprung_parameters"]
 
 def sprung_parameters(case: BridgeCrossing) -> dict:
     """Per axle ``m_kg``, ``k_N_m``, ``c_N_s_m`` (arrays) of the case's axles (module docstring)."""
-    from ..multibody.vehicle_builder import GRAVITY_M_S2
+    from ..rolling_stock.vehicle_builder import GRAVITY_M_S2
     m = np.asarray(case.axles.load_N, dtype=float) / GRAVITY_M_S2
     w = 2.0 * math.pi * case.sprung_frequency_Hz
     return {"m_kg": m, "k_N_m": m * w * w, "c_N_s_m": 2.0 * case.sprung_damping_ratio * m * w}

@@ -1,8 +1,8 @@
 r"""The ``vehicles`` load model of ``bridge-crossing``: the full vehicle–bridge interaction of a train.
 
 ``python -m exudyn_wheelrail bridge-crossing ... --train FILE.toml --model vehicles``: the consist of the file
-(:mod:`exudyn_wheelrail.multibody.train`) is built in the crossing's Exudyn system
-(:func:`~exudyn_wheelrail.multibody.train.build_train`: one :class:`~exudyn_wheelrail.multibody.vehicle_builder.
+(:mod:`exudyn_wheelrail.rolling_stock.train`) is built in the crossing's Exudyn system
+(:func:`~exudyn_wheelrail.rolling_stock.train.build_train`: one :class:`~exudyn_wheelrail.rolling_stock.vehicle_builder.
 VehicleModel` per car, its couplers), and all its wheelsets are coupled to the rails and the deck by **one**
 wheel–rail connector (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact` with ``bridge=`` the deck of the
 crossing, as :func:`exudyn_wheelrail.scenarios.build.build_scenario` couples a vehicle to a deck: the deck under a
@@ -12,12 +12,12 @@ contact settings are the defaults of :class:`~exudyn_wheelrail.simulation.settin
 Conventions of the crossing: the deck spans ``[deck_start_m, deck_start_m + L]`` (L the sum of the spans of a
 chain: the connector sees the whole chain's modes, vertical and lateral); at ``t = 0`` the train's leading
 wheelset is at ``deck_start_m`` and the whole train behind it, every car in static equilibrium on the rails
-(:func:`~exudyn_wheelrail.multibody.train.place_train_on_track`; the unloaded deck is at rest).
+(:func:`~exudyn_wheelrail.rolling_stock.train.place_train_on_track`; the unloaded deck is at rest).
 
 Time step: the crossing's default step, at most :data:`CONTACT_DT_S` and at most half the step at which the
 stiffest wheelset bouncing on its linearised Hertz contact reaches the resolution bound ``ω h = 2√2``
 (:data:`~exudyn_wheelrail.simulation.runner.RESOLUTION_LIMIT`; ``ω = √(2 k_H / m_wheelset)``, ``k_H = 1.5 Q/δ``
-at the static wheel load Q, :meth:`~exudyn_wheelrail.multibody.vehicle_builder.RailSprings.from_hertz`).
+at the static wheel load Q, :meth:`~exudyn_wheelrail.rolling_stock.vehicle_builder.RailSprings.from_hertz`).
 
 Outputs beside the deck's: the wheels' ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` columns (``w<j>``: the
 train's wheelsets, car after car), the wheelsets' lateral position, and per car the car-body points above its
@@ -41,7 +41,7 @@ CONTACT_DT_S = 1e-3
 
 
 def _consist(case: BridgeCrossing):
-    from ..multibody.train import ConsistError, load_consist
+    from ..rolling_stock.train import ConsistError, load_consist
     if case.train_file is None:
         raise ValueError("--train: the vehicles model needs a consist file (--train FILE.toml)")
     try:
@@ -53,7 +53,7 @@ def _consist(case: BridgeCrossing):
 def train_axles(path):
     """The static axle loads of a consist file as an :class:`~exudyn_wheelrail.structures.load_models.AxleTrain`
     (the moving-load model of the same train): wheelset distances behind the leading one, their lever-rule loads."""
-    from ..multibody.train import ConsistError, load_consist
+    from ..rolling_stock.train import ConsistError, load_consist
     from ..structures.load_models import AxleTrain
     try:
         consist = load_consist(path)
@@ -66,7 +66,7 @@ def train_axles(path):
 def hertz_dt_bound_s(consist) -> float:
     """Half the step at which the stiffest wheelset of ``consist`` on its linearised Hertz contact reaches the
     resolution bound (module docstring) [s]."""
-    from ..multibody.vehicle_builder import RailSprings, static_load_path
+    from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
     from ..simulation.runner import RESOLUTION_LIMIT
     omega = 0.0
     for car in consist.cars:
@@ -87,8 +87,9 @@ def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: 
     the default contact settings) on the straight rigid track, coupled to ``bridge`` (an
     :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge`, e.g. a deck or a flexible track) if given."""
     from ..contact.pair import WheelRailPair
-    from ..multibody.train import build_train
-    from ..multibody.track import RigidStraightTrack
+    from ..multibody.connector import add_train_contact
+    from ..rolling_stock.train import build_train
+    from ..track.rigid import RigidStraightTrack
     from ..simulation.settings import ContactSettings
 
     geo = consist.cars[0].vehicle.geometry
@@ -96,9 +97,9 @@ def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: 
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     cs = ContactSettings()
     track = RigidStraightTrack()
-    train = build_train(mbs, consist, speed_m_s=speed_m_s, s_start_m=s_start_m, pair=pair, track=track,
-                        contact_options=dict(creep_law=cs.creep_law, mu=cs.friction, fastsim_grid=cs.fastsim_grid,
-                                             geometry=cs.geometry, bridge=bridge))
+    train = build_train(mbs, consist, speed_m_s=speed_m_s, s_start_m=s_start_m)
+    add_train_contact(mbs, train, pair, track=track, creep_law=cs.creep_law, mu=cs.friction,
+                      fastsim_grid=cs.fastsim_grid, geometry=cs.geometry, bridge=bridge)
     return train, track
 
 

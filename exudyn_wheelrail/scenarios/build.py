@@ -5,27 +5,26 @@ moving with the running speed V), the wheel–rail connector (:func:`~exudyn_whe
 add_wheel_rail_contact`) on a rigid straight track (:func:`build_track`) displaced by the listed irregularities,
 optionally a modally reduced bridge deck (:func:`build_bridge_modes`, coupled through the connector's
 ``bridge=``) with its support motion (:func:`.deck.support_motion`, for the resolved duration), puts the vehicle in
-static equilibrium on the rails at t = 0 and on the displaced track (:func:`start_on_track`; the starting state of
+static equilibrium on the rails at t = 0 and on the displaced track (:func:`~exudyn_wheelrail.rolling_stock.placement.start_on_track`; the starting state of
 :mod:`exudyn_wheelrail.scenarios.scenario`), and the recorder (the recorder's probes and the deck's,
 :func:`.deck.deck_probes`); it returns handles, not strings.  A train (``vehicle.consist``) is built by
-:func:`~exudyn_wheelrail.multibody.train.build_train` (every car at its place in the model frame, the couplers), its
+:func:`~exudyn_wheelrail.rolling_stock.train.build_train` (every car at its place in the model frame, the couplers), its
 wheelsets in the one connector, every car put on the rails and the track, the recorder's wheel columns numbering
 the train's wheelsets car after car and every car's car-body points suffixed ``_c<k>`` (:func:`train_probes`).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
-import numpy as np
-
+from ..rolling_stock.placement import start_on_track
+from ..simulation.exudyn_settings import run_solver_settings
 from ..simulation.recorder import Recorder, vehicle_probes
 from ..simulation.settings import DURATION_AUTO, MAX_STEPS, ContactSettings, RunSettings, SettingsError
 from .deck import deck_probes, en1990_cutoff_Hz, support_motion
 from .spec import ScenarioError, as_scenario, features_end_m
 
 __all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "vehicle_data", "scenario_run_settings",
-           "build_scenario", "start_on_track", "train_probes", "MODES_CUTOFF_MARGIN"]
+           "build_scenario", "train_probes", "MODES_CUTOFF_MARGIN"]
 
 #: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
 #: Euler–Bernoulli values the cut-off is computed from)
@@ -34,7 +33,7 @@ MODES_CUTOFF_MARGIN = 1.01
 
 def build_track(scn: dict):
     """The :class:`~..multibody.track.RigidStraightTrack` of the scenario's ``track`` components."""
-    from ..multibody.track import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
+    from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
     parts = []
     for comp in scn["track"]:
         if comp["type"] == "span_deflection":
@@ -82,10 +81,10 @@ def build_bridge_modes(structure: dict):
 def vehicle_data(scn: dict):
     """The scenario's :class:`~..multibody.vehicle_data.VehicleData`, or its :class:`~..multibody.train.Consist` for
     a train (``vehicle.consist``; both have ``name`` and ``wheelset_x_m()``, the leading wheelset's x the largest)."""
-    from ..multibody.vehicle_data import load_vehicle_with_overrides
+    from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
     v = scn["vehicle"]
     if "consist" in v:
-        from ..multibody.train import load_consist
+        from ..rolling_stock.train import load_consist
         return load_consist(v["consist"])
     return load_vehicle_with_overrides(v.get("name") or v["file"], v.get("overrides") or None)
 
@@ -164,7 +163,7 @@ def build_scenario(scenario) -> ScenarioModel:
 
     from ..contact.pair import WheelRailPair
     from ..multibody.connector import add_wheel_rail_contact, place_on_rails
-    from ..multibody.vehicle_builder import build_vehicle
+    from ..rolling_stock.vehicle_builder import build_vehicle
 
     scn, _ = as_scenario(scenario)
     vehicle = vehicle_data(scn)
@@ -182,7 +181,7 @@ def build_scenario(scenario) -> ScenarioModel:
     mbs = sc.AddSystem()
     springs = cs.wheel_rail == "springs"
     if train:
-        from ..multibody.train import build_train
+        from ..rolling_stock.train import build_train
         model = build_train(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="springs" if springs else "none")
     else:
         model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start,
@@ -200,7 +199,7 @@ def build_scenario(scenario) -> ScenarioModel:
     flex = window = None
     if "flexible_track" in scn and not springs:       # rails on pads, sleepers and ballast: the contact's deck slot
         from ..track.flexible import add_flexible_track
-        from ..track.flexible_scenario import flexible_track_modes
+        from .flexible_track import flexible_track_modes
         flex = add_flexible_track(mbs, flexible_track_modes(
             scn["flexible_track"], s_start_m=s_start, wheelset_x_m=vehicle.wheelset_x_m(), speed_m_s=V,
             end_time_s=run.end_time_s, solver=run.solver, dt_s=run.dt_s, moving_window=True))
@@ -214,14 +213,14 @@ def build_scenario(scenario) -> ScenarioModel:
         except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
             raise RuntimeError(f"contact.creep_law = {cs.creep_law!r}: {exc}") from None
         if train:
-            from ..multibody.train import place_train_on_track
+            from ..rolling_stock.train import place_train_on_track
             model.contact = contact
             shift = place_train_on_track(mbs, model, pair, track)
         else:
             place_on_rails(mbs, model, pair)
             shift = start_on_track(mbs, model, track)
         if flex is not None:
-            from ..track.flexible_scenario import flexible_track_window, start_on_flexible_track
+            from .flexible_track import flexible_track_window, start_on_flexible_track
             start_on_flexible_track(mbs, model, flex, contact=contact)
             window = flexible_track_window(scn["flexible_track"], contact=contact, handle=flex)
     h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
@@ -244,11 +243,11 @@ def build_scenario(scenario) -> ScenarioModel:
             probes += deck_probes(contact=contact, bridge=bridge, modes=modes, spans_m=st["spans_m"],
                                   start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
         if flex is not None:
-            from ..track.flexible_scenario import flexible_track_probes
+            from .flexible_track import flexible_track_probes
             probes += flexible_track_probes(contact=contact, handle=flex, model=model, window=window)
         h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
-    h.settings, h.solver_type = run.exudyn()
+    h.settings, h.solver_type = run_solver_settings(run)
     if flex is not None:        # hundreds of modal coordinates: Exudyn's sparse solver (measured: the dense one 3-30x slower)
         h.settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse
     return h
@@ -263,7 +262,7 @@ def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, c
     assembled) as for :func:`~..simulation.recorder.vehicle_probes`: the car-body points read by sensors."""
     import dataclasses
 
-    from ..multibody.train import car_suffix
+    from ..rolling_stock.train import car_suffix
     st = structure or {}
     probes = vehicle_probes(model=train, contact=contact, track=track, speed_m_s=speed_m_s, s_leading0_m=s_leading0_m,
                             bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"))
@@ -279,88 +278,4 @@ def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, c
                                      speed_m_s=speed_m_s, s_leading0_m=s_leading0_m, carbody_points=points,
                                      mbs=mbs)[-1])
     return probes
-
-
-def start_on_track(mbs, model, track) -> float | None:
-    """Put the bodies' initial state on the track under the wheelsets at t = 0 (call after
-    :func:`~..multibody.place_on_rails`, which puts the centred vehicle on the *undisplaced* rails).
-
-    Each wheelset moves by the track's lateral and vertical displacement ``(y, z)`` at its track distance and is
-    yawed along the track, ``ψ = atan(dy/ds)``; its velocity gets ``(V dy/ds, V dz/ds)`` and its yaw rate
-    ``V y''/(1 + y'²)`` — the rates at which the track moves and turns under it in the frame moving with V —, so
-    it starts without lateral creepage and without penetration.  Each bogie frame (and the car body) follows the
-    straight line through its supports (its wheelsets; the bogie centres): displacement at its centre of mass,
-    yaw ``atan(Δy/Δx)`` and pitch ``-atan(Δz/Δx)`` (z down: the nose goes up for θ > 0), with the matching rates
-    (rotation vector ``(0, θ, ψ)``, the small-angle composition).  Without it a millimetre of vertical
-    irregularity is a millimetre of Hertz penetration at t = 0 (MN contact forces) and a slope dy/ds a lateral
-    creepage dy/ds.  A cross level c rolls each wheelset with its rails, ``θ = asin(c/b)`` (b the rail-centre
-    distance, :mod:`exudyn_wheelrail.conventions`), at the rate ``V dθ/ds``; the bogie frames and the car body stay
-    level (the suspension takes the small roll difference).  Returns the largest displacement [m], or None when the
-    track under every wheelset is undisplaced and parallel to the frame (nothing is changed)."""
-    from ..conventions import RAIL_CENTRE_DISTANCE_M
-    from ..track.irregularities import channel_values
-    x = np.array([ws.p_cg_in_frame[0] for ws in model.wheelsets])
-    s0 = model.track_distance_m(x, 0.0)
-    v = track.rail_offset(s0)
-    cl = channel_values(track.irregularity, s0)
-    roll = np.arcsin(cl.cross_level_m / RAIL_CENTRE_DISTANCE_M)
-    roll_rate = model.speed_m_s * cl.d_cross_level / (RAIL_CENTRE_DISTANCE_M * np.cos(roll))
-    if not (np.any(v.y_m) or np.any(v.z_m) or np.any(v.dy_ds) or np.any(v.dz_ds) or np.any(roll)
-            or np.any(roll_rate)):
-        return None
-    V = model.speed_m_s
-    # per body: x, (y, z, pitch θ, yaw ψ) and their rates
-    ws = [(x[j], np.array([v.y_m[j], v.z_m[j], 0.0, math.atan(v.dy_ds[j])]),
-           V * np.array([v.dy_ds[j], v.dz_ds[j], 0.0, v.d2y_ds2[j] / (1.0 + v.dy_ds[j] ** 2)]))
-          for j in range(len(x))]
-
-    def on_line(supports, x_cg):
-        """State of a body resting on the line through its supports (front and rear: largest and smallest x)."""
-        f = max(supports, key=lambda b: b[0])
-        r = min(supports, key=lambda b: b[0])
-        dx = f[0] - r[0]
-        lam = (x_cg - r[0]) / dx
-        pos = r[1] + lam * (f[1] - r[1])
-        rate = r[2] + lam * (f[2] - r[2])
-        dy, dz = f[1][0] - r[1][0], f[1][1] - r[1][1]
-        pos[2] = -math.atan(dz / dx)
-        pos[3] = math.atan(dy / dx)
-        rate[2] = -(f[2][1] - r[2][1]) / dx / (1.0 + (dz / dx) ** 2)
-        rate[3] = (f[2][0] - r[2][0]) / dx / (1.0 + (dy / dx) ** 2)
-        return x_cg, pos, rate
-
-    def shift(node, state):
-        _, pos, rate = state
-        q0 = np.array(mbs.GetNodeParameter(node, "initialCoordinates"), dtype=float)
-        v0 = np.array(mbs.GetNodeParameter(node, "initialVelocities"), dtype=float)
-        q0[1:3] += pos[:2]
-        q0[4:6] += pos[2:]              # rotation vector (0, θ, ψ); the reference rotation is zero
-        v0[1:3] += rate[:2]
-        v0[4:6] += rate[2:]             # body-frame angular velocity (= track frame for these small rotations)
-        mbs.SetNodeParameter(node, "initialCoordinates", q0.tolist())
-        mbs.SetNodeParameter(node, "initialVelocities", v0.tolist())
-
-    for j, w in enumerate(model.wheelsets):
-        shift(w.node, ws[j])
-        if roll[j] != 0.0 or roll_rate[j] != 0.0:
-            # rolled with the rails about their centre line: the axle centre at R_x(θ) of its height d above it
-            q0 = np.array(mbs.GetNodeParameter(w.node, "initialCoordinates"), dtype=float)
-            v0 = np.array(mbs.GetNodeParameter(w.node, "initialVelocities"), dtype=float)
-            d = w.p_cg_in_frame[2] + q0[2] - v.z_m[j]
-            sn, cs = math.sin(roll[j]), math.cos(roll[j])
-            q0[1] -= d * sn
-            q0[2] += d * (cs - 1.0)
-            q0[3] += roll[j]
-            v0[1] -= d * cs * roll_rate[j]
-            v0[2] -= d * sn * roll_rate[j]
-            v0[3] += roll_rate[j]
-            mbs.SetNodeParameter(w.node, "initialCoordinates", q0.tolist())
-            mbs.SetNodeParameter(w.node, "initialVelocities", v0.tolist())
-    bogies = []
-    for i, b in enumerate(model.bogies):
-        bogies.append(on_line([ws[j] for j, w in enumerate(model.wheelsets) if w.bogie == i], b.p_cg_in_frame[0]))
-        shift(b.node, bogies[-1])
-    if model.car_body is not None:
-        shift(model.car_body.node, on_line(bogies, model.car_body.p_cg_in_frame[0]))
-    return float(max(np.max(np.abs(v.y_m)), np.max(np.abs(v.z_m))))
 

@@ -8,7 +8,7 @@ curving`.
 
 The model: the vehicle of :func:`~exudyn_wheelrail.multibody.build_vehicle` (frame moving with V), the wheel–rail
 connector on the rails of the layout (:mod:`exudyn_wheelrail.track.layout`), the curve's terms on the bodies and
-the suspension elements (:class:`~exudyn_wheelrail.multibody.track_following.TrackFollowingFrame`, updated before
+the suspension elements (:class:`~exudyn_wheelrail.rolling_stock.track_following.TrackFollowingFrame`, updated before
 every step through the runner's ``user_function``), started in static equilibrium on the straight, solved by the
 one runner (:func:`~exudyn_wheelrail.simulation.runner.solve`, watched by the run monitor and the flange-climb
 check) with the ``fast`` preset's integrator (RK44, 1 ms, shortened where the creep damping of a slowly rolling
@@ -22,7 +22,7 @@ value; the run is called steady when the means of ΣY over the two halves of the
 the wheelsets, by less than :data:`~exudyn_wheelrail.analysis.curving.STEADY_TOLERANCE` of ``m max(|a_nc|, 0.3 m/s²)``
 (:func:`~exudyn_wheelrail.analysis.curving.steady_state`).
 
-Track irregularities (``CurvingCase.irregularity``): any :class:`~exudyn_wheelrail.multibody.track.Irregularity`
+Track irregularities (``CurvingCase.irregularity``): any :class:`~exudyn_wheelrail.track.rigid.Irregularity`
 (per-rail channels, :mod:`exudyn_wheelrail.track.irregularities`) displaces the rails of the layout, relative to
 the local track frame at each wheelset's s.  The vehicle starts in equilibrium on the undisplaced straight, so the
 irregularity must vanish, with its slopes, under every wheelset at t = 0 (checked before any work).
@@ -48,6 +48,7 @@ from ..simulation import status as S
 from ..track.irregularities import CHANNELS, ChannelTable
 from ..track.layout import MAX_CANT_M, TrackLayout
 from .defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
+from ..simulation.exudyn_settings import run_solver_settings
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
            "build_curving", "run_curving", "LEAD_IN_M", "SETTLE_M", "SETTLE_S", "WINDOW_M", "WINDOW_S",
@@ -103,7 +104,7 @@ class CurvingCase:
     preset: str = "fast"
     #: a :class:`~exudyn_wheelrail.contact.WheelRailPair` in place of the vehicle's profiles (None: the vehicle's)
     wheel_rail_pair: object = None
-    #: an :class:`~exudyn_wheelrail.multibody.track.Irregularity` of the rails (None: a perfect track); zero under
+    #: an :class:`~exudyn_wheelrail.track.rigid.Irregularity` of the rails (None: a perfect track); zero under
     #: the wheelsets at t = 0 (module docstring; :func:`spectral_irregularity`)
     irregularity: object = None
 
@@ -126,7 +127,7 @@ class CurvingResult:
 
 
 def _vehicle(case: CurvingCase):
-    from ..multibody.vehicle_data import VehicleData, load_vehicle
+    from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
     return case.vehicle if isinstance(case.vehicle, VehicleData) else load_vehicle(case.vehicle)
 
 
@@ -193,11 +194,11 @@ def _start_s_m(vehicle) -> np.ndarray:
 
 
 def _check_start_undisplaced(irregularity, vehicle) -> None:
-    from ..multibody.track import Irregularity
+    from ..track.rigid import Irregularity
     from ..track.irregularities import channel_values
     if not isinstance(irregularity, Irregularity):
         raise CurvingInputError("irregularity", f"{irregularity!r}: expected an Irregularity "
-                                                "(exudyn_wheelrail.multibody.track, track.irregularities, "
+                                                "(exudyn_wheelrail.track.rigid, track.irregularities, "
                                                 "track.spectra) or None")
     s0 = _start_s_m(vehicle)
     v = channel_values(irregularity, s0)
@@ -280,12 +281,12 @@ def curving_distances(case: CurvingCase, vehicle) -> dict:
 def creep_step_limit_s(vehicle, speed_m_s: float, gravity_m_s2: float = 9.81) -> float:
     """The largest RK44 step [s] for the creep damping of a wheelset, :data:`CREEP_STEP_FACTOR` / λ_max: at low
     speed the creep forces act on a rolling wheelset like dampers ``f11/V``, ``f22/V`` (Kalker's coefficients at the
-    static wheel load, :meth:`~exudyn_wheelrail.multibody.vehicle_builder.RailSprings.from_hertz`), whose decay rates
+    static wheel load, :meth:`~exudyn_wheelrail.rolling_stock.vehicle_builder.RailSprings.from_hertz`), whose decay rates
     ``2 f11 r0²/(V I_yy)`` (spin), ``2 f22/(V m)`` (lateral) and ``2 f11 b²/(V I_zz)`` (yaw) grow as 1/V; an explicit
     step beyond RK44's real-axis limit h λ = 2.785 integrates a limit cycle instead of rolling (e.g. 36 km/h,
     single wheelset: λ ≈ 4500 1/s, unstable at 1 ms).  The run monitor's step check watches the vertical contact
     frequency only."""
-    from ..multibody.vehicle_builder import RailSprings, static_load_path
+    from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
     q = float(np.max(static_load_path(vehicle, gravity_m_s2).wheel))
     rs = RailSprings.from_hertz(wheel_load_N=q, speed_m_s=speed_m_s, r0_m=vehicle.geometry.r0_m)
     ws = vehicle.wheelset
@@ -303,8 +304,8 @@ def build_curving(case: CurvingCase, vehicle=None):
 
     from ..contact.pair import WheelRailPair
     from ..multibody.connector import add_wheel_rail_contact, place_on_rails
-    from ..multibody.track_following import TrackFollowingFrame
-    from ..multibody.vehicle_builder import build_vehicle
+    from ..rolling_stock.track_following import TrackFollowingFrame
+    from ..rolling_stock.vehicle_builder import build_vehicle
     from ..simulation.presets import PRESETS
     from ..simulation.recorder import Recorder, vehicle_probes
     from ..simulation.settings import RunSettings
@@ -331,7 +332,7 @@ def build_curving(case: CurvingCase, vehicle=None):
     contact_options = dict(preset.contact)
     track = {}
     if case.irregularity is not None:                  # zero under the wheelsets at t = 0 (check_curving_case)
-        from ..multibody.track import RigidStraightTrack
+        from ..track.rigid import RigidStraightTrack
         track = dict(track=RigidStraightTrack(case.irregularity))
     contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s_start,
                                      creep_law=contact_options.get("creep_law", "table"), mu=case.friction,
@@ -343,7 +344,7 @@ def build_curving(case: CurvingCase, vehicle=None):
     recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
     frame.update(mbs, 0.0)
-    settings, solver_type = run.exudyn()
+    settings, solver_type = run_solver_settings(run)
     return dict(mbs=mbs, system_container=sc, model=model, contact=contact, frame=frame, layout=layout,
                 recorder=recorder, run=run, settings=settings, solver_type=solver_type, distances=dist, pair=pair,
                 vehicle=vehicle)
@@ -414,7 +415,7 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
         summary["sum_Y_N"] = None
         summary["steady"] = False
     summary["assumptions"] = [
-        "track-following frames per body (exudyn_wheelrail.multibody.track_following): frame inertia and gravity in "
+        "track-following frames per body (exudyn_wheelrail.rolling_stock.track_following): frame inertia and gravity in "
         "the canted track plane on every body, gyroscopic moment of the wheelsets, suspension offsets from the "
         "chord geometry between bodies at different track distances",
         "creepage terms of the turning frame in the contact connector (longitudinal -+ b kappa, spin)",

@@ -29,7 +29,7 @@ Per span: the largest mid-span deflection and accelerations; the **quasi-static 
 span, ``continuous = false``: the mid-span influence line of the static axle loads, ``P a (3L² − 4a²)/(48 EI_y)``
 for a load at ``a ≤ L/2`` from the nearer support, summed over the axles at their places ``s_start + V t + x_j``)
 and the dynamic amplification over it; the **moving-force reference** (the deck alone under the static axle loads
-moving at V, :func:`~exudyn_wheelrail.structures.simulate_moving_forces`, same modes and time step: the ratio of
+moving at V, :func:`~.moving_forces.simulate_moving_forces`, same modes and time step: the ratio of
 the coupled deflection to it is the vehicle–bridge interaction).  The **EN 1990 deck-acceleration check**
 (EN 1990:2002/A1:2005, A2.4.4.2.1(4)P): the peak vertical deck acceleration over the nine points of every span,
 with the modes up to the EN 1990 cut-off max(30 Hz, 1.5 f1, f3) (:func:`en1990_cutoff_Hz`), against
@@ -162,7 +162,7 @@ def _quasi_static_mid_span_m(h, t, x0: float, L: float, EI: float) -> np.ndarray
 
 def _moving_force_mid_span_m(h, t) -> np.ndarray:
     """Mid-span deflection of every span (n_t, n_spans) of the deck alone under the static axle loads moving at V."""
-    from ..structures import simulate_moving_forces
+    from .moving_forces import simulate_moving_forces
     st = h.scenario["structure"]
     x_ws = np.asarray(h.vehicle.wheelset_x_m(), dtype=float)
     dt = float(h.run.dt_s)

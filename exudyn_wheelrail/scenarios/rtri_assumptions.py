@@ -7,7 +7,7 @@ Every result computed with these values must be labelled as using them.
 
 Each field below states its origin: **published** (the paper, as summarised in rtri_scenario.md) or
 **ASSUMPTION** (with the reasoning).  The shape of the deviation (sine over the span, C2 end transitions) is
-:class:`exudyn_wheelrail.multibody.track.SpanDeflection`.
+:class:`exudyn_wheelrail.track.rigid.SpanDeflection`.
 
 Deviation amplitude δ = 10 mm (ASSUMPTION)
     The shape's end slope is k = πδ/L: 1.57 mrad on the 20 m span, 0.79 mrad on the 40 m span.  That is the order
@@ -36,7 +36,7 @@ Transition length l_t = 3 m (ASSUMPTION)
 Flexible car body (``rtri --car-body flexible``; ASSUMPTION: the vehicle file ``manchester_vehicle1_flexible``)
     The paper attributes its remaining misfit of the car-body accelerations to the rigid car body of its model;
     neither the test vehicle's nor the Manchester coach's car-body flexibility is published.  The car body becomes
-    a uniform free–free Euler–Bernoulli beam (:mod:`exudyn_wheelrail.multibody.flexible_body`) whose mass and
+    a uniform free–free Euler–Bernoulli beam (:mod:`exudyn_wheelrail.rolling_stock.flexible_body`) whose mass and
     inertia are the Manchester data's: length 27.17 m, just below sqrt(12 Iyy / M) = 27.18 m, so a uniform beam
     of 32 t has the data's pitch and yaw inertia (1.97e6 kg m²) with almost no extra rotary inertia, polar inertia
     per length Ixx / L.  Its stiffnesses are chosen for the first free–free frequencies **10 Hz vertical bending,
@@ -57,7 +57,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..multibody.track import SpanDeflection
+from ..track.rigid import SpanDeflection
 
 __all__ = ["RtriAssumptions", "RTRI"]
 

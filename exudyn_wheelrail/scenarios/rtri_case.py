@@ -34,7 +34,8 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-from ..simulation.settings import DURATION_AUTO, NEWMARK_BETA, NEWMARK_GAMMA, ContactSettings, RunSettings
+from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings
+from ..simulation.solvers import NEWMARK_BETA, NEWMARK_GAMMA
 from .defaults import CAR_BODY_MODELS
 from .rtri_assumptions import RTRI, RtriAssumptions
 from .scenario import DEFAULT_FLOOR_HEIGHT_M, validate_scenario
@@ -297,7 +298,7 @@ class RtriCase:
     def vehicle(self):
         """The run's :class:`~..multibody.vehicle_data.VehicleData`: the assumptions' vehicle with
         ``vehicle_overrides`` applied."""
-        from ..multibody.vehicle_data import load_vehicle_with_overrides
+        from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
         return load_vehicle_with_overrides(self.vehicle_name, self.vehicle_overrides)
 
     @property

@@ -65,8 +65,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..rolling_stock.flexible_body import highest_mode_rad_s
 from ..simulation import status as S
 from ..simulation.settings import RunSettings
+from ..simulation.solvers import undamped_step_problem
 from .rtri_case import RtriCase, case_assumptions_table, vehicle_extent_m
 from .scenario import build_scenario, peaks, run_model, write_csv, write_json
 
@@ -251,8 +253,10 @@ def run_rtri(case: RtriCase, progress=None, view=None, progress_bar=False) -> Rt
     vehicle = case.vehicle()
     if vehicle.layout != "car" or vehicle.car_body is None:
         raise ValueError(f"vehicle {case.assumptions.vehicle!r}: the RTRI case needs a car (layout 'car')")
-    from ..multibody.flexible_body import explicit_step_problem
-    problem = explicit_step_problem(vehicle, case.run.solver, case.run.dt_s)
+    w = highest_mode_rad_s(vehicle)
+    problem = undamped_step_problem(case.run.solver, case.run.dt_s, w,
+                                    f"the flexible car body's highest kept mode ({w / (2 * math.pi):.4g} Hz)",
+                                    "take a smaller step, fewer modes or an implicit solver")
     if problem:                                           # before any work: the run would diverge
         raise ValueError(f"dt_s (--dt) with car_body={case.car_body!r}: {problem}")
     h = build_scenario(case.scenario())

@@ -138,12 +138,12 @@ def _running_criteria(ts, speed_m_s, wheel_columns, static, point, **options) ->
 
 def train_criteria(train, ts: dict, speed_m_s: float, static_wheel_loads_N: dict, wheel_columns, *, vehicle: str,
                    yq_limit: float, unloading_limit: float, carbody_point: str = "") -> dict:
-    """The criteria of a train (:class:`~exudyn_wheelrail.multibody.train.TrainModel`) from a recorded table:
+    """The criteria of a train (:class:`~exudyn_wheelrail.rolling_stock.train.TrainModel`) from a recorded table:
     :func:`~exudyn_wheelrail.analysis.safety.running_criteria_summary` of all its wheels (``wheel_columns``: the
     ``Y_w<j>_<side>_N`` and ``Q_w<j>_<side>_N`` columns, train numbering; comfort at the leading car's point
     ``<carbody_point>_c1``) and, under ``cars``, every car's own (its wheels, its car-body point
     ``<carbody_point>_c<k>``; ``""``: comfort not evaluated); ``passed`` / ``safety_passed`` hold for every car."""
-    from ..multibody.train import car_suffix
+    from ..rolling_stock.train import car_suffix
     options = dict(vehicle=vehicle, yq_limit=yq_limit, unloading_limit=unloading_limit)
     wheel_columns = list(wheel_columns)
     cars = []
@@ -230,7 +230,7 @@ def _events(outcome, limit: int = 200, car_of_wheelset=None) -> list:
 def _flexible_track_summary(h: ScenarioModel):
     if h.flexible_track is None:
         return None
-    from ..track.flexible_scenario import flexible_track_summary
+    from .flexible_track import flexible_track_summary
     return flexible_track_summary(h.flexible_track.modes, h.flexible_window)
 
 

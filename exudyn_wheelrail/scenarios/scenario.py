@@ -40,7 +40,7 @@ dotted overrides with the old keys are moved the same way.
 
 ``[vehicle]`` (required) — exactly one of ``name`` (a shipped vehicle, ``vehicles/<name>.toml``, e.g.
     ``"manchester_vehicle1"``), ``file`` (a vehicle data file, schema: ``vehicles/README.md``) or ``consist`` (a
-    train: a shipped consist of ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.multibody.train`),
+    train: a shipped consist of ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.rolling_stock.train`),
     and ``speed_km_h`` (required, 0 < V ≤ 600), ``start_s_m`` (track distance of the **leading** wheelset — of
     the train's first car for a consist — at t = 0, default 0), ``overrides`` (optional table, not for a
     consist: numeric values of the vehicle file replaced for this run, by ``"table.key"``, e.g.
@@ -106,7 +106,7 @@ entered with :func:`~..structures.bridge.add_bridge`):
     the static flexibility of the modes above it acts in series with the contacts).  An explicit solver needs a
     step the wheel on the rail's modal mass allows (the build refuses a larger one, naming ``run.dt_s``;
     ``docs/track.md``) and one the creep damping on the rails allows (it grows as 1/V; the run monitor warns):
-    without ``run.dt_s`` an explicit run takes :func:`~exudyn_wheelrail.track.flexible_scenario.default_step_s` of
+    without ``run.dt_s`` an explicit run takes :func:`~exudyn_wheelrail.scenarios.flexible_track.default_step_s` of
     its speed (0.052 ms at 50 km/h, 0.21 ms at 200 km/h, at most 0.4 ms).  Output
     group ``"flexible_track"``: rail displacements under each wheelset, the nearest sleeper's displacement, pad and
     ballast forces.
@@ -155,7 +155,7 @@ Starting state
 --------------
 The vehicle starts in static equilibrium on the centred, undisplaced rails (:func:`~..multibody.place_on_rails`).
 Where the track is displaced under the wheelsets at t = 0 (a harmonic, a sampled table), the bodies start on it
-(:func:`~.build.start_on_track`): each wheelset moved by the track under it and yawed along it, with the velocities and
+(:func:`~exudyn_wheelrail.rolling_stock.placement.start_on_track`): each wheelset moved by the track under it and yawed along it, with the velocities and
 yaw rate at which the track moves and turns under it in the moving frame; each bogie frame and the car body on the
 straight line through their supports (displaced, yawed, pitched, with the rates) — otherwise a millimetre of
 vertical irregularity is a millimetre of Hertz penetration (MN contact forces) and a slope dy/ds a lateral
@@ -192,9 +192,9 @@ from .build import (
     build_scenario,
     build_track,
     scenario_run_settings,
-    start_on_track,
     vehicle_data,
 )
+from ..rolling_stock.placement import start_on_track
 from .outputs import jsonable, write_csv, write_json, write_scenario_outputs
 from .overrides import apply_overrides, parse_value, set_dotted
 from .plots import group_figure

@@ -16,7 +16,8 @@ from pathlib import Path
 
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
-from ..track.flexible_scenario import EXPLICIT_CHECKED, FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
+from ..simulation.solvers import METHODS
+from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
 from ..validation import Quantity, read_toml
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
 
@@ -222,7 +223,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     run = c.settings(RunSettings, data.get("run", {}), "run")
     if "flexible_track" in out and "dt_s" not in data.get("run", {}):
         # an explicit solver on the flexible track: the step its stability needs at this speed (flexible_scenario)
-        if EXPLICIT_CHECKED.get(run.solver):
+        if METHODS[run.solver].imaginary_axis_limit:
             run = c.settings(RunSettings, {**data.get("run", {}), "dt_s": default_step_s(
                 out["vehicle"]["speed_km_h"] / 3.6, out["flexible_track"]["modes_up_to_Hz"])}, "run")
     out["contact"] = contact.as_dict()
@@ -255,7 +256,7 @@ def _flat_overrides(value, prefix: str = "") -> dict:
 
 def _vehicle(c: _Check, vt) -> tuple[dict, object]:
     """``[vehicle]``: one vehicle (``name`` or ``file``) or a train (``consist``: a shipped consist name of
-    ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.multibody.train`; ``start_s_m`` is then the track
+    ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.rolling_stock.train`; ``start_s_m`` is then the track
     distance of the train's leading wheelset; no ``overrides``).  Returns the normal form and the vehicle data the
     output checks judge (for a train: its first car without a car body, else its first car)."""
     c.table(vt, "vehicle", required=("speed_km_h",), optional=("name", "file", "consist", "start_s_m", "overrides"))
@@ -263,7 +264,7 @@ def _vehicle(c: _Check, vt) -> tuple[dict, object]:
         raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle), vehicle.file (a vehicle "
                                  "data file) or vehicle.consist (a train: a shipped consist or a consist file)")
     if "consist" in vt:
-        from ..multibody.train import ConsistError, load_consist
+        from ..rolling_stock.train import ConsistError, load_consist
         ref = c.string(vt["consist"], "vehicle.consist")
         if Path(ref).suffix:
             ref = c.path(ref, "vehicle.consist")
@@ -278,7 +279,7 @@ def _vehicle(c: _Check, vt) -> tuple[dict, object]:
                "speed_km_h": c.number(vt["speed_km_h"], "vehicle.speed_km_h", lo=0.0, hi=600.0),
                "start_s_m": c.number(vt.get("start_s_m", 0.0), "vehicle.start_s_m"), "overrides": {}}
         return out, next((v for v in cars if v.car_body is None), cars[0])
-    from ..multibody.vehicle_data import load_vehicle_with_overrides
+    from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
     if "name" in vt:
         key, ref = "vehicle.name", c.string(vt["name"], "vehicle.name")
         out = {"name": ref}
@@ -355,7 +356,7 @@ def _track_table(kind: str, path):
     """The table of a ``sampled`` (columns s_m, y_m, z_m) or ``measured`` (the four channels or the rails,
     :mod:`exudyn_wheelrail.track.measured`) track component."""
     if kind == "sampled":
-        from ..multibody.track import SampledIrregularity
+        from ..track.rigid import SampledIrregularity
         return SampledIrregularity.from_csv(path)
     from ..track.measured import read_irregularity_csv
     return read_irregularity_csv(path)

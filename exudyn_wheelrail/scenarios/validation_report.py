@@ -161,9 +161,10 @@ def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, step_s=1e-3, y0_m=None
     import exudyn as exu
 
     from ..contact import WheelRailPair, WheelsetContact
-    from ..multibody import build_vehicle, simulation_settings, vehicle_from_dict
+    from ..multibody import build_vehicle, vehicle_from_dict
+    from ..simulation.exudyn_settings import simulation_settings
     from ..multibody import connector as C
-    from ..multibody.vehicle_data import VEHICLES_DIR
+    from ..rolling_stock.vehicle_data import VEHICLES_DIR
     from ..profiles import WheelProfile
 
     d = tomllib.loads((VEHICLES_DIR / "single_wheelset.toml").read_text())
@@ -252,7 +253,7 @@ def section_c(out: Path, quick: bool):
 # ------------------------------------------------------------------------------------------------------- (d)
 def section_d(out: Path, quick: bool):
     from ..structures import BridgeModel, DeckSection, fryba_moving_force
-    from ..structures.bridge import simulate_moving_forces
+    from .moving_forces import simulate_moving_forces
     sec = DeckSection(m_kg_m=15e3, EI_y_Nm2=2.0e10, EI_z_Nm2=1.0e11, GJ_Nm2=6e9, EA_N=2e11, Ip_kgm2_m=6e4)
     L, P, v = 20.0, 2e5, 40.0
     step = 1e-3 if quick else 5e-4

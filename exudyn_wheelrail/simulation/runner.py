@@ -1,5 +1,5 @@
 r"""The one solve wrapper: every run goes through :func:`solve` (:func:`run` for a :class:`~.settings.RunSettings`;
-:func:`~exudyn_wheelrail.multibody.monitor.run_monitored` for a caller's own Exudyn settings).
+:func:`~exudyn_wheelrail.simulation.monitor.run_monitored` for a caller's own Exudyn settings).
 
 >>> outcome = run(h.mbs, RunSettings(solver="rk44", duration_s=0.5), contact=h.contact, speed_m_s=V,
 ...               recorder=recorder)                                                    # doctest: +SKIP
@@ -14,7 +14,7 @@ For every new accepted state, in this order:
 
 1. with ``grid_check``: a state that has passed a point of the ``dt_s`` grid without a state on it (the solver
    continued with reduced steps off the grid) stops the run: ``step_rejected``;
-2. the run monitor's check (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.check`: derailment, invalid
+2. the run monitor's check (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.check`: derailment, invalid
    states, flange climb, lift-off, hunting; always on), then the flange-climb check of :mod:`.guidance`;
 3. a stopping status returns False: Exudyn completes the step it was about to take and stops (the solve ends one
    step after the detected state); the detected state is not recorded;
@@ -29,14 +29,14 @@ Contact frequency and time step
 -------------------------------
 Before the solve, :func:`contact_omega_rad_s` evaluates the monitor's estimate of the highest natural frequency
 ω of each wheelset on its linearised contact stiffness at the initial state.  RK44 runs carry the estimate at
-every state (the monitor's ``step_size`` event: ω h > 2√2, :data:`~exudyn_wheelrail.multibody.monitor.
-RK44_LIMIT`).  For the other solvers the same bound is the **resolution bound** of the contact oscillation: above
+every state (the monitor's ``step_size`` event: ω h > 2√2, RK44's imaginary-axis limit in the solver table
+:data:`~.solvers.METHODS`).  For the other solvers the same bound is the **resolution bound** of the contact oscillation: above
 it the trapezoidal rule has fewer than about 3.3 steps per period of it (its discrete frequency
 ``2 atan(ω h/2)/h`` is 32 % low at ω h = 2√2) and a wheel lift or flange impact is integrated as nothing like the
 contact's dynamics — a derailment found then is reported ``diverged``, not ``derailed``, with the step that
 resolves it (:data:`RESOLUTION_LIMIT`).  Rows of a diverged RK44 run after its first ``step_size`` event are
 dropped (the integration is unstable from that state on).  On a flexible track the same evaluation gives the creep
-damping's decay rates with the rails' modal mass (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.
+damping's decay rates with the rails' modal mass (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.
 creep_decay_rate_1_s`): an RK44 step beyond σ h <= 2.785 is warned before the solve (an
 :class:`~exudyn_wheelrail.validation.InputWarning` naming ``run.dt_s`` and the stable step; the command line
 prints it as one line ``warning: ...``): the run would settle into a false steady lateral force (docs/track.md).
@@ -47,24 +47,29 @@ import time
 import warnings
 from dataclasses import dataclass, field
 
-from ..multibody.monitor import (RK44_LIMIT, RK44_REAL_LIMIT, RunMonitor, Status, _contact_state_error,
-                                 _status_from_state_error)
+import exudyn as exu
+
+from ..contact.layout import RES_S_TRACK
 from ..validation import InputWarning
 from . import status as S
+from .exudyn_settings import run_solver_settings
 from .guidance import FlangeClimbCheck
+from .monitor import RunMonitor, Status, contact_state_error, status_from_state_error
 from .settings import RunSettings
+from .solvers import METHODS, RK44
+from .step_checks import check_explicit_step
 
-__all__ = ["RunOutcome", "solve", "run", "contact_omega_rad_s", "RESOLUTION_LIMIT"]
+__all__ = ["RunOutcome", "solve", "run", "run_monitored", "contact_omega_rad_s", "RESOLUTION_LIMIT"]
 
 #: largest ω h (ω the stiffest wheel–rail contact frequency) a time step of a solver other than RK44 may have for a
 #: lift-off or flange impact to be integrated as the contact's dynamics (module docstring)
-RESOLUTION_LIMIT = RK44_LIMIT
+RESOLUTION_LIMIT = RK44.imaginary_axis_limit
 _SERIOUS = ("invalid_state", "derailment")
 
 
 @dataclass
 class RunOutcome:
-    """What a run ended with.  ``stop``: the monitor-style :class:`~exudyn_wheelrail.multibody.monitor.Status`
+    """What a run ended with.  ``stop``: the monitor-style :class:`~exudyn_wheelrail.simulation.monitor.Status`
     that ended it (``completed``/``hunting`` for a complete run); :attr:`status`: the run status."""
 
     stop: Status
@@ -120,14 +125,14 @@ class RunOutcome:
 def _stable_step_hint(o: RunOutcome) -> str:
     w = o.omega_rad_s
     sigma = max(o.creep_rate_1_s, default=0.0)
-    if o.solver == "rk44" and sigma > 0.0 and not (w > 0.0 and RK44_LIMIT / w <= RK44_REAL_LIMIT / sigma):
-        h = RK44_REAL_LIMIT / sigma
-        return (f"the largest stable RK44 step is about {h:.3g} s (sigma h <= {RK44_REAL_LIMIT:.3f} with sigma = "
+    if o.solver == "rk44" and sigma > 0.0 and not (w > 0.0 and RK44.imaginary_axis_limit / w <= RK44.real_axis_limit / sigma):
+        h = RK44.real_axis_limit / sigma
+        return (f"the largest stable RK44 step is about {h:.3g} s (sigma h <= {RK44.real_axis_limit:.3f} with sigma = "
                 f"{sigma:.4g} 1/s, the fastest decay rate of the creep damping, which grows as 1/V): use dt_s <= "
                 f"{h:.3g} s, or the implicit solver newmark")
     if not w > 0.0:
         return f"reduce dt_s (now {o.dt_s:g} s)"
-    h = RK44_LIMIT / w
+    h = RK44.imaginary_axis_limit / w
     if o.solver == "rk44":
         return (f"the largest stable RK44 step is about {h:.3g} s (omega h <= 2 sqrt 2 with omega = {w:.4g} rad/s, "
                 f"the monitor's estimate of the stiffest wheel-rail contact mode): use dt_s <= {h:.3g} s, or the "
@@ -163,14 +168,14 @@ def _classify(o: RunOutcome) -> S.RunStatus:
 
 def contact_omega_rad_s(mbs, contact, t_s: float = 0.0) -> list[float]:
     """Per wheelset the highest natural frequency [rad/s] on its linearised contact stiffness at the current state
-    (the run monitor's estimate, :class:`~exudyn_wheelrail.multibody.monitor.RunMonitor`; 0 for a wheelset
+    (the run monitor's estimate, :class:`~exudyn_wheelrail.simulation.monitor.RunMonitor`; 0 for a wheelset
     without contact).  Installs a pre-step function: call before the run's own."""
     return _initial_estimates(mbs, contact, t_s)[0]
 
 
 def _initial_estimates(mbs, contact, t_s: float = 0.0) -> tuple[list[float], list[float]]:
     """:func:`contact_omega_rad_s` and, from the same evaluation, per wheelset the fastest decay rate of the creep
-    damping [1/s] (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.creep_decay_rate_1_s`)."""
+    damping [1/s] (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.creep_decay_rate_1_s`)."""
     probe = RunMonitor(contact, stop_on=(), keep_history=False)
     probe.attach(mbs, t_start_s=t_s, rk44_step_s=1.0)
     probe.check(mbs, t_s)
@@ -256,7 +261,7 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
     """``mbs.SolveDynamic(sim, solverType=solver_type)`` watched by ``monitor`` (``mbs`` assembled; None only for a
     model without wheel–rail contact) with the pre-step function of the module docstring; ``solver`` the name
     (:data:`~.settings.SOLVERS`).  ``attach_monitor=False`` keeps an attachment the caller made
-    (:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.attach`); ``user_function(mbs, t)`` (Exudyn's
+    (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.attach`); ``user_function(mbs, t)`` (Exudyn's
     arguments; a bool, False stops) is called after the checks of every new state.  Returns the
     :class:`RunOutcome`."""
     ti = sim.timeIntegration
@@ -316,7 +321,7 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
 
 
 def _failure(monitor, exc, t_fail, events) -> Status:
-    err = _contact_state_error(exc)
+    err = contact_state_error(exc)
     text = str(exc).splitlines()[0] if str(exc) else ""
     serious = [e for e in events if e.kind in _SERIOUS]
     if serious and monitor is not None:
@@ -325,7 +330,7 @@ def _failure(monitor, exc, t_fail, events) -> Status:
                                                                                            f"{text}")
         return Status(e.kind, e.time_s, e.wheelset, e.side, e.detail + f" (not stopped; later: {later})")
     if err is not None:
-        st = _status_from_state_error(err, t_fail)
+        st = status_from_state_error(err, t_fail)
     else:
         st = Status("solver_failure", t_fail, None, None, f"{type(exc).__name__}: {text}")
     if monitor is not None:
@@ -368,17 +373,15 @@ def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()
     bridge = getattr(contact, "bridge", None)
     if bridge is None or not hasattr(bridge.modes, "residual_table"):
         return
-    from ..contact.layout import RES_S_TRACK
-    from ..track.flexible_scenario import check_explicit_step
     s = [float(x) for x in contact.results[:, 0, RES_S_TRACK]]      # the wheelsets' track distance now
     dt = float(settings.dt_s)
     check_explicit_step(bridge.modes, settings.solver, dt, min(s) - 1.0, max(s) + 1.0)
     sigma = max(creep_rate_1_s, default=0.0)
-    if settings.solver == "rk44" and sigma * dt > RK44_REAL_LIMIT:
+    if settings.solver == "rk44" and sigma * dt > RK44.real_axis_limit:
         warnings.warn(f"run.dt_s = {dt:g} s: beyond RK44's stability limit of the creep damping on the flexible "
-                      f"rails (sigma h = {sigma * dt:.3g} > {RK44_REAL_LIMIT:.3f}, sigma = {sigma:.4g} 1/s: the "
+                      f"rails (sigma h = {sigma * dt:.3g} > {RK44.real_axis_limit:.3f}, sigma = {sigma:.4g} 1/s: the "
                       "lateral creep force as a damper on the rails' modal mass, growing as 1/V); the run would "
-                      f"settle into a false steady lateral force: use run.dt_s <= {RK44_REAL_LIMIT / sigma:.3g} s (or "
+                      f"settle into a false steady lateral force: use run.dt_s <= {RK44.real_axis_limit / sigma:.3g} s (or "
                       "leave run.dt_s out: the scenario then takes a stable step for its speed)", InputWarning,
                       stacklevel=3)
 
@@ -386,14 +389,14 @@ def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()
 def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None, progress=None,
         exu_settings=None, user_function=None) -> RunOutcome:
     """Run ``mbs`` (assembled) with ``settings`` (duration resolved), watched by a new
-    :class:`~exudyn_wheelrail.multibody.monitor.RunMonitor` of ``contact`` and the flange-climb check
+    :class:`~exudyn_wheelrail.simulation.monitor.RunMonitor` of ``contact`` and the flange-climb check
     (``speed_m_s`` the running speed; ``contact`` None only for the wheel–rail springs baseline, which has nothing
     to watch).  ``recorder``: a :class:`~.recorder.Recorder` (None or ``settings.record`` False: nothing recorded);
     ``progress``: a :class:`~.recorder.ProgressBar` or None; ``exu_settings``: ``(SimulationSettings,
     DynamicSolverType)`` of these settings when the caller changed them (a viewer slows the solve), else built
     here; ``user_function(mbs, t)``: called after the checks of every state (:func:`solve`), e.g. to update loads
     that follow the track."""
-    sim, solver_type = exu_settings if exu_settings is not None else settings.exudyn()
+    sim, solver_type = exu_settings if exu_settings is not None else run_solver_settings(settings)
     monitor = guidance = None
     omega = []
     if contact is not None:
@@ -406,3 +409,35 @@ def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None,
                  guidance=guidance, recorder=recorder if settings.record else None,
                  record_every=settings.record_every, progress=progress, grid_check=True, contact_omega=omega,
                  user_function=user_function)
+
+
+def _solver_type(solver):
+    if solver is None:
+        return exu.DynamicSolverType.GeneralizedAlpha
+    if isinstance(solver, str):
+        key = solver.lower()
+        if key in ("rk44", "rk4"):
+            return exu.DynamicSolverType.RK44
+        if key in ("newmark", "generalizedalpha", "generalized_alpha", "implicit"):
+            return exu.DynamicSolverType.GeneralizedAlpha
+        raise ValueError(f"solver {solver!r}: expected 'rk44', 'newmark' or an exudyn.DynamicSolverType")
+    return solver
+
+
+def run_monitored(mbs, sim, solver=None, monitor: RunMonitor | None = None) -> tuple[Status, float]:
+    """``mbs.SolveDynamic(sim, solverType=solver)`` under ``monitor`` (attached here unless the caller attached it
+    to ``mbs``, whose chained function is then kept; ``mbs`` assembled) through
+    the one solve wrapper, :func:`solve`.  Returns ``(status, t_end)``: the
+    monitor's stopping status, an ``invalid_state`` from a :class:`~.connector.ContactStateError` (its time and
+    wheelset), a ``solver_failure``, or — after a check of the final state — ``completed`` / ``hunting``; ``t_end``
+    is the time the solver reached."""
+    if monitor is None:
+        raise ValueError("run_monitored needs a RunMonitor")
+    solver = _solver_type(solver)
+    name = next((k for k, m in METHODS.items() if getattr(exu.DynamicSolverType, m.exudyn_type) == solver), "newmark")
+    n_steps = max(1, int(sim.timeIntegration.numberOfSteps))
+    dt = (float(sim.timeIntegration.endTime) - float(sim.timeIntegration.startTime)) / n_steps
+    attached = getattr(monitor, "_attached_to", None) is mbs          # keep the caller's attachment and function
+    outcome = solve(mbs, sim, solver, monitor, dt_s=dt, solver=name, attach_monitor=not attached,
+                    user_function=monitor._user if attached else None)
+    return outcome.stop, outcome.t_end_s

@@ -8,13 +8,9 @@ files' ``[run]`` and ``[contact]`` tables all build these objects and nothing el
 >>> RunSettings(dt_s=0.01, duration_s=2.5).steps
 250
 
-Integrators (:data:`SOLVER_TYPES`, Exudyn's fixed-step solvers; :func:`RunSettings.exudyn` sets them up through
-:func:`~exudyn_wheelrail.multibody.vehicle_builder.solver_settings`):
-
-* ``"newmark"`` — the trapezoidal rule as Newmark β = 1/4, γ = 1/2 (:data:`NEWMARK_BETA`, :data:`NEWMARK_GAMMA`,
-  the scheme of Montenegro et al. 2015), index-2 constraints, modified Newton;
-* ``"generalized_alpha"`` — Chung–Hulbert generalized-α, ρ∞ 0.8, modified Newton;
-* ``"explicit_midpoint"``, ``"rk33"``, ``"rk44"``, ``"rk67"`` — explicit Runge–Kutta, Lie-group integration.
+Integrators: the table of :mod:`.solvers` (:data:`~.solvers.METHODS`); :func:`RunSettings.exudyn` sets them up
+through :func:`~.exudyn_settings.solver_settings`
+(:func:`~.exudyn_settings.run_solver_settings` of a :class:`RunSettings`).
 
 Newton tolerance (:data:`NEWTON_TOLERANCE`, implicit solvers): 1e-4, Exudyn's relative and absolute residual
 tolerance.  Measured on the RTRI case (20 m, 250 km/h, Newmark, 1 ms): 1e-4 gives the peaks of 1e-6 to within
@@ -32,21 +28,11 @@ from dataclasses import dataclass
 
 from .. import contact_defaults as DEFAULT
 from ..validation import Quantity, finite
+from .solvers import DEFAULT_STEP_S, IMPLICIT_SOLVERS, NEWMARK_BETA, NEWMARK_GAMMA, SOLVERS, solver_description
 
-__all__ = ["SOLVER_TYPES", "SOLVERS", "IMPLICIT_SOLVERS", "NEWMARK_BETA", "NEWMARK_GAMMA", "NEWTON_TOLERANCE",
-           "DURATION_AUTO", "MAX_STEPS", "DT_S", "RUN_OUT_M", "WHEEL_RAIL_MODES", "SettingsError", "RunSettings",
+__all__ = ["NEWTON_TOLERANCE", "DURATION_AUTO", "MAX_STEPS", "DT_S", "RUN_OUT_M", "WHEEL_RAIL_MODES", "SettingsError", "RunSettings",
            "ContactSettings", "settings_from_mapping"]
 
-#: solver name -> name of its ``exudyn.DynamicSolverType`` (all fixed step size)
-SOLVER_TYPES = {"newmark": "GeneralizedAlpha", "generalized_alpha": "GeneralizedAlpha",
-                "explicit_midpoint": "ExplicitMidpoint", "rk33": "RK33", "rk44": "RK44", "rk67": "RK67"}
-#: the solver names, in the order they are listed
-SOLVERS = tuple(SOLVER_TYPES)
-#: the implicit ones (Newton iterations: the contact's Jacobian user function is used)
-IMPLICIT_SOLVERS = ("newmark", "generalized_alpha")
-#: the trapezoidal rule as Newmark (published for the RTRI case: no numerical dissipation)
-NEWMARK_BETA = 0.25
-NEWMARK_GAMMA = 0.5
 #: Newton tolerance of the implicit solvers (module docstring: measured)
 NEWTON_TOLERANCE = 1e-4
 #: ``duration_s = DURATION_AUTO``: the spec decides (a scenario: until the trailing wheelset is ``run_out_m`` past
@@ -169,24 +155,12 @@ class RunSettings:
         """A copy with the duration set (e.g. ``"auto"`` resolved by the spec)."""
         return dataclasses.replace(self, duration_s=float(duration_s))
 
-    def exudyn(self):
-        """``(exu.SimulationSettings, exu.DynamicSolverType)`` of these settings."""
-        from ..multibody.vehicle_builder import solver_settings
-        return solver_settings(self.solver, float(self.dt_s), self.steps, float(self.newton_tolerance),
-                               NEWMARK_BETA, NEWMARK_GAMMA)
-
     def describe_solver(self) -> str:
         """One line naming the Exudyn integrator."""
-        from ..multibody.vehicle_builder import solver_description
         return solver_description(self.solver, float(self.newton_tolerance), NEWMARK_BETA, NEWMARK_GAMMA)
 
     def as_dict(self) -> dict:
         return dataclasses.asdict(self)
-
-
-def _creep_laws() -> tuple[str, ...]:
-    from ..creep.registry import CREEP_LAWS
-    return tuple(sorted(CREEP_LAWS))
 
 
 @dataclass(frozen=True)
@@ -207,7 +181,7 @@ class ContactSettings:
     wheel_rail: str = WHEEL_RAIL_MODES[0]
 
     def __post_init__(self):
-        _choice("creep_law", self.creep_law, _creep_laws())
+        _choice("creep_law", self.creep_law, tuple(sorted(DEFAULT.LAWS)))
         _number("friction", self.friction, lo=0.0, hi=2.0, lo_open=False, hi_open=True)
         try:
             grid = tuple(self.fastsim_grid)

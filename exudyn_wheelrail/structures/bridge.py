@@ -73,7 +73,7 @@ contact, the vehicle's nodes) that return ``Φ(s)^T F`` (:class:`MovingForces`):
   Modal damping is set as the object's ``dampingMatrixReduced = diag(2ζω)``.  It would carry a moving or
   rotating reference frame (a bridge on flexible or moving supports), which the fixed bridge does not need.
 
-Measured trade-off (:func:`benchmark_formulations`: simply supported 20 m span, f1 = 4.53 Hz, all 25 modes up to
+Measured trade-off (:func:`~exudyn_wheelrail.scenarios.moving_forces.benchmark_formulations`: simply supported 20 m span, f1 = 4.53 Hz, all 25 modes up to
 150 Hz, one 200 kN force at 40 m/s, generalized-α with spectral radius 1, Δt = 0.5 ms, 1500 steps, the same
 moving-force object on both; Exudyn 1.13.6, one core of a shared machine, best of 3):
 
@@ -132,10 +132,10 @@ forces, resonance speeds ``v = f_1 d / k``).  J. S. Przemieniecki, *Theory of ma
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+import exudyn as exu
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
@@ -146,7 +146,7 @@ __all__ = [
     "DeckSection", "BridgeModel", "BridgeModes", "ShapeTable", "ExudynBridge", "MovingForces", "FORMULATIONS",
     "add_bridge", "modal_shape_at", "modal_shape_and_slope_at", "rail_state_at", "add_projected_force",
     "shapes_times", "project_shapes",
-    "fryba_moving_force", "simulate_moving_forces", "benchmark_formulations",
+    "fryba_moving_force",
 ]
 
 FORMULATIONS = ("modal", "ffrf")
@@ -890,14 +890,12 @@ class ExudynBridge:
 
     def coordinates(self, mbs) -> tuple[np.ndarray, np.ndarray]:
         """Current modal coordinates and their rates."""
-        import exudyn as exu
         q = np.asarray(mbs.GetNodeOutput(self.modal_node, exu.OutputVariableType.Coordinates), dtype=float)
         v = np.asarray(mbs.GetNodeOutput(self.modal_node, exu.OutputVariableType.Coordinates_t), dtype=float)
         return q, v
 
     def add_sensor(self, mbs, name: str = "bridge_modal_coordinates") -> int:
         """A node sensor storing the modal coordinates in memory (``mbs.GetSensorStoredData``: rows t, q...)."""
-        import exudyn as exu
         from exudyn.itemInterface import SensorNode
         return mbs.AddSensor(SensorNode(name=name, nodeNumber=self.modal_node, storeInternal=True,
                                         outputVariableType=exu.OutputVariableType.Coordinates))
@@ -942,7 +940,6 @@ def _add_modal(mbs, modes: BridgeModes, name: str) -> ExudynBridge:
 
 
 def _add_ffrf(mbs, modes: BridgeModes, name: str) -> ExudynBridge:
-    import exudyn as exu
     from exudyn.FEM import FEMinterface
     from exudyn.itemInterface import CoordinateConstraint, MarkerNodeCoordinate, NodePointGround
 
@@ -1050,66 +1047,3 @@ def _forced_response(A, w, wd, z, Om, t, rate=False):
     q_t = (a * Om * np.cos(Om * t) - b * Om * np.sin(Om * t)
            + e * ((-z * w * c1 + wd * c2) * np.cos(wd * t) + (-z * w * c2 - wd * c1) * np.sin(wd * t)))
     return q, q_t
-
-
-# ----------------------------------------------------------------------------------------- simulation helper
-def simulate_moving_forces(modes: BridgeModes, *, x_m, forces_N, speed_m_s: float, s_start_m: float,
-                           end_time_s: float, step_s: float, formulation: str = "modal", solver: str = "implicit",
-                           support_motion=None):
-    """Run a bridge under constant moving forces in Exudyn (no vehicle): returns ``(t, q, seconds per step)``
-    with ``q`` (n_t, n_modes) the modal coordinates at every step.  ``solver``: ``"implicit"`` (generalized-α,
-    spectral radius 1: the trapezoidal rule, no numerical damping) or ``"explicit"`` (RK44; modal only).
-    ``support_motion``: a lateral ground motion of the supports (:meth:`ExudynBridge.add_support_motion`); ``q`` is
-    then the motion relative to the supports."""
-    import exudyn as exu
-
-    if solver not in ("implicit", "explicit"):
-        raise ValueError(f"solver={solver!r}: expected 'implicit' or 'explicit'")
-    if solver == "explicit" and formulation == "ffrf":
-        raise ValueError("the FFRF formulation holds its frame by constraints: use solver='implicit'")
-    T = _finite("end_time_s", end_time_s, positive=True)
-    h = _finite("step_s", step_s, positive=True)
-    from ..multibody.vehicle_builder import simulation_settings
-
-    SC = exu.SystemContainer()
-    mbs = SC.AddSystem()
-    bridge = add_bridge(mbs, modes, formulation)
-    bridge.add_moving_forces(mbs, x_m, forces_N, speed_m_s, s_start_m)
-    if support_motion is not None:
-        bridge.add_support_motion(mbs, support_motion)
-    sensor = bridge.add_sensor(mbs)
-    mbs.Assemble()
-    n_steps = max(1, int(round(T / h)))
-    ss = simulation_settings(n_steps * h, h, spectral_radius=1.0)
-    if solver == "implicit":
-        t0 = time.perf_counter()
-        mbs.SolveDynamic(ss)
-    else:
-        t0 = time.perf_counter()
-        mbs.SolveDynamic(ss, solverType=exu.DynamicSolverType.RK44)
-    cost = (time.perf_counter() - t0) / n_steps
-    data = mbs.GetSensorStoredData(sensor)
-    return data[:, 0], data[:, 1:], cost
-
-
-def benchmark_formulations(n_repeat: int = 3, step_s: float = 5e-4, f_max_Hz: float = 150.0) -> dict:
-    """The modal and FFRF formulations on the same moving-force case (the figures of the module docstring):
-    a simply supported 20 m span (m = 15 t/m, f1 = 4.53 Hz, ζ = 0), one 200 kN force at 40 m/s, 0.75 s;
-    returns per formulation the peak mid-span deflection error against :func:`fryba_moving_force` (relative to
-    the peak) and the best-of-``n_repeat`` seconds per step."""
-    sec = DeckSection(m_kg_m=15e3, EI_y_Nm2=2.0e10, EI_z_Nm2=1.0e11, GJ_Nm2=6e9, EA_N=2e11, Ip_kgm2_m=6e4)
-    L, P, V = 20.0, 2e5, 40.0
-    modes = BridgeModel((L,), sec, elements_per_span=20).modes(f_max_Hz=f_max_Hz)
-    out = {"n_modes": modes.n_modes}
-    for form in FORMULATIONS:
-        best = math.inf
-        for _ in range(n_repeat):
-            t, q, cost = simulate_moving_forces(modes, x_m=[0.0], forces_N=[[0.0, P, 0.0]], speed_m_s=V,
-                                                s_start_m=0.0, end_time_s=0.75, step_s=step_s, formulation=form)
-            best = min(best, cost)
-        w = q @ modes.shape_at(L / 2)[1]
-        ref = fryba_moving_force(L / 2, t, force_N=P, speed_m_s=V, span_m=L, EI_Nm2=sec.EI_y_Nm2,
-                                 m_kg_m=sec.m_kg_m, n_terms=60)
-        out[form] = {"error_rel_peak": float(np.max(np.abs(w - ref)) / np.max(np.abs(ref))), "s_per_step": best,
-                     "w_mid_m": w}
-    return out

@@ -1,7 +1,7 @@
 """The track as a function of distance: its layout (straight, curves, transitions, cant), the irregularities of each
 rail (measured, harmonic, isolated defects, generated from standard spectra) and its flexibility (rails on pads,
 sleepers and ballast).  The rigid straight track with whole-track irregularities lives in
-:mod:`exudyn_wheelrail.multibody.track`."""
+:mod:`exudyn_wheelrail.track.rigid`."""
 
 from .layout import Curve, Straight, TrackLayout, Transition  # noqa: E402,F401  (the track layout)
 from .irregularities import (ChannelTable, IsolatedDefect, channel_values,  # noqa: E402,F401  (per-rail channels)

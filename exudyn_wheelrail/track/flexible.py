@@ -76,7 +76,7 @@ Neglected: the residual's coupling between wheelsets (0.2 % of the static deflec
 apart) and the creep forces' share; the roll row of the kept shapes is linear between the table's points (0.8 % of
 the roll flexibility mid-element). Explicit RK44 is stable for ``ω dt < 2.83``; the wheel on the rail's modal mass,
 through the contact in series with the residual, is the highest coupled frequency
-(:func:`~.flexible_scenario.contact_mode_Hz`), checked before a scenario runs: 0.46 ms at most for the default track
+(:func:`~.flexible_contact.contact_mode_Hz`), checked before a scenario runs: 0.46 ms at most for the default track
 at 800 Hz, 0.79 ms at 400 Hz (0.35 and 0.42 ms without the correction).
 
 Cost: one modal coordinate per kept mode, their number proportional to the segment's length (9.4 per metre at

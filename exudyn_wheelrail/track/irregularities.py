@@ -6,11 +6,11 @@ The channels, their signs and the rail-centre distance that turns cross level in
 .. math::  y_{right} = y + g/2,\quad y_{left} = y - g/2,\quad z_{right} = z + c/2,\quad z_{left} = z - c/2
 
 (y lateral + right, z vertical + down, c cross level, g gauge deviation).  Every class here is an
-:class:`~exudyn_wheelrail.multibody.track.Irregularity`: it packs into the same arrays as the whole-track classes
-(:class:`~exudyn_wheelrail.multibody.track.SpanDeflection`, :class:`~exudyn_wheelrail.multibody.track.Harmonic`
+:class:`~exudyn_wheelrail.track.rigid.Irregularity`: it packs into the same arrays as the whole-track classes
+(:class:`~exudyn_wheelrail.track.rigid.SpanDeflection`, :class:`~exudyn_wheelrail.track.rigid.Harmonic`
 — which take ``direction="cross_level"`` or ``"gauge"`` too — and
-:class:`~exudyn_wheelrail.multibody.track.SampledIrregularity`), sums with them by ``+`` and is evaluated, all
-components in one call, by the compiled :func:`~exudyn_wheelrail.multibody.track.irregularity_channels_at` that the
+:class:`~exudyn_wheelrail.track.rigid.SampledIrregularity`), sums with them by ``+`` and is evaluated, all
+components in one call, by the compiled :func:`~exudyn_wheelrail.track.rigid.irregularity_channels_at` that the
 contact calls per wheelset.  A component of one rail is packed as its mean channel (half its amplitude) and its
 difference channel (± its amplitude).
 
@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from ..multibody.track import (
+from .rigid import (
     _EMPTY_COEFS,
     _EMPTY_KNOTS,
     _KIND_COSINE_BUMP,
@@ -51,7 +51,7 @@ from ..validation import finite
 __all__ = ["CHANNELS", "RAILS", "DEFECT_SHAPES", "ChannelValues", "ChannelTable", "IsolatedDefect",
            "channel_values", "rail_values"]
 
-#: the four channels by name, in the order of :func:`~exudyn_wheelrail.multibody.track.irregularity_channels_at`
+#: the four channels by name, in the order of :func:`~exudyn_wheelrail.track.rigid.irregularity_channels_at`
 CHANNELS = {"alignment": LATERAL, "level": VERTICAL, "cross_level": CROSS_LEVEL, "gauge": GAUGE}
 
 #: rails a defect can be on, with the sign of its difference channel per direction (cross level = z_right - z_left,
@@ -75,7 +75,7 @@ class ChannelValues:
 
 
 def channel_values(irregularity: Irregularity, s_m) -> ChannelValues:
-    """All four channels of ``irregularity`` (any :class:`~exudyn_wheelrail.multibody.track.Irregularity`) at the
+    """All four channels of ``irregularity`` (any :class:`~exudyn_wheelrail.track.rigid.Irregularity`) at the
     track distance(s) ``s_m``, by the compiled evaluation the contact uses."""
     s = np.asarray(s_m, dtype=float)
     p = irregularity.packed()

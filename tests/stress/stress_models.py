@@ -13,9 +13,11 @@ import numpy as np
 from exudyn.itemInterface import LoadForceVector, LoadTorqueVector, MarkerNodeRigid
 
 from exudyn_wheelrail.contact import WheelRailPair
-from exudyn_wheelrail.multibody import RigidStraightTrack, build_vehicle, simulation_settings, vehicle_from_dict
+from exudyn_wheelrail.multibody import RigidStraightTrack, build_vehicle, vehicle_from_dict
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 from exudyn_wheelrail.multibody import connector as C
-from exudyn_wheelrail.multibody.monitor import RunMonitor, run_monitored
+from exudyn_wheelrail.simulation.monitor import RunMonitor
+from exudyn_wheelrail.simulation.runner import run_monitored
 
 VEHICLES = Path(__file__).resolve().parents[2] / "vehicles"
 PAIR = WheelRailPair("S1002", "UIC60", inclination="1/40")

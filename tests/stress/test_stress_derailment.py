@@ -1,5 +1,5 @@
 """Stress (e) large lateral irregularity and (f) forced flange climb to derailment (RK44, 0.25 ms), with the run
-monitor's derailment definition (``exudyn_wheelrail/multibody/monitor.py``) and a time limit on every run.
+monitor's derailment definition (``exudyn_wheelrail/simulation/monitor.py``) and a time limit on every run.
 
 (e) A 20 mm lateral sine of 3 m wavelength (faded in over one wavelength) at 100 km/h, one wheelset and one bogie:
     either the run completes (possibly flagged as hunting: the forced lateral oscillation exceeds 3 mm) or it ends

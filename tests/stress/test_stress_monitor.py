@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from stress_models import build
 
-from exudyn_wheelrail.multibody.monitor import RunMonitor, Status
+from exudyn_wheelrail.simulation.monitor import RunMonitor, Status
 
 FLANGE_HEIGHT_M = 0.028          # S1002, EN 13715
 

@@ -25,7 +25,7 @@ import pytest
 
 from exudyn_wheelrail.contact import kernel as K
 from exudyn_wheelrail.contact import layout as L
-from exudyn_wheelrail.multibody import monitor_core as MC
+from exudyn_wheelrail.simulation import monitor_core as MC
 from exudyn_wheelrail.multibody.connector import WheelRailContact
 from exudyn_wheelrail.simulation.guidance import FlangeClimbCheck
 from exudyn_wheelrail.simulation.recorder import wheel_columns

@@ -16,7 +16,7 @@ from stress_models import build, finite_history, settings
 from exudyn_wheelrail.contact.creepage import CREEP_STANDSTILL
 from exudyn_wheelrail.multibody import SampledIrregularity
 from exudyn_wheelrail.multibody import connector as C
-from exudyn_wheelrail.multibody.monitor import run_monitored
+from exudyn_wheelrail.simulation.runner import run_monitored
 
 DT = 5e-4
 T_END = 1.5

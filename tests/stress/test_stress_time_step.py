@@ -22,7 +22,7 @@ from stress_models import PAIR, build, finite_history, run, settings
 
 from exudyn_wheelrail.contact import WheelsetContact
 from exudyn_wheelrail.contact import kernel as K
-from exudyn_wheelrail.multibody.monitor import RK44_LIMIT
+from exudyn_wheelrail.simulation.solvers import RK44
 
 MASS_KG = 1813.0
 I_XX_KG_M2 = 1120.0
@@ -40,7 +40,7 @@ def h_limit():
     gamma = o[K.F_CONTACT_ANGLE]
     e = abs(o[K.F_PW_Y])
     omega = math.sqrt(max(2 * k * math.cos(gamma) ** 2 / MASS_KG, 2 * k * e * e / I_XX_KG_M2))
-    h = RK44_LIMIT / omega
+    h = RK44.imaginary_axis_limit / omega
     assert 1.5e-3 < h < 3e-3          # ~2.3 ms for this wheelset
     return h
 
@@ -52,7 +52,7 @@ def test_below_the_rk44_limit_the_run_completes(h_limit, fraction):
     assert status.kind == "completed", str(status)
     assert t_end == pytest.approx(T_END)
     assert finite_history(m.monitor)
-    assert max(m.monitor.max_omega_h) < RK44_LIMIT * 1.2          # the monitor's own estimate agrees
+    assert max(m.monitor.max_omega_h) < RK44.imaginary_axis_limit * 1.2          # the monitor's own estimate agrees
     assert not m.monitor.events_of("invalid_state")
 
 
@@ -83,7 +83,7 @@ def test_a_monitor_that_does_not_stop_still_reports_the_divergence(h_limit, fact
     assert math.isfinite(status.time_s) and status.time_s <= t_end
 
 
-def test_a_non_finite_state_ends_with_the_contact_state_error():
+def test_a_non_finite_state_ends_with_thecontact_state_error():
     m = build(SPEED)
     node = m.model.wheelsets[0].node
     q0 = np.array(m.mbs.GetNodeParameter(node, "initialCoordinates"))

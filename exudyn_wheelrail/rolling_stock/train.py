@@ -1,7 +1,8 @@
 r"""Trains: a consist file (vehicles in order, their spacing, the couplers between car ends) and its Exudyn model.
 
 >>> consist = load_consist("manchester_x8")                                                   # doctest: +SKIP
->>> train = build_train(mbs, consist, speed_m_s=50.0, s_start_m=0.0, pair=pair, track=track)  # doctest: +SKIP
+>>> train = build_train(mbs, consist, speed_m_s=50.0, s_start_m=0.0)                          # doctest: +SKIP
+>>> add_train_contact(mbs, train, pair, track=track)       # exudyn_wheelrail.multibody       # doctest: +SKIP
 >>> train.contact, train.cars[3].car_body, train.car_of_wheelset                              # doctest: +SKIP
 
 Consist files (``vehicles/trains/*.toml``, ``schema_version = 1``; SI units, the unit in every key name)
@@ -42,10 +43,11 @@ change of the end-to-end vector (x: the gap's growth; y: the lateral offset of t
 on a displaced track every car starts on the track under its own wheelsets, so adjacent car ends may start a little
 apart laterally (the couplers start with that force).  A flexible car body gives the coupler its own marker
 (``position_marker``; the car-end points must then be among its attachment points).
-With ``wheel_rail="contact"`` all wheelsets, car after car, front first, are coupled to the rails by **one**
-wheel–rail connector (:func:`~.connector.add_wheel_rail_contact`; the run monitor and the recorder watch one
-connector), and every car is put in static equilibrium on the rails (:func:`~.placement.place_on_rails`) and on
-the displaced track (:func:`exudyn_wheelrail.scenarios.build.start_on_track`).
+The wheel–rail connector sits a floor above (:func:`exudyn_wheelrail.multibody.connector.add_train_contact`): all
+wheelsets, car after car, front first, are coupled to the rails by **one** connector (the run monitor and the
+recorder watch one connector), and every car is put in static equilibrium on the rails
+(:func:`~.placement.place_on_rails`) and on the displaced track (:func:`~.placement.start_on_track`:
+:func:`place_train_on_track`).
 """
 from __future__ import annotations
 
@@ -56,6 +58,7 @@ from pathlib import Path
 import numpy as np
 
 from ..validation import read_toml
+from .placement import place_on_rails, start_on_track
 from .vehicle_builder import GRAVITY_M_S2, StaticLoadPath, VehicleModel, build_vehicle, static_load_path
 from .vehicle_data import VEHICLES_DIR, VehicleData, load_vehicle
 
@@ -267,7 +270,7 @@ def consist_from_dict(data: dict, source: str = "<dict>", base_dir=None) -> Cons
 class TrainModel:
     """What :func:`build_train` created: the cars (one :class:`~.vehicle_builder.VehicleModel` each, front first),
     their centres' model-frame x, the couplers (Exudyn object numbers, between car k and k + 1) and the wheel–rail
-    connector (None unless ``wheel_rail="contact"``).  Duck-types the parts of a ``VehicleModel`` the run
+    connector (None until :func:`exudyn_wheelrail.multibody.connector.add_train_contact` adds it).  Duck-types the parts of a ``VehicleModel`` the run
     monitor's, the recorder's and the deck outputs' callers use for all wheelsets (``wheelsets``, ``wheelset_nodes``,
     ``track_distance_m``, ``speed_m_s``, ``s_start_m``, ``gravity_m_s2``, ``load_path``, ``bodies``)."""
 
@@ -332,9 +335,8 @@ class TrainModel:
                          for c in self.couplers]).reshape(len(self.couplers), 3)
 
 
-def build_train(mbs, consist, *, speed_m_s: float, s_start_m: float = 0.0, wheel_rail: str = "contact",
-                pair=None, track=None, contact_options: dict | None = None, gravity_m_s2: float = GRAVITY_M_S2,
-                place: bool = True, show: bool = False, **vehicle_options) -> TrainModel:
+def build_train(mbs, consist, *, speed_m_s: float, s_start_m: float = 0.0, wheel_rail: str = "none",
+                gravity_m_s2: float = GRAVITY_M_S2, show: bool = False, **vehicle_options) -> TrainModel:
     """Create the Exudyn model of a consist in ``mbs`` (not assembled; module docstring).
 
     Parameters
@@ -342,19 +344,16 @@ def build_train(mbs, consist, *, speed_m_s: float, s_start_m: float = 0.0, wheel
     consist : a :class:`Consist` or a consist file / shipped name for :func:`load_consist`.
     speed_m_s, s_start_m : running speed and the track distance of the model-frame origin (the leading car's
         centre) at t = 0.
-    wheel_rail : ``"contact"`` — one wheel–rail connector for all wheelsets (needs ``pair``; ``track`` default a
-        perfect track; ``contact_options`` are passed to :func:`~.connector.add_wheel_rail_contact`, e.g.
-        ``creep_law``, ``mu``, ``bridge``), with the cars put on the rails (``place``); ``"springs"`` — every car
-        on linear rail springs (:func:`~.vehicle_builder.build_vehicle`); ``"none"`` — no wheel–rail coupling (the
-        caller adds it).
+    wheel_rail : ``"springs"`` — every car on linear rail springs (:func:`~.vehicle_builder.build_vehicle`);
+        ``"none"`` — no wheel–rail coupling: the caller adds it, e.g. the connector of
+        :func:`exudyn_wheelrail.multibody.connector.add_train_contact`.
     vehicle_options : further keyword arguments of :func:`~.vehicle_builder.build_vehicle` for every car
         (``longitudinal``, ``bump_stop``, ``preload``, ``rail_springs``).
     """
     consist = load_consist(consist)
-    if wheel_rail not in ("contact", "springs", "none"):
-        raise ValueError(f"wheel_rail={wheel_rail!r}: expected 'contact', 'springs' or 'none'")
-    if wheel_rail == "contact" and pair is None:
-        raise ValueError("wheel_rail='contact' needs the wheel-rail pair (pair=WheelRailPair(...))")
+    if wheel_rail not in ("springs", "none"):
+        raise ValueError(f"wheel_rail={wheel_rail!r}: expected 'springs' or 'none' (the wheel-rail connector: "
+                         "exudyn_wheelrail.multibody.connector.add_train_contact)")
     for key in ("name_suffix", "x_offset_m", "speed_m_s", "s_start_m", "wheel_rail", "gravity_m_s2"):
         if key in vehicle_options:
             raise ValueError(f"{key}: set by build_train, not a vehicle option")
@@ -364,7 +363,7 @@ def build_train(mbs, consist, *, speed_m_s: float, s_start_m: float = 0.0, wheel
     cars = []
     for k, (entry, x) in enumerate(zip(consist.cars, xs)):
         cars.append(build_vehicle(mbs, entry.vehicle, speed_m_s=speed_m_s, s_start_m=s_start_m,
-                                  wheel_rail="springs" if wheel_rail == "springs" else "none",
+                                  wheel_rail=wheel_rail,
                                   gravity_m_s2=gravity_m_s2, show=show, name_suffix=car_suffix(k), x_offset_m=float(x),
                                   **vehicle_options))
     couplers = []
@@ -381,17 +380,8 @@ def build_train(mbs, consist, *, speed_m_s: float, s_start_m: float = 0.0, wheel
                 stiffness=[cp.kx_N_per_m, cp.ky_N_per_m, 0.0], damping=[cp.cx_N_s_per_m, cp.cy_N_s_per_m, 0.0],
                 offset=(p_rear - p_front).tolist(),
                 visualization={"show": show, "drawSize": -1.0, "color": [-1.0, -1.0, -1.0, -1.0]})))
-    train = TrainModel(consist=consist, cars=cars, car_x_m=xs, couplers=couplers, speed_m_s=float(speed_m_s),
-                       s_start_m=float(s_start_m), gravity_m_s2=float(gravity_m_s2))
-    if wheel_rail == "contact":
-        from .connector import add_wheel_rail_contact
-        from .track import RigidStraightTrack
-        track = track if track is not None else RigidStraightTrack()
-        train.contact = add_wheel_rail_contact(mbs, train.wheelset_nodes, pair, speed_m_s=speed_m_s, track=track,
-                                               s_start_m=s_start_m, **(contact_options or {}))
-        if place:
-            place_train_on_track(mbs, train, pair, track)
-    return train
+    return TrainModel(consist=consist, cars=cars, car_x_m=xs, couplers=couplers, speed_m_s=float(speed_m_s),
+                      s_start_m=float(s_start_m), gravity_m_s2=float(gravity_m_s2))
 
 
 def _car_end_marker(mbs, car_body, p_in_frame, marker_type):
@@ -405,10 +395,8 @@ def _car_end_marker(mbs, car_body, p_in_frame, marker_type):
 
 def place_train_on_track(mbs, train: TrainModel, pair, track) -> float | None:
     """Every car in static equilibrium on the rails (:func:`~.placement.place_on_rails`) and on the displaced track
-    (:func:`exudyn_wheelrail.scenarios.build.start_on_track`); before ``mbs.Assemble()``.  Returns the largest
+    (:func:`~.placement.start_on_track`); before ``mbs.Assemble()``.  Returns the largest
     track displacement under a wheelset at t = 0 (None: none) and stores it in ``train.start_shift_m``."""
-    from ..scenarios.build import start_on_track
-    from .placement import place_on_rails
     shifts = []
     for car in train.cars:
         place_on_rails(mbs, car, pair)

@@ -39,7 +39,7 @@ from ..contact.layout import (F_DN_DDELTA, F_NR_Y, F_NR_Z, F_PENETRATION, F_S_WH
                               RES_DECK_Z, RES_DELTA, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_FLAGS, RES_GAMMA,
                               RES_N, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS, SLOT_FLANGE)
 from ..jit import compiled
-from .rotations import rotation_from_vector
+from ..multibody.rotations import rotation_from_vector
 
 # ---- constants: par[PAR_*] ---------------------------------------------------------------------------------------
 PAR_LIFT_FORCE = 0        # a wheel whose normal forces sum to at most this is lifted [N]

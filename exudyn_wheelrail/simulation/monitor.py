@@ -123,12 +123,13 @@ import numpy as np
 
 from ..analysis.safety import nadal_limit, prudhomme_limit_N
 from ..contact import layout as L
-from . import connector as C
+from ..multibody import connector as C
 from . import monitor_core as MC
-from .connector_core import compiled_for
-from .rotations import rotation_from_vector
+from .solvers import RK44
+from ..multibody.connector_core import compiled_for
+from ..multibody.rotations import rotation_from_vector
 
-__all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "run_monitored", "STATUS_KINDS", "STOP_KINDS",
+__all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "STATUS_KINDS", "STOP_KINDS",
            "coupled_damper_rate_1_s"]
 
 #: every status kind; the first two are completed runs
@@ -201,7 +202,7 @@ _STATE_ERROR = re.compile(r"t = ([-+0-9.eEinfa]+) s: wheelset (\d+)")
 _STATE_ERROR_T = re.compile(r"t = ([-+0-9.eEinfa]+) s")
 
 
-def _contact_state_error(exc: BaseException):
+def contact_state_error(exc: BaseException):
     """The ContactStateError in an exception's chain (Exudyn re-raises a user function's exception with it as the
     cause), or None."""
     seen = set()
@@ -214,7 +215,7 @@ def _contact_state_error(exc: BaseException):
     return None
 
 
-def _status_from_state_error(err: C.ContactStateError, fallback_t: float | None) -> Status:
+def status_from_state_error(err: C.ContactStateError, fallback_t: float | None) -> Status:
     msg = str(err).splitlines()[0]
     m = _STATE_ERROR.search(msg)
     wheelset = int(m.group(2)) if m else None
@@ -228,12 +229,7 @@ def _status_from_state_error(err: C.ContactStateError, fallback_t: float | None)
 
 #: a flange contact counts as beyond the flank where the profile's slope is this much below the flank's steepest
 FLANK_ANGLE_DROP_RAD = 0.05
-#: RK44's stability limit on the imaginary axis, |omega h| <= 2 sqrt(2)
-RK44_LIMIT = 2.0 * math.sqrt(2.0)
-#: RK44's stability limit on the negative real axis: |1 + z + z²/2 + z³/6 + z⁴/24| = 1 at z = -2.7853 (a decay rate
-#: sigma needs sigma h <= this)
-RK44_REAL_LIMIT = 2.785293563405282
-#: relative margin below RK44_LIMIT above which the compiled value of the stability estimate (Jacobi's method,
+#: relative margin below RK44's imaginary-axis limit (:data:`~.solvers.RK44`) above which the compiled value of the stability estimate (Jacobi's method,
 #: :func:`.monitor_core.largest_eigenvalue_psd`, relative error near 1e-15) is replaced by LAPACK's eigenvalue before
 #: anything is decided
 STABILITY_SCREEN_MARGIN = 1e-6
@@ -411,7 +407,7 @@ class RunMonitor:
         par[MC.PAR_HUNT_AMP] = self.hunting_amplitude_m
         par[MC.PAR_HUNT_NEED] = self._need
         par[MC.PAR_STEP] = 0.0
-        par[MC.PAR_STAB_SCREEN] = RK44_LIMIT * (1.0 - STABILITY_SCREEN_MARGIN)
+        par[MC.PAR_STAB_SCREEN] = RK44.imaginary_axis_limit * (1.0 - STABILITY_SCREEN_MARGIN)
         return par
 
     # -- geometry of the pair (side frame, wheelset frame for the wheel) -------------------------------------------
@@ -547,7 +543,7 @@ class RunMonitor:
         try:
             q, v = self._evaluate(mbs, float(t))
         except C.ContactStateError as err:
-            st = _status_from_state_error(err, t)
+            st = status_from_state_error(err, t)
             return self._stop(st)
         row = -1
         if self.keep_history:
@@ -576,7 +572,7 @@ class RunMonitor:
         kalker_coefficients` at the patch's a/b; G, ν the connector's), acting at the contact point; σ is the
         largest eigenvalue of ``M^-1/2 D M^-1/2`` with ``D = Σ c g gᵀ``, ``g = (t, r × t)`` (r the lever from the
         axle centre) and the wheelset's mass and inertia M.  It grows as 1/V: an explicit step needs σ h <= 2.785
-        (:data:`RK44_REAL_LIMIT`) or it integrates a limit cycle of the creep forces instead of rolling.  0 without
+        (:data:`RK44.real_axis_limit`) or it integrates a limit cycle of the creep forces instead of rolling.  0 without
         a loaded contact or with the creep law ``none``.
 
         On a structure (a flexible track, a deck) the lateral damper also acts on the rails, whose inverse modal
@@ -636,10 +632,10 @@ class RunMonitor:
         self.creep_rate_1_s = [self.creep_decay_rate_1_s(k, q) for k in range(self.n_wheelsets)]
         k = int(np.argmax(self.creep_rate_1_s))
         sh = self.creep_rate_1_s[k] * h
-        if sh > RK44_REAL_LIMIT and self.stability_exceeded is None:
+        if sh > RK44.real_axis_limit and self.stability_exceeded is None:
             st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the creep "
-                        f"damping (sigma h = {sh:.3g} > {RK44_REAL_LIMIT:.3f}, sigma = {sh / h:.4g} 1/s, growing as "
-                        f"1/V at low speed): use dt_s <= {RK44_REAL_LIMIT / (sh / h):.3g} s or the implicit solver "
+                        f"damping (sigma h = {sh:.3g} > {RK44.real_axis_limit:.3f}, sigma = {sh / h:.4g} 1/s, growing as "
+                        f"1/V at low speed): use dt_s <= {RK44.real_axis_limit / (sh / h):.3g} s or the implicit solver "
                         "newmark")
             self.stability_exceeded = st
             self._stop(st)
@@ -764,10 +760,10 @@ class RunMonitor:
         lam = float(np.linalg.eigvalsh(B)[-1]) if n_rows > 1 else float(B[0, 0])
         wh = math.sqrt(max(lam, 0.0)) * h
         self._wss[k, MC.WS_MAX_OMEGA_H] = max(float(self._wss[k, MC.WS_MAX_OMEGA_H]), wh)
-        if wh > RK44_LIMIT and self.stability_exceeded is None:
+        if wh > RK44.imaginary_axis_limit and self.stability_exceeded is None:
             st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the "
-                        f"contact stiffness (omega h = {wh:.3g} > {RK44_LIMIT:.3f}, omega = {wh / h:.4g} rad/s: "
-                        f"stable below {RK44_LIMIT / (wh / h):.3g} s)")
+                        f"contact stiffness (omega h = {wh:.3g} > {RK44.imaginary_axis_limit:.3f}, omega = {wh / h:.4g} rad/s: "
+                        f"stable below {RK44.imaginary_axis_limit / (wh / h):.3g} s)")
             self.stability_exceeded = st
             self._par[MC.PAR_STAB_SCREEN] = math.inf       # decided once
             self._stop(st)
@@ -825,40 +821,3 @@ class RunMonitor:
                 f"({rec.total_lift_s() * 1e3:.1f} ms, max gap {rec.max_gap_m * 1e3:.2f} mm), flange climbs "
                 f"{len(rec.flange_climbs)}, deep penetrations {len(rec.deep_penetrations)}")
         return "\n".join(lines)
-
-
-def _solver_type(solver):
-    import exudyn as exu
-    if solver is None:
-        return exu.DynamicSolverType.GeneralizedAlpha
-    if isinstance(solver, str):
-        key = solver.lower()
-        if key in ("rk44", "rk4"):
-            return exu.DynamicSolverType.RK44
-        if key in ("newmark", "generalizedalpha", "generalized_alpha", "implicit"):
-            return exu.DynamicSolverType.GeneralizedAlpha
-        raise ValueError(f"solver {solver!r}: expected 'rk44', 'newmark' or an exudyn.DynamicSolverType")
-    return solver
-
-
-def run_monitored(mbs, sim, solver=None, monitor: RunMonitor | None = None) -> tuple[Status, float]:
-    """``mbs.SolveDynamic(sim, solverType=solver)`` under ``monitor`` (attached here unless the caller attached it
-    to ``mbs``, whose chained function is then kept; ``mbs`` assembled) through
-    the one solve wrapper, :func:`exudyn_wheelrail.simulation.runner.solve`.  Returns ``(status, t_end)``: the
-    monitor's stopping status, an ``invalid_state`` from a :class:`~.connector.ContactStateError` (its time and
-    wheelset), a ``solver_failure``, or — after a check of the final state — ``completed`` / ``hunting``; ``t_end``
-    is the time the solver reached."""
-    if monitor is None:
-        raise ValueError("run_monitored needs a RunMonitor")
-    import exudyn as exu
-
-    from ..simulation.runner import solve
-    from ..simulation.settings import SOLVER_TYPES
-    solver = _solver_type(solver)
-    name = next((k for k, v in SOLVER_TYPES.items() if getattr(exu.DynamicSolverType, v) == solver), "newmark")
-    n_steps = max(1, int(sim.timeIntegration.numberOfSteps))
-    dt = (float(sim.timeIntegration.endTime) - float(sim.timeIntegration.startTime)) / n_steps
-    attached = getattr(monitor, "_attached_to", None) is mbs          # keep the caller's attachment and function
-    outcome = solve(mbs, sim, solver, monitor, dt_s=dt, solver=name, attach_monitor=not attached,
-                    user_function=monitor._user if attached else None)
-    return outcome.stop, outcome.t_end_s

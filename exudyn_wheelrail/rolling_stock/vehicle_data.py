@@ -29,7 +29,7 @@ Tables and keys (all required unless marked optional; unknown keys are errors)
 ``[car_body]``     as the bogie frame, plus optional ``cg_x_m``, ``cg_y_m`` (offset of the CG from the vehicle
                    centre = mid-point between the bogie centres; default 0).  Layout car.
 ``[car_body.flexible]`` optional (layout car; without it the car body is rigid): the car body as a free–free
-                   beam (:mod:`~exudyn_wheelrail.multibody.flexible_body`) centred on the CG, whose mass and inertia
+                   beam (:mod:`~exudyn_wheelrail.rolling_stock.flexible_body`) centred on the CG, whose mass and inertia
                    are the ``[car_body]`` data: ``length_m``, ``EI_vertical_N_m2``, ``EI_lateral_N_m2``,
                    ``GJ_N_m2``, ``EA_N`` (all > 0), ``n_modes`` (elastic modes kept, >= 1), ``damping_ratio``
                    (modal damping: one ratio for all modes or an array of ``n_modes``, each in [0, 1)), optional
@@ -141,7 +141,7 @@ class VehicleDataError(ValueError):
 @dataclass(frozen=True)
 class FlexibleBodyData:
     """``[car_body.flexible]``: the car body as a free–free beam (or an FE model), its kept modes and their damping
-    (see the module docstring; the model is :mod:`~exudyn_wheelrail.multibody.flexible_body`)."""
+    (see the module docstring; the model is :mod:`~exudyn_wheelrail.rolling_stock.flexible_body`)."""
 
     n_modes: int
     damping_ratio: tuple[float, ...]

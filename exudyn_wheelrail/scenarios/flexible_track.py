@@ -27,11 +27,11 @@ moment ``(b/2)(Q_right − Q_left)``), moving with the vehicle (``q̇0 = V diag(
 bowl), and every body of the vehicle moved by the rails' deflection under it (interpolated between the wheelsets)
 — a run starts without a drop onto the track (tests/test_flexible_track.py: Q constant to 0.1 % on a stiff track).
 
-Step check (explicit solvers, :func:`contact_mode_Hz`): the highest kept mode and the wheel on the rail's modal mass
+Step check (explicit solvers, :func:`~exudyn_wheelrail.track.flexible_contact.contact_mode_Hz`): the highest kept mode and the wheel on the rail's modal mass
 must satisfy ``ω dt < 2.83``; a step beyond is an error naming ``run.dt_s`` (or ``flexible_track.modes_up_to_Hz``)
 before the run.  The creep damping on the rail's lateral modal mass sets a second limit that grows with the speed
 (``σ h <= 2.785``, σ ~ f22 / (V m_rail)): the run monitor checks it at the first state
-(:meth:`~exudyn_wheelrail.multibody.monitor.RunMonitor.creep_decay_rate_1_s`) and warns, naming the stable step.
+(:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.creep_decay_rate_1_s`) and warns, naming the stable step.
 
 Default step (:func:`default_step_s`): a scenario with a flexible track, an explicit solver and no ``run.dt_s``
 runs at ``min(DEFAULT_STEP_CAP_S r, DEFAULT_STEP_MARGIN x CREEP_STEP_S_PER_M_S x V √r)`` with ``r = min(1,
@@ -55,15 +55,16 @@ from pathlib import Path
 
 import numpy as np
 
-from .flexible import DEFAULT_TRACK_FILE, FlexibleTrackModel, TrackFileError, TrackParameters, segment_for_run
-from .flexible_window import DEFAULT_SHIFT_BAYS, FlexibleTrackWindow, window_length_m, window_margin_m, window_start_m
+from ..simulation.step_checks import check_explicit_step
+from ..simulation.solvers import METHODS
+from ..track.flexible import DEFAULT_TRACK_FILE, FlexibleTrackModel, TrackFileError, TrackParameters, segment_for_run
+from ..track.flexible_window import (DEFAULT_SHIFT_BAYS, FlexibleTrackWindow, window_length_m, window_margin_m,
+                                     window_start_m)
 
-__all__ = ["FLEXIBLE_TRACK_KEYS", "FLEXIBLE_TRACK_GROUP", "AUTO", "WINDOW", "RK44_OMEGA_DT_LIMIT", "EXPLICIT_CHECKED",
-           "CONTACT_STIFFNESS_N_M", "normalise_flexible_track", "flexible_track_modes", "flexible_track_window",
-           "STEP_REFERENCE_MODES_HZ", "CREEP_STEP_S_PER_M_S", "DEFAULT_STEP_MARGIN", "DEFAULT_STEP_CAP_S",
-           "DEFAULT_STEP_MIN_S", "default_step_s",
-           "contact_mode_Hz", "check_explicit_step", "start_on_flexible_track", "flexible_track_probes",
-           "flexible_track_summary"]
+__all__ = ["FLEXIBLE_TRACK_KEYS", "FLEXIBLE_TRACK_GROUP", "AUTO", "WINDOW", "normalise_flexible_track",
+           "flexible_track_modes", "flexible_track_window", "STEP_REFERENCE_MODES_HZ", "CREEP_STEP_S_PER_M_S",
+           "DEFAULT_STEP_MARGIN", "DEFAULT_STEP_CAP_S", "DEFAULT_STEP_MIN_S", "default_step_s",
+           "start_on_flexible_track", "flexible_track_probes", "flexible_track_summary"]
 
 FLEXIBLE_TRACK_KEYS = ("file", "start_m", "length_m", "modes_up_to_Hz", "shift_bays")
 #: the recorder group of the flexible track's columns
@@ -71,16 +72,6 @@ FLEXIBLE_TRACK_GROUP = "flexible_track"
 AUTO = "auto"
 #: ``length_m = "window"``: the moving window (:mod:`.flexible_window`)
 WINDOW = "window"
-#: explicit RK44: the undamped oscillator is stable for ω dt below 2√2; the highest kept mode must stay under it
-RK44_OMEGA_DT_LIMIT = 2.0 * math.sqrt(2.0)
-#: explicit solvers -> the largest ω dt on the imaginary axis for which they are stable (an undamped mode): RK44
-#: 2√2, RK33 √3, RK67 taken as RK44's (its limit lies above); the explicit midpoint rule (RK2) amplifies every
-#: undamped oscillation (|1 + iy - y²/2| > 1) and is refused with a flexible track
-EXPLICIT_CHECKED = {"rk44": RK44_OMEGA_DT_LIMIT, "rk33": math.sqrt(3.0), "rk67": RK44_OMEGA_DT_LIMIT,
-                    "explicit_midpoint": 0.0}
-#: ASSUMPTION: an upper estimate of the wheel–rail contact stiffness for the step check [N/m] — a Hertz contact
-#: under ~80 kN is ~1e9 N/m, a flange contact (two points, steep normal) up to a few times that
-CONTACT_STIFFNESS_N_M = 4.0e9
 
 # ---- the default explicit step of a flexible-track scenario (default_step_s): declared here only -----------------
 #: the track's mode cut-off [Hz] at which the limits below were found (their scaling above it: module docstring)
@@ -94,7 +85,7 @@ CREEP_STEP_S_PER_M_S = 0.105e-3 / (50.0 / 3.6)
 #: covers wheel loads up to 0.5^(-3/2) = 2.8 times the Manchester vehicle's (158 kN) on the shipped track
 DEFAULT_STEP_MARGIN = 0.5
 #: the largest default step [s] (modes to 800 Hz: the wheel on the rail's modal mass allows 0.46 ms, the check of
-#: :func:`check_explicit_step`); scaled by 800 Hz / ``modes_up_to_Hz`` for a higher cut-off
+#: :func:`~exudyn_wheelrail.simulation.step_checks.check_explicit_step`); scaled by 800 Hz / ``modes_up_to_Hz`` for a higher cut-off
 DEFAULT_STEP_CAP_S = 0.4e-3
 #: the smallest default step [s] (it takes over below 9.5 km/h with modes to 800 Hz, where the creep limit falls
 #: further; give ``run.dt_s`` there)
@@ -182,7 +173,7 @@ def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s:
         if not moving_window:
             raise TrackFileError("flexible_track.length_m = 'window': this build does not move the window with the "
                                  "vehicle (flexible_track_modes(..., moving_window=True) and flexible_track_window)")
-        if EXPLICIT_CHECKED.get(solver) is None:
+        if METHODS[solver].implicit:
             raise TrackFileError(f"flexible_track.length_m = 'window': run.solver = {solver!r}: the moving window "
                                  "carries q and dq/dt over; use an explicit solver ('rk44')")
         start = window_start_m(params, s_rear0)
@@ -197,7 +188,7 @@ def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s:
             raise TrackFileError(f"flexible_track.length_m = {length:g} m (start_m = {start:g} m): the segment "
                                  f"[{start:g}, {start + length:g}] m does not carry the run, whose wheelsets span "
                                  f"[{s_rear0:.6g}, {s_front1:.6g}] m (the track is shorter than the vehicle's path)")
-    limit = EXPLICIT_CHECKED.get(solver)
+    limit = METHODS[solver].imaginary_axis_limit
     if limit == 0.0:
         raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
                              "(or 'newmark') with a flexible track")
@@ -212,29 +203,6 @@ def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s:
     return modes
 
 
-def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None = None,
-                        s_to_m: float | None = None) -> None:
-    """Raise :class:`~.flexible.TrackFileError` (naming ``run.dt_s`` and the largest stable step) if the explicit
-    ``solver`` at ``dt_s`` cannot carry the wheel on the rail's kept modal mass over ``[s_from_m, s_to_m]``
-    (:func:`contact_mode_Hz`); nothing for an implicit solver.  The scenario build and the runner call it before the
-    solve, over the track the wheelsets will cross; the run monitor checks the same stiffness on the rail's modal mass
-    where the wheelsets are during the run."""
-    limit = EXPLICIT_CHECKED.get(solver)
-    if limit is None:
-        return
-    if limit == 0.0:
-        raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
-                             "(or 'newmark') with a flexible track")
-    f_c = contact_mode_Hz(modes, s_from_m, s_to_m)
-    f_lim = limit / (2.0 * math.pi * dt_s)
-    if f_c >= f_lim:
-        raise TrackFileError(f"run.dt_s = {dt_s:g} s: the wheel on the flexible rail (contact stiffness "
-                             f"{CONTACT_STIFFNESS_N_M:.0e} N/m, in series with the residual flexibility, on the "
-                             f"rail's kept modal mass) vibrates at up to {f_c:.4g} Hz, beyond explicit {solver}'s "
-                             f"stability ({f_lim:.4g} Hz at this step): use run.dt_s <= "
-                             f"{limit / (2.0 * math.pi * f_c):.3g} s")
-
-
 def flexible_track_window(ft: dict, *, contact, handle, t_start_s: float = 0.0, then=None):
     """The :class:`~.flexible_window.FlexibleTrackWindow` of a normalised ``[flexible_track]`` with
     ``length_m = "window"`` (None for a fixed segment): create after the contact, pass as the runner's
@@ -242,34 +210,6 @@ def flexible_track_window(ft: dict, *, contact, handle, t_start_s: float = 0.0, 
     if ft["length_m"] != WINDOW:
         return None
     return FlexibleTrackWindow(handle, contact, shift_bays=ft["shift_bays"], t_start_s=t_start_s, then=then)
-
-
-def contact_mode_Hz(modes, s_from_m: float | None = None, s_to_m: float | None = None) -> float:
-    """Upper estimate of the highest frequency of the coupled wheel–track system: the kept modes' highest, and a
-    contact spring :data:`CONTACT_STIFFNESS_N_M` (roll: times (b/2)²) on the rail's modal mass at the contact,
-    ``m_eff = 1/Σ_k φ_k(s)²`` per row of the deck interface (y, z, roll), the smallest over the segment (the wheelset
-    is much heavier than that mass) or over the wheels' path ``[s_from_m, s_to_m]`` (the free rail ends are
-    lighter).  With the static correction (``modes.residual_table``) the contact spring acts in series with the
-    residual flexibility of that row at that point, ``k_eff = 1/(1/k + G_res)``.  Measured (RTRI car, 250 km/h,
-    flange contact in the lateral deviation; the run reports ok either way): without the correction RK44 chatters
-    at 0.5 ms with modes to 800 Hz (lateral force jumping 2–25 kN between steps) and not at 0.25 ms (estimate:
-    0.35 ms); with it, 800 Hz chatters at 0.5 ms, 600 Hz diverges at 0.75 ms and is smooth at 0.5 ms, 400 Hz is
-    smooth at 1 ms."""
-    tb = modes.table
-    s_pts = tb.start_m + np.append(tb.elem_x0, tb.elem_x0[-1] + tb.elem_len[-1])
-    sel = np.ones(s_pts.shape, dtype=bool)
-    if s_from_m is not None:
-        sel &= (s_pts >= s_from_m - tb.elem_len[0]) & (s_pts <= s_to_m + tb.elem_len[0])
-    ns = tb.node_shapes[sel]                                          # (n_pts, 5, n_modes): v, dv, w, dw, θ
-    residual = getattr(modes, "residual_table", None)
-    b = modes.model.params.rail_centre_distance_m
-    k = (CONTACT_STIFFNESS_N_M, CONTACT_STIFFNESS_N_M, CONTACT_STIFFNESS_N_M * (0.5 * b) ** 2)
-    f_c = 0.0
-    for i, (row, ki) in enumerate(zip((0, 2, 4), k)):                # y, z, roll rows; residual columns 0, 1, 2
-        inv_m = np.sum(ns[:, row, :] ** 2, axis=1)
-        k_eff = ki if residual is None else 1.0 / (1.0 / ki + residual[sel, i])
-        f_c = max(f_c, float(np.max(np.sqrt(k_eff * inv_m))) / (2.0 * math.pi))
-    return max(f_c, float(modes.frequencies_Hz.max(initial=0.0)))
 
 
 def _static_wheelset_forces(model, modes) -> np.ndarray:

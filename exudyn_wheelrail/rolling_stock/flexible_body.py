@@ -74,7 +74,7 @@ Reference-frame node and solvers: the frame is a ``NodeRigidBodyRotVecLG`` (``ex
 the node of the other bodies) — Exudyn's explicit Lie-group Runge–Kutta solvers (RK44, the project's default)
 integrate it, and so does the implicit Newmark/generalized-α solver.  (Exudyn's default FFRF node, Euler parameters,
 carries an algebraic normalisation constraint that the explicit solvers refuse.)  An explicit solver's step must
-resolve the highest kept mode (:func:`explicit_step_problem`: ω dt <= 2√2 for RK44; the RTRI case refuses a larger
+resolve the highest kept mode (:func:`highest_mode_rad_s`: ω dt <= 2√2 for RK44; the RTRI case refuses a larger
 step before it builds); the implicit Newmark rule is unconditionally stable for it.
 
 External FE models (:func:`modes_from_fe_file`)
@@ -112,8 +112,7 @@ __all__ = [
     "BodyPointKinematics",
     "car_body_modes",
     "add_vehicle_car_body",
-    "EXPLICIT_STABILITY_LIMIT",
-    "explicit_step_problem",
+    "highest_mode_rad_s",
     "CarBodyBeam",
     "CarBodyModes",
     "FlexibleCarBody",
@@ -627,26 +626,13 @@ def add_flexible_car_body(mbs, modes: CarBodyModes, p_cg_in_frame, *, attach_poi
 
 
 # ================================================================================= the car body of a vehicle
-#: stability limits |λ h| of Exudyn's explicit Runge–Kutta solvers on the imaginary axis (an undamped mode λ = iω):
-#: 2√2 for the classical RK4, √3 for RK3 (e.g. Hairer & Wanner, Solving ODEs II, Sect. IV.2); the solvers without a
-#: limit here (explicit midpoint: none on the imaginary axis; rk67) are not checked
-EXPLICIT_STABILITY_LIMIT = {"rk44": 2.0 * math.sqrt(2.0), "rk33": math.sqrt(3.0)}
-
-
-def explicit_step_problem(vehicle, solver: str, dt_s: float) -> str | None:
-    """Why ``dt_s`` is too large for the flexible car body's highest kept mode with the explicit ``solver``
-    (:data:`EXPLICIT_STABILITY_LIMIT`), or ``None`` (rigid car body, implicit or unchecked solver, step fine)."""
+def highest_mode_rad_s(vehicle) -> float:
+    """The highest kept elastic mode of the vehicle's flexible car body [rad/s] (0 for a rigid car body): what an
+    explicit time step must resolve (the solvers' limits: :mod:`exudyn_wheelrail.simulation.solvers`)."""
     cb = vehicle.car_body
-    if cb is None or cb.flexible is None or solver not in EXPLICIT_STABILITY_LIMIT:
-        return None
-    modes = car_body_modes(vehicle)
-    w = float(modes.omega_rad_s.max())
-    limit = EXPLICIT_STABILITY_LIMIT[solver]
-    if w * dt_s <= limit:
-        return None
-    return (f"{dt_s:g} s is beyond the stability limit of {solver} for the flexible car body's highest kept mode "
-            f"({w / (2 * math.pi):.4g} Hz): dt must be <= {limit / w:.3g} s (ω dt <= {limit:.3g}); take a smaller "
-            "step, fewer modes or an implicit solver")
+    if cb is None or cb.flexible is None:
+        return 0.0
+    return float(car_body_modes(vehicle).omega_rad_s.max())
 
 
 @functools.lru_cache(maxsize=8)
