@@ -267,11 +267,11 @@ def carbody_acceleration_en14363(acc_m_s2, dt_s: float, speed_m_s: float | None 
     out["assessment"] = {}
     for key, value_key in (("peak", "peak_m_s2"), ("rms", "rms_m_s2")):
         lim = None if limits_m_s2 is None else limits_m_s2.get(key)
-        out["assessment"][key] = _assess(out[value_key], lim)
+        out["assessment"][key] = assess(out[value_key], lim)
     return out
 
 
-def _assess(value: float, limit: float | None) -> dict:
+def assess(value: float, limit: float | None) -> dict:
     """value / limit / margin (limit − value) / utilisation (value/limit) / passed (value <= limit; None
     without a limit)."""
     if limit is None:

@@ -87,7 +87,7 @@ import re
 import numpy as np
 
 from . import comfort as C
-from .comfort import _assess, as_signal, check_positive, check_same_length
+from .comfort import assess, as_signal, check_positive, check_same_length
 
 __all__ = [
     "EN14363_YQ_LIMIT",
@@ -185,7 +185,7 @@ def derailment_quotient_en14363(Y_N, Q_N, dt_s: float, speed_m_s: float, limit: 
         raise ValueError("Q_N: the wheel is lifted (Q <= 0) at every sample; Y/Q is undefined")
     m = C.sliding_mean(yq, n, ignore_nan=True)
     k = int(np.nanargmax(m))
-    out = _assess(float(m[k]), limit)
+    out = assess(float(m[k]), limit)
     out.update({"window_samples": n, "window_m": n * float(speed_m_s) * dt, "index_of_max_window_start": k,
                 "time_of_max_window_start_s": k * dt, "max_instantaneous": float(np.nanmax(yq)),
                 "lifted_samples_excluded": lifted, "lowpass_hz": lowpass_hz})
@@ -260,7 +260,7 @@ def derailment_quotient_jnr(yq, dt_s: float, base_limit: float = JNR_YQ_LIMIT,
         worst = max(worst, e["utilisation"])
     if not exc:
         worst = float(np.max(q)) / base_limit if np.max(q) > 0.0 else 0.0
-    out = _assess(worst, 1.0)
+    out = assess(worst, 1.0)
     out.update({"excursions": exc, "max_yq": float(np.max(q)), "base_limit": float(base_limit),
                 "reference_duration_s": float(reference_duration_s),
                 "longest_excursion_s": max((e["duration_s"] for e in exc), default=0.0)})
@@ -274,7 +274,7 @@ def wheel_unloading(Q_N, static_wheel_load_N: float, limit: float = WHEEL_UNLOAD
     q0 = check_positive(static_wheel_load_N, "static_wheel_load_N")
     dq = (q0 - Q) / q0
     k = int(np.argmax(dq))
-    out = _assess(float(dq[k]), limit)
+    out = assess(float(dq[k]), limit)
     out.update({"index_of_max": k, "static_wheel_load_N": q0, "series": dq})
     return out
 
@@ -320,7 +320,7 @@ def track_shift_force_en14363(sum_Y_N, dt_s: float, speed_m_s: float, static_whe
         s = C.lowpass(s, dt, lowpass_hz, name="sum_Y_N")
     m = C.sliding_mean(s, n)
     k = int(np.argmax(np.abs(m)))
-    out = _assess(float(abs(m[k])), prudhomme_limit_N(static_wheel_load_N, alpha))
+    out = assess(float(abs(m[k])), prudhomme_limit_N(static_wheel_load_N, alpha))
     out.update({"signed_value_N": float(m[k]), "window_samples": n, "window_m": n * float(speed_m_s) * dt,
                 "time_of_max_window_start_s": k * dt, "alpha": float(alpha),
                 "static_wheel_load_N": float(static_wheel_load_N), "lowpass_hz": lowpass_hz})
@@ -459,7 +459,7 @@ def running_criteria_summary(ts: dict, speed_m_s: float, *, vehicle: str = "pass
         en = derailment_quotient_en14363(Y, Q, dt, V, yq_limit, window_m, lowpass_hz)
         criteria["derailment_quotient_en14363"][key] = en
         if "derailment_quotient_nadal" in criteria:
-            criteria["derailment_quotient_nadal"][key] = _assess(en["value"], nadal)
+            criteria["derailment_quotient_nadal"][key] = assess(en["value"], nadal)
         yq = derailment_quotient(Y, Q)
         if np.isnan(yq).any():
             yq = np.where(np.isnan(yq), 0.0, yq)     # lifted: reported by the lift criterion
@@ -493,7 +493,7 @@ def running_criteria_summary(ts: dict, speed_m_s: float, *, vehicle: str = "pass
         comfort[f"sperling_{direction}"] = {"column": col, "Wz": sp["Wz"], "df_hz": sp["df_hz"],
                                             "range_hz": sp["range_hz"],
                                             "ride_quality": C.sperling_ride_quality(sp["Wz"]),
-                                            **{k: v for k, v in _assess(sp["Wz"], sperling_limit).items()
+                                            **{k: v for k, v in assess(sp["Wz"], sperling_limit).items()
                                                if k != "value"}}
         if sp["df_hz"] > 0.25:
             notes.append(f"sperling_{direction}: frequency resolution {sp['df_hz']:.3g} Hz (record "

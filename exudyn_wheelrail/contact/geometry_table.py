@@ -57,7 +57,7 @@ from .layout import (  # noqa: F401  (the table's node fields, grid, counters; r
     G_QY, G_QZ, G_S_RAIL, G_S_WHEEL, G_STATUS, N_G, N_STATS, N_T, STAT_CONCAVE, STAT_FALLBACK, STAT_FLANGE_SKIPPED,
     STAT_OFF_DECK, STAT_ON_DECK, STAT_TABLE, STAT_TREAD_SKIPPED, T_DR, T_DY, T_NR, T_NY, T_R0, T_Y0)
 from .normal import hertz_from_penetration
-from .search import _overlap_at_wheel, place_point
+from .search import overlap_at_wheel, place_point
 
 #: fields interpolated between the nodes (the penetration is combined from each node's own prediction instead)
 _INTERPOLATED = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
@@ -450,7 +450,7 @@ def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z,
         return
     # both zones penetrate: separate patches (a gap between them) or one zone with two maxima (blended as the
     # kernel does, P_BLEND_DEPTH)
-    mid_ok, mid_dv, mid_sr = _overlap_at_wheel(nodes, meta, mono, rail, tread,
+    mid_ok, mid_dv, mid_sr = overlap_at_wheel(nodes, meta, mono, rail, tread,
                                                0.5 * (t[K.F_S_WHEEL] + t2[K.F_S_WHEEL]), c_y, c_z, cos_r, sin_r)
     if mid_ok and mid_dv < 0.0:
         return

@@ -67,7 +67,7 @@ from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, pa
     SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_GAP, W_POSE_ROLL, W_POSE_Y, W_POSE_Z,
     W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
 from .normal import hertz_from_penetration
-from .search import (NO_SCAN, _overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start,
+from .search import (NO_SCAN, overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start,
                      normal_foot, normal_penetration_ascent, overlap_peaks, place_point, place_wheel_point,
                      scan_points, vertical_overlap_search, wheel_point)
 
@@ -369,7 +369,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                     if cand_sw[k] == alt_sw and cand_sr[k] == alt_sr:
                         k2 = k
                 if slot2 >= 0 and alt_delta > 0.0 and k2 >= 0:
-                    mid_ok, mid_dv, mid_sr = _overlap_at_wheel(nodes, meta, mono, rail, wheel,
+                    mid_ok, mid_dv, mid_sr = overlap_at_wheel(nodes, meta, mono, rail, wheel,
                                                                0.5 * (alt_sw + best_sw), c_y, c_z, cos_r, sin_r)
                     if mid_ok and mid_dv < 0.0:
                         fill2 = cand_convex[k2] != 0.0  # two separate patches: a two-point tread contact

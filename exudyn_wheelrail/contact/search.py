@@ -114,7 +114,7 @@ def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos
 
 
 @compiled(inline="always")
-def _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r):
+def overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r):
     """Vertical overlap (z_w - z_r, positive = penetration) of the wheel point at s_w; (found, overlap, s_r)."""
     wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
     ok, s_r = project_vertical(nodes, meta, rail, mono[rail, 0], mono[rail, 1], wy, 0.0, 0.0, 1.0, 0.0)
@@ -156,7 +156,7 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
         wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
         y_min = min(y_min, wy)
         y_max = max(y_max, wy)
-        ok, dv, s_r = _overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        ok, dv, s_r = overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r)
         if ok and dv > best:
             best = dv
             best_sw = s_w
@@ -187,8 +187,8 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
     # refine: bracket [s - h, s + h] around the best sample, root of the slope mismatch
     a = max(s_w_lo, best_sw - h_w)
     b = min(s_w_hi, best_sw + h_w)
-    ok_a, dv_a, sr_a = _overlap_at_wheel(nodes, meta, mono, rail, wheel, a, c_y, c_z, cos_r, sin_r)
-    ok_b, dv_b, sr_b = _overlap_at_wheel(nodes, meta, mono, rail, wheel, b, c_y, c_z, cos_r, sin_r)
+    ok_a, dv_a, sr_a = overlap_at_wheel(nodes, meta, mono, rail, wheel, a, c_y, c_z, cos_r, sin_r)
+    ok_b, dv_b, sr_b = overlap_at_wheel(nodes, meta, mono, rail, wheel, b, c_y, c_z, cos_r, sin_r)
     if not (ok_a and ok_b):
         return found, best_sw, best_sr, best
     ga = _slope_mismatch(nodes, meta, rail, wheel, a, sr_a, c_y, c_z, cos_r, sin_r)
@@ -198,7 +198,7 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
     side = 0
     for _ in range(60):
         c = (a * gb - b * ga) / (gb - ga)
-        ok_c, dv_c, sr_c = _overlap_at_wheel(nodes, meta, mono, rail, wheel, c, c_y, c_z, cos_r, sin_r)
+        ok_c, dv_c, sr_c = overlap_at_wheel(nodes, meta, mono, rail, wheel, c, c_y, c_z, cos_r, sin_r)
         if not ok_c:
             break
         gc = _slope_mismatch(nodes, meta, rail, wheel, c, sr_c, c_y, c_z, cos_r, sin_r)
@@ -494,7 +494,7 @@ def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo
     broad one.  A sample is a local maximum when its overlap is at least both neighbours' (a sample without overlap
     counts as -inf); among equal depths the first sample ranks first.  The samples are evaluated by
     :func:`_scan_overlap` in one pass keeping the ``k_max`` deepest maxima (no array allocated; ``out_sr`` holds
-    their depths meanwhile), then the rail point of each kept maximum is projected as :func:`_overlap_at_wheel` does.
+    their depths meanwhile), then the rail point of each kept maximum is projected as :func:`overlap_at_wheel` does.
     ``points``: the samples' wheel points of :func:`scan_points` when ``[s_w_lo, s_w_hi]`` is the whole curve (used
     when it has ``n_wheel`` rows; the wheel curve is then not evaluated), else :data:`NO_SCAN_POINTS`.
     """
@@ -533,7 +533,7 @@ def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo
         left = mid
         mid = right
     for j in range(count):
-        ok, d, s_r = _overlap_at_wheel(nodes, meta, mono, rail, wheel, out_sw[j], c_y, c_z, cos_r, sin_r)
+        ok, d, s_r = overlap_at_wheel(nodes, meta, mono, rail, wheel, out_sw[j], c_y, c_z, cos_r, sin_r)
         out_sr[j] = s_r
     return count
 

@@ -20,7 +20,7 @@ from scipy.interpolate import BSpline, make_interp_spline, make_smoothing_spline
 from scipy.optimize import brentq
 
 from .dense import DenseProfile
-from .validation import ProfileError, _extent, _in_plausible, validate_profile_points
+from .validation import ProfileError, in_plausible_extent, profile_extent, validate_profile_points
 
 #: Standard deviation of the measurement noise [m] assumed when ``smoothing=None``: 0.01 mm, typical of contact and
 #: laser profile gauges.
@@ -180,8 +180,8 @@ def dense_from_points(y, z, smoothing: float | None = None, name: str = "profile
     z = np.asarray(z, dtype=float).ravel()
     if validate:
         validate_profile_points(y, z, name)
-        extent = _extent(y, z)
-        if _in_plausible(extent * 1e-3):
+        extent = profile_extent(y, z)
+        if in_plausible_extent(extent * 1e-3):
             raise ProfileError(f"{name}: the points span {extent:.4g} m (bounding-box diagonal): they are evidently "
                                f"millimetres, but dense_from_points expects metres")
     elif len(y) != len(z) or len(y) < 4:

@@ -24,7 +24,7 @@ from pathlib import Path
 from .dense import DenseProfile
 from .fitting import (DEFAULT_GAUGE_NOISE_M, DEFAULT_SPACING_M, FITPACK_RESIDUAL_BANDS,  # noqa: F401
                       INTERPOLATION_MIN_SPACING_M, dense_from_points)
-from .simpack import _EXTENSION_KIND, read_simpack_profile
+from .simpack import EXTENSION_KIND, read_simpack_profile
 from .table import read_yz_table
 from .validation import (DUPLICATE_TOL_M, FOLD_BACK_DEG, MIN_POINTS, PLAUSIBLE_EXTENT_M,  # noqa: F401
                          ProfileError, check_profile_kind, profile_shape, validate_profile_points)
@@ -61,7 +61,7 @@ def load_profile(path, kind: str | None = None, *, smoothing: float | None = Non
     kind raises :class:`ProfileError` (:func:`~exudyn_wheelrail.profiles.validation.check_profile_kind`).
     """
     path = Path(path)
-    if path.suffix.lower() in _EXTENSION_KIND or _looks_like_simpack(path):
+    if path.suffix.lower() in EXTENSION_KIND or _looks_like_simpack(path):
         if reader_kw:
             raise TypeError(f"read_simpack_profile takes no options {sorted(reader_kw)}")
         y, z, meta = read_simpack_profile(path, kind=kind)

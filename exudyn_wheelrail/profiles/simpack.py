@@ -24,10 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import (MIN_POINTS, ProfileError, _check_kind, _extent, _in_plausible, _plausible_range_text,
-                         _read_text, validate_profile_points)
+from .validation import (MIN_POINTS, ProfileError, check_kind, in_plausible_extent, plausible_extent_text,
+                         profile_extent, read_profile_text, validate_profile_points)
 
-_EXTENSION_KIND = {".prw": "wheel", ".prr": "rail"}
+EXTENSION_KIND = {".prw": "wheel", ".prr": "rail"}
 _SIMPACK_TYPE_KIND = {0: "rail", 1: "wheel"}
 _LENGTH_UNIT_FACTORS = {"m": 1.0, "mm": 1000.0, "cm": 100.0, "dm": 10.0, "um": 1.0e6, "in": 1.0 / 0.0254}
 
@@ -101,8 +101,8 @@ def read_simpack_profile(path, kind: str | None = None) -> tuple[np.ndarray, np.
     """
     path = Path(path)
     source = str(path)
-    kind = _check_kind(kind, source)
-    lines = _read_text(path)
+    kind = check_kind(kind, source)
+    lines = read_profile_text(path)
 
     header: dict = {}
     spline: dict = {}
@@ -184,7 +184,7 @@ def read_simpack_profile(path, kind: str | None = None) -> tuple[np.ndarray, np.
                            f"'point.end' is missing")
 
     # wheel or rail: header type vs extension vs requested kind
-    ext_kind = _EXTENSION_KIND.get(path.suffix.lower())
+    ext_kind = EXTENSION_KIND.get(path.suffix.lower())
     file_type = header.get("type")
     if file_type is not None:
         if file_type not in _SIMPACK_TYPE_KIND:
@@ -286,18 +286,18 @@ def read_simpack_profile(path, kind: str | None = None) -> tuple[np.ndarray, np.
     steps.append(f"divide by units.len.f = {length_factor:g} (to metres)")
     unit_name = next((u for u, f in _LENGTH_UNIT_FACTORS.items() if math.isclose(f, length_factor)), None)
 
-    extent = _extent(p[:, 0], p[:, 1])
-    if not _in_plausible(extent):
-        if _in_plausible(extent * 1e-3):
+    extent = profile_extent(p[:, 0], p[:, 1])
+    if not in_plausible_extent(extent):
+        if in_plausible_extent(extent * 1e-3):
             hint = ("the data are evidently in millimetres, the length factor should be 1000"
                     if math.isclose(length_factor, 1.0) else "the data look 1000 times too large for this unit")
-        elif _in_plausible(extent * 1e3):
+        elif in_plausible_extent(extent * 1e3):
             hint = ("the data are evidently in metres, the length factor should be 1"
                     if math.isclose(length_factor, 1000.0) else "the data look 1000 times too small for this unit")
         else:
             hint = "that is not the size of a wheel or rail profile"
         raise ProfileError(f"{source}: with the length factor {length_factor:g} ({unit_source}) the points span "
-                           f"{extent:.4g} m (bounding-box diagonal; expected {_plausible_range_text()}): {hint}")
+                           f"{extent:.4g} m (bounding-box diagonal; expected {plausible_extent_text()}): {hint}")
 
     # gauge side first
     reversed_ = bool(p[0, 0] > p[-1, 0])

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import (MIN_POINTS, ProfileError, _check_kind, _extent, _in_plausible, _plausible_range_text,
-                         _read_text, validate_profile_points)
+from .validation import (MIN_POINTS, ProfileError, check_kind, in_plausible_extent, plausible_extent_text,
+                         profile_extent, read_profile_text, validate_profile_points)
 
 _UNIT_HINT = re.compile(r"[\[(]\s*(mm|m)\s*[\])]", re.IGNORECASE)
 
@@ -66,10 +66,10 @@ def read_yz_table(path, units="auto", kind: str | None = None, *, columns=(0, 1)
     """
     path = Path(path)
     source = str(path)
-    kind = _check_kind(kind, source)
+    kind = check_kind(kind, source)
     if len(columns) != 2 or min(columns) < 0 or columns[0] == columns[1]:
         raise ProfileError(f"{source}: columns must be two different non-negative column indices, got {columns!r}")
-    lines = _read_text(path)
+    lines = read_profile_text(path)
 
     rows, line_numbers = [], []
     header_line = None
@@ -105,11 +105,11 @@ def read_yz_table(path, units="auto", kind: str | None = None, *, columns=(0, 1)
                            f"for a profile")
     p = np.array(rows, dtype=float)
     lines_arr = np.array(line_numbers)
-    raw_extent = _extent(p[:, 0], p[:, 1])
+    raw_extent = profile_extent(p[:, 0], p[:, 1])
 
     # units
     def fits(scale):
-        return _in_plausible(raw_extent * scale)
+        return in_plausible_extent(raw_extent * scale)
 
     if isinstance(units, str):
         unit = units.strip().lower()
@@ -133,7 +133,7 @@ def read_yz_table(path, units="auto", kind: str | None = None, *, columns=(0, 1)
                 raise ProfileError(
                     f"{source}: cannot infer the length unit: the points span {raw_extent:.4g} file units "
                     f"(bounding-box diagonal), which is a wheel or rail profile neither in metres "
-                    f"({_plausible_range_text()}) nor in millimetres; pass units=")
+                    f"({plausible_extent_text()}) nor in millimetres; pass units=")
         elif unit in ("m", "mm"):
             unit_name, scale = unit, (1.0 if unit == "m" else 1e-3)
             units_source = "argument"
@@ -145,7 +145,7 @@ def read_yz_table(path, units="auto", kind: str | None = None, *, columns=(0, 1)
                 else:
                     problem = "that is not the size of a wheel or rail profile"
                 raise ProfileError(f"{source}: units='{unit}' but the points span {raw_extent:.4g} {unit} "
-                                   f"(bounding-box diagonal; a profile spans {_plausible_range_text()}): {problem}")
+                                   f"(bounding-box diagonal; a profile spans {plausible_extent_text()}): {problem}")
         else:
             raise ProfileError(f"{source}: units must be 'auto', 'm', 'mm' or a number (metres per file unit), "
                                f"got {units!r}")
@@ -156,7 +156,7 @@ def read_yz_table(path, units="auto", kind: str | None = None, *, columns=(0, 1)
         unit_name, units_source = None, "argument (metres per file unit)"
         if not fits(scale):
             raise ProfileError(f"{source}: with {scale:g} m per file unit the points span {raw_extent * scale:.4g} m "
-                               f"(expected {_plausible_range_text()})")
+                               f"(expected {plausible_extent_text()})")
     p = p * scale
     if mirror_y:
         p[:, 0] = -p[:, 0]

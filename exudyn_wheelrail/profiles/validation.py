@@ -20,8 +20,8 @@ below its top; a wheel has a flange summit on the gauge side and its lowest poin
 
 Unit checks: the bounding-box diagonal of a wheel or rail profile is 0.05-0.2 m; anything within
 :data:`PLAUSIBLE_EXTENT_M` is accepted (the ranges in m and mm do not overlap, so values that are evidently
-millimetres where metres were declared, or the reverse, can be recognised).  The private helpers ``_extent``,
-``_in_plausible`` and ``_plausible_range_text`` serve the readers for that; ``_read_text`` and ``_check_kind`` are
+millimetres where metres were declared, or the reverse, can be recognised).  The private helpers ``profile_extent``,
+``in_plausible_extent`` and ``plausible_extent_text`` serve the readers for that; ``read_profile_text`` and ``check_kind`` are
 the file and ``kind`` argument checks common to all readers.
 """
 from __future__ import annotations
@@ -184,20 +184,24 @@ def validate_profile_points(y, z, source: str, labels=None, *, min_points: int =
             f"or a zig-zag, the points must progress along the profile")
 
 
-def _extent(y, z) -> float:
+def profile_extent(y, z) -> float:
+    """The diagonal of the points' bounding box (in their own unit): how large a profile is."""
     return float(np.hypot(np.ptp(y), np.ptp(z)))
 
 
-def _in_plausible(extent_m: float) -> bool:
+def in_plausible_extent(extent_m: float) -> bool:
+    """A profile of this extent [m] is plausible (:data:`PLAUSIBLE_EXTENT_M`)."""
     return PLAUSIBLE_EXTENT_M[0] <= extent_m <= PLAUSIBLE_EXTENT_M[1]
 
 
-def _plausible_range_text() -> str:
+def plausible_extent_text() -> str:
+    """The plausible extent range as text, for error messages."""
     lo, hi = PLAUSIBLE_EXTENT_M
     return f"{lo:g}-{hi:g} m"
 
 
-def _read_text(path: Path) -> list[str]:
+def read_profile_text(path: Path) -> list[str]:
+    """The lines of a profile file (UTF-8, else Latin-1); :class:`ProfileError` naming the file when unreadable."""
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -209,7 +213,9 @@ def _read_text(path: Path) -> list[str]:
     return text.splitlines()
 
 
-def _check_kind(kind, source) -> str | None:
+def check_kind(kind, source) -> str | None:
+    """``kind`` ('wheel' / 'rail', any case, or None) in lower case; :class:`ProfileError` naming ``source``
+    otherwise."""
     if kind is None:
         return None
     kind = str(kind).lower()

@@ -32,12 +32,12 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from .rigid import (
-    _EMPTY_COEFS,
-    _EMPTY_KNOTS,
-    _KIND_COSINE_BUMP,
-    _KIND_CUSP,
-    _KIND_TABLE,
-    _KIND_V,
+    EMPTY_COEFS,
+    EMPTY_KNOTS,
+    KIND_COSINE_BUMP,
+    KIND_CUSP,
+    KIND_TABLE,
+    KIND_V,
     CROSS_LEVEL,
     GAUGE,
     LATERAL,
@@ -59,7 +59,7 @@ CHANNELS = {"alignment": LATERAL, "level": VERTICAL, "cross_level": CROSS_LEVEL,
 RAILS = {"right": 1.0, "left": -1.0, "both": 0.0}
 
 #: isolated defect shapes (their kind in the packed rows)
-DEFECT_SHAPES = {"bump": _KIND_COSINE_BUMP, "cusp": _KIND_CUSP, "dipped_joint": _KIND_V}
+DEFECT_SHAPES = {"bump": KIND_COSINE_BUMP, "cusp": KIND_CUSP, "dipped_joint": KIND_V}
 
 
 class ChannelValues:
@@ -151,7 +151,7 @@ class ChannelTable(Irregularity):
 
     def _parts(self):
         n = len(self.s_m)
-        return [([_KIND_TABLE, CHANNELS[key], 0, n, 0, 0.0, 0.0, 0.0], self.s_m, c) for key, c in self._coefs.items()]
+        return [([KIND_TABLE, CHANNELS[key], 0, n, 0, 0.0, 0.0, 0.0], self.s_m, c) for key, c in self._coefs.items()]
 
     def __repr__(self):
         return (f"ChannelTable({self.name!r}, {', '.join(self.channels)}, {len(self.s_m)} samples, "
@@ -184,7 +184,7 @@ class IsolatedDefect(Irregularity):
         parts = [(mean, self.depth_m if sign == 0.0 else 0.5 * self.depth_m)]
         if sign != 0.0:
             parts.append((diff, sign * self.depth_m))
-        return [([kind, channel, self.position_m, self.length_m, depth, 0.0, 0.0, 0.0], _EMPTY_KNOTS, _EMPTY_COEFS)
+        return [([kind, channel, self.position_m, self.length_m, depth, 0.0, 0.0, 0.0], EMPTY_KNOTS, EMPTY_COEFS)
                 for channel, depth in parts]
 
     def __repr__(self):

@@ -86,12 +86,13 @@ CROSS_LEVEL = 2  #: channel code: cross level (conventions.py)
 GAUGE = 3        #: channel code: gauge deviation (conventions.py)
 N_CHANNEL_VALUES = 12  # value, d/ds, d2/ds2 of the four channels (irregularity_channels_at)
 
-_KIND_SPAN = 1
-_KIND_HARMONIC = 2
-_KIND_TABLE = 3
-_KIND_COSINE_BUMP = 4  # p0 start, p1 length, p2 depth
-_KIND_CUSP = 5         # p0 centre, p1 length, p2 depth
-_KIND_V = 6            # p0 centre, p1 length, p2 depth
+#: the kinds of a row of the compiled component table (``ROW_COLUMNS`` columns; :mod:`.irregularities` writes them too)
+KIND_SPAN = 1
+KIND_HARMONIC = 2
+KIND_TABLE = 3
+KIND_COSINE_BUMP = 4  # p0 start, p1 length, p2 depth
+KIND_CUSP = 5         # p0 centre, p1 length, p2 depth
+KIND_V = 6            # p0 centre, p1 length, p2 depth
 ROW_COLUMNS = 8  # [kind, channel, p0 ... p5]
 
 
@@ -163,16 +164,16 @@ def _table_at(knots, coefs, k0, n, c0, s):
 def _component_at(rows, r, knots, coefs, s):
     """Value, d/ds and d2/ds2 of the packed component ``rows[r]`` at s."""
     kind = int(rows[r, 0])
-    if kind == _KIND_SPAN:
+    if kind == KIND_SPAN:
         return span_deflection_at(s, rows[r, 2], rows[r, 3], rows[r, 4], rows[r, 5])
-    if kind == _KIND_HARMONIC:
+    if kind == KIND_HARMONIC:
         w = 2.0 * math.pi / rows[r, 3]
         arg = w * s + rows[r, 4]
         a = rows[r, 2]
         return a * math.sin(arg), a * w * math.cos(arg), -a * w * w * math.sin(arg)
-    if kind == _KIND_TABLE:
+    if kind == KIND_TABLE:
         return _table_at(knots, coefs, int(rows[r, 2]), int(rows[r, 3]), int(rows[r, 4]), s)
-    if kind == _KIND_COSINE_BUMP:
+    if kind == KIND_COSINE_BUMP:
         # depth (1 - cos(2π u/L))/2 on u = s - start in [0, L]
         u = s - rows[r, 2]
         length = rows[r, 3]
@@ -181,7 +182,7 @@ def _component_at(rows, r, knots, coefs, s):
         w = 2.0 * math.pi / length
         a = 0.5 * rows[r, 4]
         return a * (1.0 - math.cos(w * u)), a * w * math.sin(w * u), a * w * w * math.cos(w * u)
-    if kind == _KIND_CUSP:
+    if kind == KIND_CUSP:
         # depth (1 - |x|)^2, x = 2 (s - centre)/L in [-1, 1]
         length = rows[r, 3]
         x = 2.0 * (s - rows[r, 2]) / length
@@ -192,7 +193,7 @@ def _component_at(rows, r, knots, coefs, s):
         sign = 1.0 if x >= 0.0 else -1.0
         k = 2.0 / length
         return d * (1.0 - ax) * (1.0 - ax), -2.0 * d * (1.0 - ax) * sign * k, 2.0 * d * k * k
-    if kind == _KIND_V:
+    if kind == KIND_V:
         # depth (1 - |x|), x = 2 (s - centre)/L in [-1, 1]
         length = rows[r, 3]
         x = 2.0 * (s - rows[r, 2]) / length
@@ -325,7 +326,7 @@ class Irregularity:
         n_knots = n_coefs = 0
         for row, k, c in self._parts():
             row = np.array(row, dtype=float)
-            if int(row[0]) == _KIND_TABLE:
+            if int(row[0]) == KIND_TABLE:
                 row[2] += n_knots
                 row[4] += n_coefs
             rows.append(row)
@@ -377,8 +378,9 @@ class IrregularitySum(Irregularity):
         return " + ".join(repr(c) for c in self.components) or "IrregularitySum([])"
 
 
-_EMPTY_KNOTS = np.zeros(0)
-_EMPTY_COEFS = np.zeros((0, 4))
+#: the knots and coefficients of a component without a sampled table (the compiled evaluation's placeholders)
+EMPTY_KNOTS = np.zeros(0)
+EMPTY_COEFS = np.zeros((0, 4))
 
 
 @dataclass(frozen=True, repr=True)
@@ -402,9 +404,9 @@ class SpanDeflection(Irregularity):
         _direction(self.direction)
 
     def _parts(self):
-        row = [_KIND_SPAN, _direction(self.direction), self.start_m, self.span_length_m, self.amplitude_m,
+        row = [KIND_SPAN, _direction(self.direction), self.start_m, self.span_length_m, self.amplitude_m,
                self.transition_length_m, 0.0, 0.0]
-        return [(row, _EMPTY_KNOTS, _EMPTY_COEFS)]
+        return [(row, EMPTY_KNOTS, EMPTY_COEFS)]
 
     @property
     def end_m(self) -> float:
@@ -434,9 +436,9 @@ class Harmonic(Irregularity):
         _direction(self.direction)
 
     def _parts(self):
-        row = [_KIND_HARMONIC, _direction(self.direction), self.amplitude_m, self.wavelength_m, self.phase_rad,
+        row = [KIND_HARMONIC, _direction(self.direction), self.amplitude_m, self.wavelength_m, self.phase_rad,
                0.0, 0.0, 0.0]
-        return [(row, _EMPTY_KNOTS, _EMPTY_COEFS)]
+        return [(row, EMPTY_KNOTS, EMPTY_COEFS)]
 
 
 class SampledIrregularity(Irregularity):
@@ -485,8 +487,8 @@ class SampledIrregularity(Irregularity):
 
     def _parts(self):
         n = len(self.s_m)
-        return [([_KIND_TABLE, LATERAL, 0, n, 0, 0.0, 0.0, 0.0], self.s_m, self._coefs[0]),
-                ([_KIND_TABLE, VERTICAL, 0, n, 0, 0.0, 0.0, 0.0], self.s_m, self._coefs[1])]
+        return [([KIND_TABLE, LATERAL, 0, n, 0, 0.0, 0.0, 0.0], self.s_m, self._coefs[0]),
+                ([KIND_TABLE, VERTICAL, 0, n, 0, 0.0, 0.0, 0.0], self.s_m, self._coefs[1])]
 
     def __repr__(self):
         return f"SampledIrregularity({self.name!r}, {len(self.s_m)} samples, s {self.s_m[0]}..{self.s_m[-1]} m)"
