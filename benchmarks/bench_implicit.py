@@ -2,7 +2,7 @@
 lateral force, for three Newton configurations (``NEWTON``): ``before`` — the connector's forward-difference
 Jacobian (14 contact calls) kept across steps (Exudyn's modified Newton); ``after`` — the pipeline: its
 semi-analytic Jacobian (one contact call, ``multibody/contact_jacobian.py``), kept across steps
-(``vehicle_builder.solver_settings``); ``per_step`` — the semi-analytic Jacobian updated at every step
+(``exudyn_settings.solver_settings``); ``per_step`` — the semi-analytic Jacobian updated at every step
 (``modifiedNewtonJacUpdatePerStep``).
 
 1. **The command line, before and after** — ``python -m exudyn_wheelrail rtri --span 20 --speed-kmh 250

@@ -548,7 +548,7 @@ MUTANTS = [
        "y_h = hp[kB, 1] - hp[kA, 1]",
        "track-following frame: lateral offset of body B's frame without the term -psi(s_A) d (not the versine)",
        [T + "test_curving.py"]),
-    # ---- irregularities: compiled components (multibody/track.py) ---------------------------------------------------
+    # ---- irregularities: compiled components (track/rigid.py) ---------------------------------------------------
     _m("defect-bump-full-depth", P + "track/rigid.py",
        "a = 0.5 * rows[r, 4]",
        "a = rows[r, 4]",

@@ -1,4 +1,4 @@
-"""Steady curving (scenarios/curving.py, multibody/track_following.py, the connector's curve terms) against
+"""Steady curving (scenarios/curving.py, rolling_stock/track_following.py, the connector's curve terms) against
 independent references: the lateral force balance of the whole vehicle ΣΣY = m (V²/R cos φ − g sin φ) at cant
 deficiency and excess and ΣΣY ≈ 0 at the balance speed (Manchester vehicle, R = 600 m, 150 mm cant); a free
 coned wheelset settles at the pure-rolling shift y = r0 b/(R λ); left curves mirror right ones; the chord geometry

@@ -80,7 +80,7 @@ def _net_lateral(h, out):
 
 @pytest.mark.parametrize("speed_km_h", [20.0, 50.0, 100.0, 200.0, 300.0])
 def test_centred_vehicle_on_perfect_flexible_track_carries_no_net_lateral_force(speed_km_h):
-    """At the step the pipeline chooses (no run.dt_s: flexible_scenario.default_step_s), through the window's
+    """At the step the pipeline chooses (no run.dt_s: flexible_track.default_step_s), through the window's
     first move and 5 ms beyond it (at the old 0.4 ms step the false state, 27 kN at 50 km/h and 13 kN at 100 km/h,
     is there one step after the move), every wheelset's net lateral force stays at rounding level.
 
