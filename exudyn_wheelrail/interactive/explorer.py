@@ -104,7 +104,7 @@ class ExplorerSettings:
     faster), and the run window ``"passage"`` (until the whole car has left the span plus the run-out) or
     ``"published"`` (the paper's 2.5 s)."""
 
-    run: RunSettings = field(default_factory=lambda: RunSettings(solver="rk44", dt_s=1e-3, duration_s=DURATION_AUTO))
+    run: RunSettings = field(default_factory=lambda: RunSettings(solver="rk44", duration_s=DURATION_AUTO))
     contact: ContactSettings = field(default_factory=ContactSettings)
     window: str = "passage"
 

@@ -102,10 +102,10 @@ def _integer(name: str, value, lo: int, hi: int | None = None) -> int:
 class RunSettings:
     """How a run is integrated and recorded (module docstring).  ``steps = ceil(duration_s / dt_s)``."""
 
-    #: integrator, one of :data:`SOLVERS`
+    #: integrator, one of :data:`~.solvers.SOLVERS`
     solver: str = "newmark"
     #: time step [s] (fixed)
-    dt_s: float = 1e-3
+    dt_s: float = DEFAULT_STEP_S
     #: simulated time [s], or :data:`DURATION_AUTO` (the spec resolves it: :meth:`with_duration`)
     duration_s: float | str = DURATION_AUTO
     #: with ``duration_s = "auto"``: distance the trailing wheelset runs past the end of the last track feature [m]
