@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from ..conventions import outward_sign
+from ..profiles.profiles import resolve_wheel
 
 __all__ = ["STEADY_TOLERANCE", "STEADY_A_MIN_M_S2", "SIDES_IN_CURVE", "minimum_radius_m", "flange_play_m", "curving_columns",
            "averaging_window", "steady_state", "pure_rolling_shift_m"]
@@ -58,7 +59,6 @@ RADIUS_FLOOR_M = 100.0
 def flange_play_m(vehicle) -> float:
     """Total lateral play of a wheelset between its rails: gauge − back-to-back − 2 × flange thickness (the
     thickness 10 mm above the tape circle, from the wheel profile)."""
-    from ..profiles.profiles import resolve_wheel
     geo = vehicle.geometry
     wheel = resolve_wheel(geo.wheel_profile)
     c = wheel.curve

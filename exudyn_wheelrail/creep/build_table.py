@@ -58,6 +58,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import __version__
+from .fastsim import DEFAULT_NX, DEFAULT_NY, fastsim_core
 from .linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients, table_poisson
 from .table import (FASTSIM_TABLE_PATH, FORMAT, FORMAT_VERSION, NORMALISATION, NU_TABLE, TABLE_PATH,
                     normalisation_coefficients, physical_creepages, save_table)
@@ -179,13 +181,11 @@ def generator_function(generator: str):
                                f"available ({exc})") from exc
         return mod.kalker_exact
     if generator == "fastsim":
-        from .fastsim import fastsim_core
         return fastsim_core
     raise ValueError(f"unknown generator {generator!r}; choose one of {GENERATORS}")
 
 
 def _fastsim_options(options):
-    from .fastsim import DEFAULT_NX, DEFAULT_NY
     opts = dict(n_x=DEFAULT_NX, n_y=DEFAULT_NY, flexibility="three")
     unknown = set(options) - set(opts)
     if unknown:
@@ -325,11 +325,7 @@ def _assemble(g, chunks, results):
 
 
 def _package_version():
-    try:
-        from .. import __version__
-        return __version__
-    except ImportError:      # pragma: no cover
-        return "unknown"
+    return __version__
 
 
 def _git_commit():

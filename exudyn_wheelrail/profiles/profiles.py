@@ -13,6 +13,8 @@ import numpy as np
 
 from .curve import ProfileCurve
 from .dense import DenseProfile
+from .readers import load_profile
+from .standard import S1002_FLANGE_BACK_Y_M, s1002_dense, uic60_dense
 from .validation import FLANGE_HEIGHT_RANGE_M, FLANGE_TIP_MAX_Y_M, ProfileError, check_profile_kind
 
 
@@ -127,7 +129,6 @@ class WheelProfile:
     @classmethod
     def s1002(cls, **kw) -> "WheelProfile":
         """The S1002 wheel (EN 13715), exact analytic definition."""
-        from .standard import S1002_FLANGE_BACK_Y_M, s1002_dense
         kw.setdefault("flange_back_y_m", S1002_FLANGE_BACK_Y_M)
         kw.setdefault("name", "S1002")
         return cls.from_dense(s1002_dense(), **kw)
@@ -135,7 +136,6 @@ class WheelProfile:
     @classmethod
     def from_file(cls, path, smoothing=None, **kw) -> "WheelProfile":
         """A wheel profile from a SIMPACK ``.prw`` file or a two-column y-z table (see :mod:`.readers`)."""
-        from .readers import load_profile
         kw.setdefault("name", Path(path).stem)
         return cls.from_dense(load_profile(path, kind="wheel", smoothing=smoothing), **kw)
 
@@ -215,7 +215,6 @@ class RailProfile:
     @classmethod
     def uic60(cls, **kw) -> "RailProfile":
         """The UIC60 / 60E1 rail head (EN 13674-1), exact arc definition."""
-        from .standard import uic60_dense
         kw.setdefault("name", "UIC60")
         return cls.from_dense(uic60_dense(), **kw)
 
@@ -223,7 +222,6 @@ class RailProfile:
     def from_file(cls, path, smoothing=None, canted_tan: float | None = None, **kw) -> "RailProfile":
         """A rail profile from a SIMPACK ``.prr`` file or a y-z table; ``canted_tan`` is the inclination the data
         already contain (the Manchester UIC60 file is canted 1:40), detected when None, so it is not applied twice."""
-        from .readers import load_profile
         kw.setdefault("name", Path(path).stem)
         return cls.from_dense(load_profile(path, kind="rail", smoothing=smoothing), canted_tan=canted_tan, **kw)
 
