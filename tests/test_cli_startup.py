@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from exudyn_wheelrail import contact_defaults
-from exudyn_wheelrail.cli import _ProgressLines, _show_progress, build_parser
+from exudyn_wheelrail.cli import build_parser
+from exudyn_wheelrail.cli.common import ProgressLines, show_progress
 from exudyn_wheelrail.scenarios.plots import decimated
 from exudyn_wheelrail.simulation.presets import PRESETS, apply_preset
 from exudyn_wheelrail.simulation.recorder import ProgressBar
@@ -77,13 +78,13 @@ def test_progress_is_one_option_of_every_long_command():
     assert parser.parse_args(base + ["--no-progress"]).progress is False
     assert parser.parse_args(base + ["--quiet"]).progress is False      # the creep table's former flag
     assert parser.parse_args(["run", "s.toml", "--out", "o", "--no-progress"]).progress is False
-    assert _show_progress(argparse.Namespace(progress=True)) and not _show_progress(argparse.Namespace(progress=False))
-    assert _show_progress(argparse.Namespace(progress=None)) == sys.stderr.isatty()
+    assert show_progress(argparse.Namespace(progress=True)) and not show_progress(argparse.Namespace(progress=False))
+    assert show_progress(argparse.Namespace(progress=None)) == sys.stderr.isatty()
 
 
 def test_a_progress_bar_into_a_file_writes_whole_lines():
     log = io.StringIO()
-    bar = ProgressBar(1.0, stream=_ProgressLines(log), label="run: ")
+    bar = ProgressBar(1.0, stream=ProgressLines(log), label="run: ")
     for k in range(1001):
         bar.update(k * 1e-3)
     bar.close("ok")
