@@ -294,7 +294,7 @@ def test_moving_force_mid_span_history_against_fryba(span_modes, zeta):
         modes = BridgeModel((L,), SEC, damping_ratio=zeta).modes(f_max_Hz=150.0)
     P, v = 2e5, 40.0                          # α = v/(2 f1 L) = 0.22
     t, q, _ = simulate_moving_forces(modes, x_m=[0.0], forces_N=[[0.0, P, 0.0]], speed_m_s=v, s_start_m=0.0,
-                                     end_time_s=L / v + 0.25, step_s=5e-4)
+                                     end_time_s=L / v + 0.25, dt_s=5e-4)
     w = q @ modes.shape_at(L / 2)[1]
     ref = fryba_moving_force(L / 2, t, force_N=P, speed_m_s=v, span_m=L, EI_Nm2=SEC.EI_y_Nm2, m_kg_m=SEC.m_kg_m,
                              damping_ratio=zeta, n_terms=60)
@@ -311,7 +311,7 @@ def test_ffrf_formulation_equals_the_modal_one_and_has_the_beam_inertia(span_mod
     runs = {}
     for form in ("modal", "ffrf"):
         t, q, _ = simulate_moving_forces(span_modes, x_m=[0.0], forces_N=[[0.0, P, 0.0]], speed_m_s=v,
-                                         s_start_m=0.0, end_time_s=L / v + 0.1, step_s=5e-4, formulation=form)
+                                         s_start_m=0.0, end_time_s=L / v + 0.1, dt_s=5e-4, formulation=form)
         runs[form] = q @ span_modes.shape_at(L / 2)[1]
     ref = fryba_moving_force(L / 2, t, force_N=P, speed_m_s=v, span_m=L, EI_Nm2=SEC.EI_y_Nm2, m_kg_m=SEC.m_kg_m,
                              n_terms=60)
@@ -348,7 +348,7 @@ def test_train_of_forces_resonates_at_f1_d():
     for v in vs:
         T = (L + offs[-1]) / v + 0.3
         t, q, _ = simulate_moving_forces(modes, x_m=-offs, forces_N=[[0.0, P, 0.0]] * n_f, speed_m_s=v,
-                                         s_start_m=0.0, end_time_s=T, step_s=2e-3)
+                                         s_start_m=0.0, end_time_s=T, dt_s=2e-3)
         w_max.append(np.max(np.abs(q @ modes.shape_at(L / 2)[1])))
         tt = np.arange(0.0, T, 5e-4)
         w_ref.append(np.max(np.abs(fryba_moving_force(L / 2, tt, force_N=P, speed_m_s=v, span_m=L,
@@ -374,7 +374,7 @@ def test_train_of_forces_second_resonance_at_half_f1_d():
     w_max = []
     for v in vs:
         t, q, _ = simulate_moving_forces(modes, x_m=-offs, forces_N=[[0.0, P, 0.0]] * n_f, speed_m_s=v,
-                                         s_start_m=0.0, end_time_s=(L + offs[-1]) / v + 0.3, step_s=2e-3)
+                                         s_start_m=0.0, end_time_s=(L + offs[-1]) / v + 0.3, dt_s=2e-3)
         w_max.append(np.max(np.abs(q @ modes.shape_at(L / 2)[1])))
     k = int(np.argmax(w_max))
     assert vs[k] == pytest.approx(v_res, rel=0.03)
@@ -518,7 +518,7 @@ def test_bad_section_modes_and_exudyn_input(span_modes):
         fryba_moving_force(1.0, 0.1, force_N=1.0, speed_m_s=0.0, span_m=L, EI_Nm2=1.0, m_kg_m=1.0)
     with pytest.raises(ValueError, match="solver='implicit'"):
         simulate_moving_forces(span_modes, x_m=[0.0], forces_N=[[0, 1, 0]], speed_m_s=1.0, s_start_m=0.0,
-                               end_time_s=0.1, step_s=1e-3, formulation="ffrf", solver="explicit")
+                               end_time_s=0.1, dt_s=1e-3, formulation="ffrf", solver="explicit")
 
 
 def test_large_models_use_the_sparse_eigen_solver_consistently():

@@ -126,7 +126,7 @@ def test_deck_under_harmonic_support_motion_against_sdof_and_steady_state():
     motion = SmoothHarmonicSupportMotion(a, Om / (2 * math.pi), ramp_cycles=0.0, plateau_cycles=math.inf)
     T, h = 3.0, 5e-4
     t, q, _ = simulate_moving_forces(modes, x_m=[0.0], forces_N=[[0.0, 0.0, 0.0]], speed_m_s=1.0, s_start_m=-1e3,
-                                     end_time_s=T, step_s=h, support_motion=motion)
+                                     end_time_s=T, dt_s=h, support_motion=motion)
     G = modes.participation_factors()[j1]
     ref = solve_ivp(lambda tt, x: [x[1], -2 * zeta * w1 * x[1] - w1 ** 2 * x[0] - G * motion.state(tt)[2]],
                     (0.0, T), [0.0, 0.0], method="DOP853", rtol=1e-11, atol=1e-14, t_eval=t, max_step=1e-3).y[0]
@@ -156,7 +156,7 @@ def test_ffrf_formulation_takes_the_same_support_motion():
     out = {}
     for form in ("modal", "ffrf"):
         t, q, _ = simulate_moving_forces(modes, x_m=[0.0], forces_N=[[0.0, 0.0, 0.0]], speed_m_s=1.0,
-                                         s_start_m=-1e3, end_time_s=0.5, step_s=1e-3, formulation=form,
+                                         s_start_m=-1e3, end_time_s=0.5, dt_s=1e-3, formulation=form,
                                          support_motion=motion)
         out[form] = q
     assert np.abs(out["modal"]).max() > 1e-5

@@ -299,7 +299,7 @@ def test_bridge_scenario_against_the_moving_force_reference(tmp_path):
     _, modes, _ = build_bridge_modes(scn["structure"])
     _, q, _ = simulate_moving_forces(modes, x_m=x, forces_N=[[0.0, p, 0.0] for p in P], speed_m_s=V,
                                      s_start_m=scn["vehicle"]["start_s_m"] - x.max(), end_time_s=s["steps"] * dt,
-                                     step_s=dt)
+                                     dt_s=dt)
     w_ref = q @ modes.shape_at(scn["structure"]["start_m"] + 20.0)[1]
     assert np.max(w) == pytest.approx(np.max(w_ref), rel=0.01)
     sp = s["deck"]["spans"][0]

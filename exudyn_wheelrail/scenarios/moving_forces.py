@@ -19,7 +19,7 @@ __all__ = ["simulate_moving_forces", "benchmark_formulations"]
 
 
 def simulate_moving_forces(modes: BridgeModes, *, x_m, forces_N, speed_m_s: float, s_start_m: float,
-                           end_time_s: float, step_s: float, formulation: str = "modal", solver: str = "implicit",
+                           end_time_s: float, dt_s: float, formulation: str = "modal", solver: str = "implicit",
                            support_motion=None):
     """Run a bridge under constant moving forces in Exudyn (no vehicle): returns ``(t, q, seconds per step)``
     with ``q`` (n_t, n_modes) the modal coordinates at every step.  ``solver``: ``"implicit"`` (generalized-α,
@@ -30,8 +30,8 @@ def simulate_moving_forces(modes: BridgeModes, *, x_m, forces_N, speed_m_s: floa
         raise ValueError(f"solver={solver!r}: expected 'implicit' or 'explicit'")
     if solver == "explicit" and formulation == "ffrf":
         raise ValueError("the FFRF formulation holds its frame by constraints: use solver='implicit'")
-    T, h = finite("end_time_s", end_time_s), finite("step_s", step_s)
-    for name, x in (("end_time_s", T), ("step_s", h)):
+    T, h = finite("end_time_s", end_time_s), finite("dt_s", dt_s)
+    for name, x in (("end_time_s", T), ("dt_s", h)):
         if not x > 0.0:
             raise ValueError(f"{name}={x!r}: expected a value > 0")
     SC = exu.SystemContainer()
@@ -55,7 +55,7 @@ def simulate_moving_forces(modes: BridgeModes, *, x_m, forces_N, speed_m_s: floa
     return data[:, 0], data[:, 1:], cost
 
 
-def benchmark_formulations(n_repeat: int = 3, step_s: float = 5e-4, f_max_Hz: float = 150.0) -> dict:
+def benchmark_formulations(n_repeat: int = 3, dt_s: float = 5e-4, f_max_Hz: float = 150.0) -> dict:
     """The modal and FFRF formulations on the same moving-force case (the figures of the module docstring):
     a simply supported 20 m span (m = 15 t/m, f1 = 4.53 Hz, ζ = 0), one 200 kN force at 40 m/s, 0.75 s;
     returns per formulation the peak mid-span deflection error against :func:`fryba_moving_force` (relative to
@@ -68,7 +68,7 @@ def benchmark_formulations(n_repeat: int = 3, step_s: float = 5e-4, f_max_Hz: fl
         best = math.inf
         for _ in range(n_repeat):
             t, q, cost = simulate_moving_forces(modes, x_m=[0.0], forces_N=[[0.0, P, 0.0]], speed_m_s=V,
-                                                s_start_m=0.0, end_time_s=0.75, step_s=step_s, formulation=form)
+                                                s_start_m=0.0, end_time_s=0.75, dt_s=dt_s, formulation=form)
             best = min(best, cost)
         w = q @ modes.shape_at(L / 2)[1]
         ref = fryba_moving_force(L / 2, t, force_N=P, speed_m_s=V, span_m=L, EI_Nm2=sec.EI_y_Nm2,

@@ -9,7 +9,7 @@ from .solvers import GENERALIZED_ALPHA_SPECTRAL_RADIUS, METHODS, NEWMARK_BETA, N
 __all__ = ["simulation_settings", "solver_settings", "run_solver_settings"]
 
 
-def simulation_settings(end_time_s: float, step_s: float, newton_tolerance: float = 1e-6,
+def simulation_settings(end_time_s: float, dt_s: float, newton_tolerance: float = 1e-6,
                         spectral_radius: float = 1.0) -> exu.SimulationSettings:
     """Quiet, file-free Exudyn settings for ``mbs.SolveDynamic`` (and ``mbs.SolveStatic``: Newton to a residual
     of ``newton_tolerance`` N, relative 1e-10).
@@ -26,10 +26,10 @@ def simulation_settings(end_time_s: float, step_s: float, newton_tolerance: floa
     s = exu.SimulationSettings()
     s.solution.file.write = False
     s.solution.sensors.writeHeader = False
-    s.solution.sensors.writePeriod = float(step_s)
+    s.solution.sensors.writePeriod = float(dt_s)
     s.timeIntegration.verboseMode = 0
     s.timeIntegration.endTime = float(end_time_s)
-    s.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / step_s)))
+    s.timeIntegration.numberOfSteps = max(1, int(round(end_time_s / dt_s)))
     s.timeIntegration.newton.relativeTolerance = newton_tolerance
     s.timeIntegration.newton.absoluteTolerance = newton_tolerance
     s.timeIntegration.generalizedAlpha.spectralRadius = spectral_radius
@@ -41,10 +41,10 @@ def simulation_settings(end_time_s: float, step_s: float, newton_tolerance: floa
     return s
 
 
-def solver_settings(solver: str, step_s: float, steps: int, newton_tolerance: float = 1e-6,
+def solver_settings(solver: str, dt_s: float, steps: int, newton_tolerance: float = 1e-6,
                     newmark_beta: float = NEWMARK_BETA, newmark_gamma: float = NEWMARK_GAMMA,
                     spectral_radius: float = GENERALIZED_ALPHA_SPECTRAL_RADIUS):
-    """Settings and solver type for ``mbs.SolveDynamic``, fixed step ``step_s`` [s] for ``steps`` steps:
+    """Settings and solver type for ``mbs.SolveDynamic``, fixed step ``dt_s`` [s] for ``steps`` steps:
 
     * ``"newmark"`` — generalized-α as Newmark (β, γ; the paper's β = 1/4, γ = 1/2 is the trapezoidal rule),
       index-2 constraints, modified Newton (below);
@@ -70,7 +70,7 @@ def solver_settings(solver: str, step_s: float, steps: int, newton_tolerance: fl
     1 ms, −1 … −4 % at 2 ms, so the Jacobian is kept.  Returns ``(settings, exu.DynamicSolverType)``."""
     if solver not in METHODS:
         raise ValueError(f"solver={solver!r}: expected one of {', '.join(repr(k) for k in METHODS)}")
-    s = simulation_settings(steps * step_s, step_s, newton_tolerance=newton_tolerance)
+    s = simulation_settings(steps * dt_s, dt_s, newton_tolerance=newton_tolerance)
     s.timeIntegration.numberOfSteps = int(steps)
     solver_type = getattr(exu.DynamicSolverType, METHODS[solver].exudyn_type)
     if not METHODS[solver].implicit:
