@@ -25,7 +25,8 @@ import pytest
 
 from exudyn_wheelrail.cli import main
 from exudyn_wheelrail.scenarios import bridge_crossing as bc
-from exudyn_wheelrail.structures.bridge import fryba_moving_force
+from exudyn_wheelrail.scenarios import bridge_crossing_loads as bcl
+from exudyn_wheelrail.structures import fryba_moving_force
 from exudyn_wheelrail.structures.load_models import (HSLM_A, HSLM_NAMES, AxleTrain, characteristic_spacing_m,
                                                      flexural_rigidity_Nm2, hslm_a, modal_moving_load_response,
                                                      quasi_static_midspan_deflection_m, read_axle_file,
@@ -457,7 +458,7 @@ def test_an_unstable_integration_ends_diverged_without_peaks(tmp_path, capsys):
 
 
 def test_consist_files_need_the_reader_of_this_installation(tmp_path, capsys, monkeypatch):
-    monkeypatch.setitem(bc.__dict__, "TRAIN_AXLES", "exudyn_wheelrail.scenarios.no_such_module:train_axles")
+    monkeypatch.setitem(bcl.__dict__, "TRAIN_AXLES", "exudyn_wheelrail.scenarios.no_such_module:train_axles")
     consist = tmp_path / "train.toml"
     consist.write_text("[consist]\n", encoding="utf-8")
     assert _main(ARGS + ["--train", str(consist), "--out", str(tmp_path / "o")]) == 2

@@ -30,16 +30,20 @@ from __future__ import annotations
 
 import math
 
+import exudyn as exu
 import numpy as np
+from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2, VObjectGenericODE2
 
-from .bridge_crossing import STEPS_PER_PERIOD, BridgeCrossing, LoadModel, LoadModelHandle
+from ..rolling_stock.vehicle_builder import GRAVITY_M_S2
+from .bridge_crossing_case import BridgeCrossing
+from .bridge_crossing_loads import LoadModel, LoadModelHandle
+from .defaults import STEPS_PER_PERIOD
 
 __all__ = ["SPRUNG_MASSES", "sprung_parameters"]
 
 
 def sprung_parameters(case: BridgeCrossing) -> dict:
     """Per axle ``m_kg``, ``k_N_m``, ``c_N_s_m`` (arrays) of the case's axles (module docstring)."""
-    from ..rolling_stock.vehicle_builder import GRAVITY_M_S2
     m = np.asarray(case.axles.load_N, dtype=float) / GRAVITY_M_S2
     w = 2.0 * math.pi * case.sprung_frequency_Hz
     return {"m_kg": m, "k_N_m": m * w * w, "c_N_s_m": 2.0 * case.sprung_damping_ratio * m * w}
@@ -84,9 +88,6 @@ class _Coupling:
 
 
 def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
-    import exudyn as exu
-    from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2, VObjectGenericODE2
-
     par = sprung_parameters(case)
     cp = _Coupling(case, bridge, par)
     na, n = case.axles.n_axles, bridge.modes.n_modes

@@ -31,7 +31,20 @@ import math
 
 import numpy as np
 
-from .bridge_crossing import BridgeCrossing, LoadModel, LoadModelHandle
+from ..analysis.safety import EN14363_YQ_LIMIT, WHEEL_UNLOADING_LIMIT
+from ..contact.pair import WheelRailPair
+from ..multibody.connector import add_train_contact
+from ..rolling_stock.train import ConsistError, build_train, load_consist
+from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
+from ..simulation.runner import RESOLUTION_LIMIT
+from ..simulation.settings import ContactSettings
+from ..structures.load_models import AxleTrain
+from ..track.rigid import RigidStraightTrack
+from .bridge_crossing_case import BridgeCrossing
+from .bridge_crossing_loads import LoadModel, LoadModelHandle
+from .build import train_probes
+from .run import train_criteria
+from .spec import DEFAULT_FLOOR_HEIGHT_M
 
 __all__ = ["VEHICLES", "CONTACT_DT_S", "train_axles", "hertz_dt_bound_s", "build_train_on_straight_track"]
 
@@ -41,7 +54,6 @@ CONTACT_DT_S = 1e-3
 
 
 def _consist(case: BridgeCrossing):
-    from ..rolling_stock.train import ConsistError, load_consist
     if case.train_file is None:
         raise ValueError("--train: the vehicles model needs a consist file (--train FILE.toml)")
     try:
@@ -53,8 +65,6 @@ def _consist(case: BridgeCrossing):
 def train_axles(path):
     """The static axle loads of a consist file as an :class:`~exudyn_wheelrail.structures.load_models.AxleTrain`
     (the moving-load model of the same train): wheelset distances behind the leading one, their lever-rule loads."""
-    from ..rolling_stock.train import ConsistError, load_consist
-    from ..structures.load_models import AxleTrain
     try:
         consist = load_consist(path)
     except ConsistError as exc:
@@ -66,8 +76,6 @@ def train_axles(path):
 def hertz_dt_bound_s(consist) -> float:
     """Half the step at which the stiffest wheelset of ``consist`` on its linearised Hertz contact reaches the
     resolution bound (module docstring) [s]."""
-    from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
-    from ..simulation.runner import RESOLUTION_LIMIT
     omega = 0.0
     for car in consist.cars:
         v = car.vehicle
@@ -86,12 +94,6 @@ def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: 
     """``(train, track)``: the consist built in ``mbs`` with one wheel–rail connector (the first car's profiles,
     the default contact settings) on the straight rigid track, coupled to ``bridge`` (an
     :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge`, e.g. a deck or a flexible track) if given."""
-    from ..contact.pair import WheelRailPair
-    from ..multibody.connector import add_train_contact
-    from ..rolling_stock.train import build_train
-    from ..track.rigid import RigidStraightTrack
-    from ..simulation.settings import ContactSettings
-
     geo = consist.cars[0].vehicle.geometry
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
@@ -104,11 +106,6 @@ def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: 
 
 
 def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
-    from ..simulation.settings import ContactSettings
-    from .build import train_probes
-    from .run import train_criteria
-    from .spec import DEFAULT_FLOOR_HEIGHT_M
-
     consist = _consist(case)
     V = case.speed_m_s
     x_ws = consist.wheelset_x_m()
@@ -123,7 +120,6 @@ def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
               for j, w in enumerate(train.static_wheel_loads_N()) for side in ("right", "left")}
 
     def summary(ts: dict) -> dict:
-        from ..analysis.safety import EN14363_YQ_LIMIT, WHEEL_UNLOADING_LIMIT
         wheels = [c for c in ts if c.startswith(("Y_w", "Q_w")) and c.endswith("_N")]
         try:
             crit = train_criteria(train, ts, V, static, wheels, vehicle="passenger", yq_limit=EN14363_YQ_LIMIT,

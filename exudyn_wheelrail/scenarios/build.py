@@ -14,13 +14,31 @@ the train's wheelsets car after car and every car's car-body points suffixed ``_
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
+import exudyn as exu
+
+from ..contact.pair import WheelRailPair
+from ..multibody.connector import add_wheel_rail_contact, place_on_rails
 from ..rolling_stock.placement import start_on_track
+from ..rolling_stock.train import build_train, car_suffix, load_consist, place_train_on_track
+from ..rolling_stock.vehicle_builder import build_vehicle
+from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
 from ..simulation.exudyn_settings import run_solver_settings
 from ..simulation.recorder import Recorder, vehicle_probes
 from ..simulation.settings import DURATION_AUTO, MAX_STEPS, ContactSettings, RunSettings, SettingsError
+from ..structures.beam import DeckSection
+from ..structures.bridge import BridgeModel
+from ..structures.bridge_exudyn import add_bridge
+from ..track.flexible import add_flexible_track
+from ..track.irregularities import IsolatedDefect
+from ..track.measured import read_irregularity_csv
+from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
+from ..track.spectra import SpectralIrregularity
 from .deck import deck_probes, en1990_cutoff_Hz, support_motion
+from .flexible_track import (flexible_track_modes, flexible_track_probes, flexible_track_window,
+                             start_on_flexible_track)
 from .spec import ScenarioError, as_scenario, features_end_m
 
 __all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "vehicle_data", "scenario_run_settings",
@@ -33,7 +51,6 @@ MODES_CUTOFF_MARGIN = 1.01
 
 def build_track(scn: dict):
     """The :class:`~..multibody.track.RigidStraightTrack` of the scenario's ``track`` components."""
-    from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
     parts = []
     for comp in scn["track"]:
         if comp["type"] == "span_deflection":
@@ -44,15 +61,12 @@ def build_track(scn: dict):
             parts.append(Harmonic(amplitude_m=comp["amplitude_m"], wavelength_m=comp["wavelength_m"],
                                   phase_rad=comp["phase_rad"], direction=comp["direction"]))
         elif comp["type"] == "measured":
-            from ..track.measured import read_irregularity_csv
             parts.append(read_irregularity_csv(comp["file"]))
         elif comp["type"] == "spectrum":
-            from ..track.spectra import SpectralIrregularity
             parts.append(SpectralIrregularity(comp["spectrum"], comp["length_m"], comp["seed"], band_m=comp["band_m"],
                                               step_m=comp["step_m"], channels=comp["channels"],
                                               start_m=comp["start_m"], scale=comp["scale"]))
         elif comp["type"] == "defect":
-            from ..track.irregularities import IsolatedDefect
             parts.append(IsolatedDefect(comp["shape"], comp["position_m"], comp["length_m"], comp["depth_m"],
                                         rail=comp["rail"], direction=comp["direction"]))
         else:
@@ -64,7 +78,6 @@ def build_track(scn: dict):
 
 def build_bridge_modes(structure: dict):
     """``(BridgeModel, BridgeModes, f_cut_Hz)`` of a normalised ``[structure]`` table."""
-    from ..structures.bridge import BridgeModel, DeckSection
     sec = DeckSection(**structure["section"])
     model = BridgeModel(tuple(structure["spans_m"]), sec, continuous=structure["continuous"],
                         damping_ratio=structure["damping_ratio"], rail_height_m=structure["rail_height_m"],
@@ -81,10 +94,8 @@ def build_bridge_modes(structure: dict):
 def vehicle_data(scn: dict):
     """The scenario's :class:`~..multibody.vehicle_data.VehicleData`, or its :class:`~..multibody.train.Consist` for
     a train (``vehicle.consist``; both have ``name`` and ``wheelset_x_m()``, the leading wheelset's x the largest)."""
-    from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
     v = scn["vehicle"]
     if "consist" in v:
-        from ..rolling_stock.train import load_consist
         return load_consist(v["consist"])
     return load_vehicle_with_overrides(v.get("name") or v["file"], v.get("overrides") or None)
 
@@ -159,12 +170,6 @@ def _carbody_x(x, vehicle) -> float:
 def build_scenario(scenario) -> ScenarioModel:
     """Build and assemble the Exudyn model of a scenario (path or dict): vehicle, track, bridge, contact,
     recorder; not solved."""
-    import exudyn as exu
-
-    from ..contact.pair import WheelRailPair
-    from ..multibody.connector import add_wheel_rail_contact, place_on_rails
-    from ..rolling_stock.vehicle_builder import build_vehicle
-
     scn, _ = as_scenario(scenario)
     vehicle = vehicle_data(scn)
     run, coverage = scenario_run_settings(scn, vehicle)
@@ -181,7 +186,6 @@ def build_scenario(scenario) -> ScenarioModel:
     mbs = sc.AddSystem()
     springs = cs.wheel_rail == "springs"
     if train:
-        from ..rolling_stock.train import build_train
         model = build_train(mbs, vehicle, speed_m_s=V, s_start_m=s_start, wheel_rail="springs" if springs else "none")
     else:
         model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start,
@@ -191,15 +195,12 @@ def build_scenario(scenario) -> ScenarioModel:
     track = build_track(scn)
     bridge = contact = shift = motion = None
     if modes is not None:
-        from ..structures.bridge import add_bridge
         bridge = add_bridge(mbs, modes, formulation=scn["structure"]["formulation"])
         if "support_motion" in scn["structure"]:
             motion = support_motion(scn["structure"]["support_motion"], run.end_time_s)
             bridge.add_support_motion(mbs, motion)
     flex = window = None
     if "flexible_track" in scn and not springs:       # rails on pads, sleepers and ballast: the contact's deck slot
-        from ..track.flexible import add_flexible_track
-        from .flexible_track import flexible_track_modes
         flex = add_flexible_track(mbs, flexible_track_modes(
             scn["flexible_track"], s_start_m=s_start, wheelset_x_m=vehicle.wheelset_x_m(), speed_m_s=V,
             end_time_s=run.end_time_s, solver=run.solver, dt_s=run.dt_s, moving_window=True))
@@ -213,14 +214,12 @@ def build_scenario(scenario) -> ScenarioModel:
         except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
             raise RuntimeError(f"contact.creep_law = {cs.creep_law!r}: {exc}") from None
         if train:
-            from ..rolling_stock.train import place_train_on_track
             model.contact = contact
             shift = place_train_on_track(mbs, model, pair, track)
         else:
             place_on_rails(mbs, model, pair)
             shift = start_on_track(mbs, model, track)
         if flex is not None:
-            from .flexible_track import flexible_track_window, start_on_flexible_track
             start_on_flexible_track(mbs, model, flex, contact=contact)
             window = flexible_track_window(scn["flexible_track"], contact=contact, handle=flex)
     h = ScenarioModel(scenario=scn, system_container=sc, mbs=mbs, vehicle=vehicle, model=model, pair=pair,
@@ -243,7 +242,6 @@ def build_scenario(scenario) -> ScenarioModel:
             probes += deck_probes(contact=contact, bridge=bridge, modes=modes, spans_m=st["spans_m"],
                                   start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
         if flex is not None:
-            from .flexible_track import flexible_track_probes
             probes += flexible_track_probes(contact=contact, handle=flex, model=model, window=window)
         h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
@@ -260,9 +258,6 @@ def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, c
     the whole train, car after car), the deck's with a bridge, and every car's car-body points (``outputs.
     carbody_points``, x from that car's centre), named ``<point>_c<k>`` (k = 1 the leading car); ``mbs`` (not yet
     assembled) as for :func:`~..simulation.recorder.vehicle_probes`: the car-body points read by sensors."""
-    import dataclasses
-
-    from ..rolling_stock.train import car_suffix
     st = structure or {}
     probes = vehicle_probes(model=train, contact=contact, track=track, speed_m_s=speed_m_s, s_leading0_m=s_leading0_m,
                             bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"))

@@ -39,16 +39,29 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import exudyn as exu
 import numpy as np
 
 from .. import contact_defaults
 from ..analysis.curving import curving_columns, minimum_radius_m, steady_state
+from ..contact.pair import WheelRailPair
 from ..conventions import RAIL_CENTRE_DISTANCE_M
+from ..multibody.connector import add_wheel_rail_contact, place_on_rails
+from ..rolling_stock.track_following import TrackFollowingFrame
+from ..rolling_stock.vehicle_builder import RailSprings, build_vehicle, static_load_path
+from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
 from ..simulation import status as S
-from ..track.irregularities import CHANNELS, ChannelTable
-from ..track.layout import MAX_CANT_M, TrackLayout
-from .defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
 from ..simulation.exudyn_settings import run_solver_settings
+from ..simulation.presets import PRESETS
+from ..simulation.recorder import Recorder, vehicle_probes
+from ..simulation.runner import run as run_model
+from ..simulation.settings import RunSettings
+from ..track.irregularities import CHANNELS, ChannelTable, channel_values
+from ..track.layout import MAX_CANT_M, TrackLayout
+from ..track.rigid import Irregularity, RigidStraightTrack
+from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
+from .defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
+from .run import run_events
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
            "build_curving", "run_curving", "LEAD_IN_M", "SETTLE_M", "SETTLE_S", "WINDOW_M", "WINDOW_S",
@@ -127,7 +140,6 @@ class CurvingResult:
 
 
 def _vehicle(case: CurvingCase):
-    from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
     return case.vehicle if isinstance(case.vehicle, VehicleData) else load_vehicle(case.vehicle)
 
 
@@ -194,8 +206,6 @@ def _start_s_m(vehicle) -> np.ndarray:
 
 
 def _check_start_undisplaced(irregularity, vehicle) -> None:
-    from ..track.rigid import Irregularity
-    from ..track.irregularities import channel_values
     if not isinstance(irregularity, Irregularity):
         raise CurvingInputError("irregularity", f"{irregularity!r}: expected an Irregularity "
                                                 "(exudyn_wheelrail.track.rigid, track.irregularities, "
@@ -255,7 +265,6 @@ def spectral_irregularity(case: CurvingCase, spectrum, seed: int, vehicle=None, 
     as :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`: ``band_m``, ``step_m``, ``channels``,
     ``scale``; their defaults are the spectra module's) and faded in (:func:`irregularity_fade_m`).  Raises
     ``ValueError`` for a bad spectrum, seed or option."""
-    from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
     if vehicle is None:
         vehicle = _vehicle(case)
     dist = curving_distances(case, vehicle)
@@ -286,7 +295,6 @@ def creep_step_limit_s(vehicle, speed_m_s: float, gravity_m_s2: float = 9.81) ->
     step beyond RK44's real-axis limit h λ = 2.785 integrates a limit cycle instead of rolling (e.g. 36 km/h,
     single wheelset: λ ≈ 4500 1/s, unstable at 1 ms).  The run monitor's step check watches the vertical contact
     frequency only."""
-    from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
     q = float(np.max(static_load_path(vehicle, gravity_m_s2).wheel))
     rs = RailSprings.from_hertz(wheel_load_N=q, speed_m_s=speed_m_s, r0_m=vehicle.geometry.r0_m)
     ws = vehicle.wheelset
@@ -300,16 +308,6 @@ def creep_step_limit_s(vehicle, speed_m_s: float, gravity_m_s2: float = 9.81) ->
 def build_curving(case: CurvingCase, vehicle=None):
     """The assembled model of a curving run: a dict of handles (``mbs``, ``model``, ``contact``, ``frame``,
     ``layout``, ``recorder``, ``run``, ``settings``, ``solver_type``, ``distances``)."""
-    import exudyn as exu
-
-    from ..contact.pair import WheelRailPair
-    from ..multibody.connector import add_wheel_rail_contact, place_on_rails
-    from ..rolling_stock.track_following import TrackFollowingFrame
-    from ..rolling_stock.vehicle_builder import build_vehicle
-    from ..simulation.presets import PRESETS
-    from ..simulation.recorder import Recorder, vehicle_probes
-    from ..simulation.settings import RunSettings
-
     vehicle = check_curving_case(case, vehicle)
     dist = curving_distances(case, vehicle)
     V = case.speed_m_s
@@ -332,7 +330,6 @@ def build_curving(case: CurvingCase, vehicle=None):
     contact_options = dict(preset.contact)
     track = {}
     if case.irregularity is not None:                  # zero under the wheelsets at t = 0 (check_curving_case)
-        from ..track.rigid import RigidStraightTrack
         track = dict(track=RigidStraightTrack(case.irregularity))
     contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s_start,
                                      creep_law=contact_options.get("creep_law", "table"), mu=case.friction,
@@ -352,8 +349,6 @@ def build_curving(case: CurvingCase, vehicle=None):
 
 def run_curving(case: CurvingCase, out_dir=None, progress=None) -> CurvingResult:
     """Build, run and reduce a curving case; with ``out_dir`` write ``summary.json`` and ``timeseries.csv``."""
-    from ..simulation.runner import run as run_model
-
     h = build_curving(case)
     outcome = run_model(h["mbs"], h["run"], h["contact"], speed_m_s=case.speed_m_s, recorder=h["recorder"],
                         progress=progress, exu_settings=(h["settings"], h["solver_type"]),
@@ -375,9 +370,8 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
     a_nc = float(layout.unbalanced_lateral_acceleration([s_curve], V, g)[0])
     mass = float(vehicle.total_mass_kg)
     phi = math.asin(case.cant_m / RAIL_CENTRE_DISTANCE_M)
-    from .run import _events
     summary = {"status": status.kind, "status_detail": status.as_dict(), "exit_code": status.exit_code,
-               "status_text": str(status), "events": _events(outcome), "n_events": len(outcome.events or []),
+               "status_text": str(status), "events": run_events(outcome), "n_events": len(outcome.events or []),
                "vehicle": vehicle.name, "vehicle_mass_kg": mass, "n_wheelsets": len(model.wheelsets),
                "radius_m": case.radius_m, "cant_m": case.cant_m, "direction": case.direction,
                "speed_km_h": case.speed_km_h, "transition_m": dist["transition_m"],

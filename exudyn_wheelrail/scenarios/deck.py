@@ -48,6 +48,8 @@ import math
 import numpy as np
 
 from ..standards import EN1990_DECK_ACCELERATION_LIMITS_M_S2, TRACK_FORMS
+from ..structures.beam import DeckSection
+from ..structures.support_motion import SmoothHarmonicSupportMotion
 
 __all__ = ["DECK_GROUPS", "TRACK_FORMS", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "CHECK_POINTS_X_OVER_L",
            "PLATEAU_AUTO", "support_motion_default", "en1990_cutoff_Hz", "support_motion", "deck_probes",
@@ -66,14 +68,12 @@ PLATEAU_AUTO = "auto"
 def support_motion_default(name: str):
     """The default of a :class:`~exudyn_wheelrail.structures.support_motion.SmoothHarmonicSupportMotion` option
     (declared there)."""
-    from ..structures.support_motion import SmoothHarmonicSupportMotion
     return inspect.signature(SmoothHarmonicSupportMotion.__init__).parameters[name].default
 
 
 def en1990_cutoff_Hz(spans_m, section: dict) -> float:
     """EN 1990 A2.4.4.2.1(4)P: modes up to max(30 Hz, 1.5 f1, f3), the largest over the spans, with the simply
     supported Euler–Bernoulli bending frequencies ``f_n = n²π/(2L²) √(EI_y/m)`` of each span."""
-    from ..structures.bridge import DeckSection
     sec = DeckSection(**section)
     return max(max(30.0, 1.5 * sec.vertical_frequency_Hz(L), sec.vertical_frequency_Hz(L, 3)) for L in spans_m)
 
@@ -82,7 +82,6 @@ def support_motion(sm: dict, end_time_s: float):
     """The :class:`~exudyn_wheelrail.structures.support_motion.SmoothHarmonicSupportMotion` of a normalised
     ``[structure.support_motion]`` table for a run ending at ``end_time_s`` (``plateau_cycles = "auto"``: the
     plateau lasts until one period past the end of the run)."""
-    from ..structures.support_motion import SmoothHarmonicSupportMotion
     f = sm["frequency_Hz"]
     plateau = sm["plateau_cycles"]
     if plateau == PLATEAU_AUTO:
@@ -162,13 +161,13 @@ def _quasi_static_mid_span_m(h, t, x0: float, L: float, EI: float) -> np.ndarray
 
 def _moving_force_mid_span_m(h, t) -> np.ndarray:
     """Mid-span deflection of every span (n_t, n_spans) of the deck alone under the static axle loads moving at V."""
-    from .moving_forces import simulate_moving_forces
+    from .moving_forces import simulate_moving_forces   # here: the scenario check (spec) imports this module
     st = h.scenario["structure"]
     x_ws = np.asarray(h.vehicle.wheelset_x_m(), dtype=float)
     dt = float(h.run.dt_s)
     t_mf, q, _ = simulate_moving_forces(h.modes, x_m=x_ws, forces_N=[[0.0, p, 0.0] for p in _axle_loads_N(h)],
                                         speed_m_s=h.speed_m_s, s_start_m=h.model.s_start_m,
-                                        end_time_s=round(float(t[-1]) / dt) * dt, step_s=dt)
+                                        end_time_s=round(float(t[-1]) / dt) * dt, dt_s=dt)
     s_mid = _span_starts(st["spans_m"], st["start_m"]) + 0.5 * np.asarray(st["spans_m"])
     w = q @ h.modes.shape_at(s_mid)[:, 1, :].T
     return np.column_stack([np.interp(t, t_mf, w[:, i]) for i in range(len(s_mid))])   # at the recorded times
@@ -176,7 +175,6 @@ def _moving_force_mid_span_m(h, t) -> np.ndarray:
 
 def deck_summary(h, ts: dict) -> tuple[dict, list]:
     """``summary["deck"]`` (module docstring) of a run with a structure and a time series; and notes."""
-    from ..structures.bridge import DeckSection
     st = h.scenario["structure"]
     sec = DeckSection(**st["section"])
     t = ts["time_s"]

@@ -17,8 +17,9 @@ __all__ = ["CAR_BODY_MODELS", "LOAD_MODELS", "MODEL_NAMES", "AXLE_LOAD_MODELS", 
 CAR_BODY_MODELS = ("rigid", "flexible")
 
 # -------------------------------------------------------------------------------------------- bridge crossing
-#: load model name -> ``"module:attribute"`` of its ``LoadModel`` (:mod:`.bridge_crossing`, "Load models")
-LOAD_MODELS = {"moving-loads": "exudyn_wheelrail.scenarios.bridge_crossing:MOVING_LOADS",
+#: load model name -> ``"module:attribute"`` of its ``LoadModel`` (:mod:`.bridge_crossing`, "Load models"; the
+#: moving loads in :mod:`.bridge_crossing_loads`)
+LOAD_MODELS = {"moving-loads": "exudyn_wheelrail.scenarios.bridge_crossing_loads:MOVING_LOADS",
                "vehicles": "exudyn_wheelrail.scenarios.bridge_crossing_vehicles:VEHICLES",
                "sprung-masses": "exudyn_wheelrail.scenarios.bridge_crossing_sprung:SPRUNG_MASSES"}
 MODEL_NAMES = tuple(LOAD_MODELS)

@@ -55,9 +55,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..simulation.step_checks import check_explicit_step
 from ..simulation.solvers import METHODS
-from ..track.flexible import DEFAULT_TRACK_FILE, FlexibleTrackModel, TrackFileError, TrackParameters, segment_for_run
+from ..simulation.step_checks import check_explicit_step
+from ..structures.modal_shapes import modal_shape_and_slope_at
+from ..track.flexible import FlexibleTrackModel
+from ..track.flexible_parameters import DEFAULT_TRACK_FILE, TrackFileError, TrackParameters
+from ..track.flexible_segment import segment_for_run
 from ..track.flexible_window import (DEFAULT_SHIFT_BAYS, FlexibleTrackWindow, window_length_m, window_margin_m,
                                      window_start_m)
 
@@ -254,7 +257,6 @@ def start_on_flexible_track(mbs, model, track_handle, contact=None) -> float:
 
 
 def _shape_and_slope(modes, s):
-    from ..structures.bridge import modal_shape_and_slope_at
     phi = np.empty((len(s), 3, modes.n_modes))
     dphi = np.empty_like(phi)
     for i, x in enumerate(s):

@@ -4,14 +4,11 @@ from __future__ import annotations
 import csv
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .plots import FIGURES, save_group_figure
-
-if TYPE_CHECKING:
-    from .run import ScenarioResult
+from .result import ScenarioResult
 
 __all__ = ["jsonable", "write_scenario_outputs", "write_csv", "write_json"]
 

@@ -3,12 +3,13 @@ axis, the criteria's limits as the run applied them."""
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .run import ScenarioResult
+from ..analysis import comfort, safety
+from ..analysis.safety import prudhomme_limit_N
+from .deck import CHECK_POINTS_X_OVER_L, EN1990_DECK_ACCELERATION_LIMITS_M_S2
+from .result import ScenarioResult
 
 __all__ = ["FIGURES", "group_figure", "save_group_figure", "pyplot", "decimated", "MAX_LINE_POINTS"]
 
@@ -76,7 +77,6 @@ def _criteria_inputs(s: dict) -> dict:
     """Limits and evaluation settings of the run's criteria: those the run applied (``summary["criteria"]``), or,
     where the criteria were not evaluated, those it would have applied (the scenario's settings and the defaults
     of :mod:`~..analysis.safety`)."""
-    from ..analysis import safety
     o = s["scenario"]["outputs"]["criteria"]
     ev = s.get("criteria") if isinstance(s.get("criteria"), dict) else {}
     inp = ev.get("inputs", {})
@@ -93,7 +93,6 @@ def _sliding_2m(x: np.ndarray, t: np.ndarray, speed_m_s: float, ci: dict, ignore
     """The EN 14363 sliding mean over the criteria's window (2 m) of a series (already low-passed with
     :func:`_lowpassed`), as :mod:`~..analysis.safety` evaluates it: (window centre times, means), or ``None`` when
     the record is shorter than the window."""
-    from ..analysis import comfort
     dt = float(t[1] - t[0])
     try:
         n = comfort.window_samples(ci["window_m"], speed_m_s, dt)
@@ -105,7 +104,6 @@ def _sliding_2m(x: np.ndarray, t: np.ndarray, speed_m_s: float, ci: dict, ignore
 
 def _lowpassed(x: np.ndarray, dt: float, ci: dict, name: str):
     """The criteria's force low-pass (EN 14363: 20 Hz) of a series; ``ValueError`` if the record is too short."""
-    from ..analysis import comfort
     if ci["lowpass_hz"] is None:
         return x
     return comfort.lowpass(x, dt, ci["lowpass_hz"], name=name)
@@ -130,7 +128,6 @@ def _per_wheelset_axes(plt, n_rows: int, title: str):
 def _figure_Y(plt, result: ScenarioResult):
     """Y per wheel, one axis per wheelset; below, the track shift force ΣY_2m per wheelset with Prud'homme's
     limit (EN 14363) when the run has both wheels of a wheelset."""
-    from ..analysis.safety import prudhomme_limit_N
     s, ts = result.summary, result.timeseries
     t = ts["time_s"]
     cols = s["columns"]["Y"]
@@ -204,7 +201,6 @@ def _figure_YQ(plt, result: ScenarioResult):
     """Y/Q per wheel, one axis per wheelset: the instantaneous quotient (thin; the JNR criterion's limit, for
     exceedances of at least its reference duration) and the EN 14363 quotient (Y, Q low-passed, 2 m sliding mean;
     bold) with its limit; Nadal's limit when the run evaluated it."""
-    from ..analysis import safety
     s, ts = result.summary, result.timeseries
     t = ts["time_s"]
     dt = float(t[1] - t[0])
@@ -347,7 +343,6 @@ def _figure_unloading(plt, result: ScenarioResult):
 def _figure_deck_acceleration(plt, result: ScenarioResult):
     """Vertical deck acceleration at the nine check points of every span (one axis per span) with the EN 1990
     limit of the structure's track form."""
-    from .deck import CHECK_POINTS_X_OVER_L, EN1990_DECK_ACCELERATION_LIMITS_M_S2
     s, ts = result.summary, result.timeseries
     t = ts["time_s"]
     cols = s["columns"]["deck_acceleration"]

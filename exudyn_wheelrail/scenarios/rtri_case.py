@@ -34,8 +34,10 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings
 from ..simulation.solvers import NEWMARK_BETA, NEWMARK_GAMMA
+from ..validation import finite
 from .defaults import CAR_BODY_MODELS
 from .rtri_assumptions import RTRI, RtriAssumptions
 from .scenario import DEFAULT_FLOOR_HEIGHT_M, validate_scenario
@@ -241,8 +243,6 @@ class RtriCase:
         self._check()
 
     def _check(self):
-        from ..validation import finite
-
         def number(name, value, lo=None, hi=None, lo_open=True):
             value = finite(name, value)
             if lo is not None and (value <= lo if lo_open else value < lo):
@@ -298,7 +298,6 @@ class RtriCase:
     def vehicle(self):
         """The run's :class:`~..multibody.vehicle_data.VehicleData`: the assumptions' vehicle with
         ``vehicle_overrides`` applied."""
-        from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
         return load_vehicle_with_overrides(self.vehicle_name, self.vehicle_overrides)
 
     @property

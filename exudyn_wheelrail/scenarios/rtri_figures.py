@@ -4,7 +4,7 @@ summary (:mod:`.rtri_run`) or from the sweep's rows (:mod:`.rtri_sweep`):
 * :func:`plot_fig5` — the car-body lateral acceleration above the rear bogie vs time, the kinematic acceleration
   (track frame) and the body-fixed accelerometer's reading;
 * :func:`plot_fig6` — the lateral contact force on the right wheel of the leading wheelset vs time, raw and its
-  :data:`~.rtri_run.AVERAGE_WINDOW_S` moving average, with the flange-region contacts marked (the sign is the
+  :data:`~.rtri_result.AVERAGE_WINDOW_S` moving average, with the flange-region contacts marked (the sign is the
   force of the rail on the wheel, :mod:`.rtri_run`);
 * :func:`plot_fig7` — the passage peak of the car-body acceleration vs speed, one line per span;
 * :func:`plot_carbody_comparison` — the car-body accelerations of the rigid and the flexible car body side by side
@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .plots import decimated, pyplot
-from .rtri_run import AVERAGE_WINDOW_S, RtriResult
+from .rtri_result import AVERAGE_WINDOW_S, RtriResult
 
 __all__ = ["plot_fig5", "plot_fig6", "plot_fig7", "plot_carbody_comparison"]
 
@@ -150,7 +150,7 @@ def plot_fig7(rows, path):
 
 
 def plot_carbody_comparison(results: dict, path):
-    """Car-body accelerations of the runs in ``results`` (car-body model name -> :class:`~.rtri_run.RtriResult`,
+    """Car-body accelerations of the runs in ``results`` (car-body model name -> :class:`~.rtri_result.RtriResult`,
     e.g. rigid and flexible, recorded at the same points) side by side: one row per point (front bogie, mid-car,
     rear bogie), lateral (left column) and vertical (right column) kinematic acceleration vs time, with each run's
     Sperling index of the point (``summary["comfort"]``) in the legend."""

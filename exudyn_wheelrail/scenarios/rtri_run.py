@@ -60,16 +60,18 @@ dt; the averaged peak is (``tests/test_rtri.py``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..analysis.comfort import carbody_acceleration_en14363, sperling_index
 from ..rolling_stock.flexible_body import highest_mode_rad_s
 from ..simulation import status as S
 from ..simulation.settings import RunSettings
 from ..simulation.solvers import undamped_step_problem
 from .rtri_case import RtriCase, case_assumptions_table, vehicle_extent_m
+from .rtri_figures import plot_fig5, plot_fig6
+from .rtri_result import AVERAGE_WINDOW_S, RtriResult
 from .scenario import build_scenario, peaks, run_model, write_csv, write_json
 
 __all__ = [
@@ -82,9 +84,6 @@ __all__ = [
     "write_rtri_outputs",
 ]
 
-#: moving-average window of the smoothed lateral-force peak: two periods of the wheelset's ~200 Hz vertical bounce
-#: on the Hertz spring (removes the bounce spikes, keeps the ~4 Hz lateral motion and the ~15 ms flange events)
-AVERAGE_WINDOW_S = 0.010
 #: the case's time-series columns and the scenario recorder's column each one is (:mod:`~exudyn_wheelrail.
 #: simulation.recorder`); then ``Y_w<j>_<side>_N``, ``Q_w<j>_<side>_N`` of every wheel (:func:`rtri_columns`)
 RTRI_COLUMNS = {
@@ -168,17 +167,6 @@ def _coverage(case: RtriCase, vehicle, run: RunSettings) -> tuple[dict, list[str
 
 
 # ================================================================================================ running
-@dataclass
-class RtriResult:
-    """Time series (column name -> array; empty without recording), the summary dict, the case and the run's
-    outcome (:class:`~exudyn_wheelrail.simulation.runner.RunOutcome`)."""
-
-    timeseries: dict
-    summary: dict
-    case: RtriCase = None
-    outcome: object = None
-
-
 def _case_peaks(ts: dict, dt: float, t_max: float | None = None) -> dict:
     """The case's peak values of the recorded rows with ``time_s <= t_max`` (all rows for ``None``): the per-column
     peaks of :func:`~.scenario.peaks` under the case's names, the flange-contact durations and the 10 ms
@@ -368,7 +356,6 @@ def _comfort(ts: dict, dt_s: float, case: RtriCase) -> dict:
     recorded car-body point over the whole run (:mod:`exudyn_wheelrail.analysis.comfort`): lateral from the
     accelerometer reading (what a floor sensor measures, g times the roll included), vertical from the kinematic
     acceleration (the accelerometer's constant -g removed) — the scenarios' convention."""
-    from ..analysis.comfort import carbody_acceleration_en14363, sperling_index
     out = {}
     for p in case.carbody_points:
         cols = {"lateral": f"carbody_lateral_accelerometer_{p}_m_s2",
@@ -401,7 +388,6 @@ def write_rtri_outputs(result: RtriResult, out_dir, plots: bool = True) -> dict:
     if plots and result.timeseries and len(result.timeseries["time_s"]) > 1:
         paths["fig5"] = out / "fig5_carbody_acceleration.png"
         paths["fig6"] = out / "fig6_lateral_force.png"
-        from .rtri_figures import plot_fig5, plot_fig6     # the figures read this module's names
         plot_fig5(result, paths["fig5"])
         plot_fig6(result, paths["fig6"])
     return paths

@@ -5,31 +5,25 @@ the ``summary.json`` of :mod:`exudyn_wheelrail.scenarios.scenario`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
+from ..analysis.safety import running_criteria_summary
+from ..rolling_stock.train import car_suffix
 from ..simulation import status as S
 from ..simulation.recorder import PROGRESS_MIN_STEPS, SIDES, ProgressBar
+from ..simulation.runner import run
 from ..validation import output_dir
 from .build import ScenarioModel, build_scenario
 from .deck import deck_scalars, deck_summary
+from .flexible_track import flexible_track_summary
 from .outputs import write_scenario_outputs
+from .result import ScenarioResult
 from .spec import TIMESERIES_GROUPS, UNLOADING_GROUP, as_scenario
 
 __all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary",
-           "train_criteria"]
+           "train_criteria", "run_events"]
 
-
-@dataclass
-class ScenarioResult:
-    """Time series (every recorded column -> array), the summary dict, the written files and the run's outcome."""
-
-    timeseries: dict
-    summary: dict
-    paths: dict = field(default_factory=dict)
-    outcome: object = None
-
+# ScenarioResult is declared in .result (below the writer and the figures, which read it).
 
 def peaks(ts: dict) -> dict:
     """Per recorded column (``time_s`` and ``s_leading_m`` aside): ``max_abs`` (with its signed value and its
@@ -126,7 +120,6 @@ def _criteria(h: ScenarioModel, ts: dict, groups: dict) -> dict:
 
 
 def _running_criteria(ts, speed_m_s, wheel_columns, static, point, **options) -> dict:
-    from ..analysis.safety import running_criteria_summary
     cols = {}
     if point:
         cols = {"lateral": f"carbody_lateral_accelerometer_{point}_m_s2",
@@ -143,7 +136,6 @@ def train_criteria(train, ts: dict, speed_m_s: float, static_wheel_loads_N: dict
     ``Y_w<j>_<side>_N`` and ``Q_w<j>_<side>_N`` columns, train numbering; comfort at the leading car's point
     ``<carbody_point>_c1``) and, under ``cars``, every car's own (its wheels, its car-body point
     ``<carbody_point>_c<k>``; ``""``: comfort not evaluated); ``passed`` / ``safety_passed`` hold for every car."""
-    from ..rolling_stock.train import car_suffix
     options = dict(vehicle=vehicle, yq_limit=yq_limit, unloading_limit=unloading_limit)
     wheel_columns = list(wheel_columns)
     cars = []
@@ -179,7 +171,6 @@ def run_model(h, *, progress=None, view=None, label: str = ""):
     bar (runs of at least :data:`~exudyn_wheelrail.simulation.recorder.PROGRESS_MIN_STEPS` steps).  ``view``: an
     object with ``attach(model)`` (before the solve) and ``close()`` (after it), e.g.
     :class:`~exudyn_wheelrail.interactive.view3d.RtriView`."""
-    from ..simulation.runner import run
     if view is not None:
         view.attach(h)
     if h.contact is not None:
@@ -214,7 +205,7 @@ def run_scenario(scenario, out_dir=None, progress=None, view=None) -> ScenarioRe
     return result
 
 
-def _events(outcome, limit: int = 200, car_of_wheelset=None) -> list:
+def run_events(outcome, limit: int = 200, car_of_wheelset=None) -> list:
     """The monitor's events (the first ``limit``) as plain dicts; for a train also the ``car`` (1 = leading) of the
     event's wheelset (``car_of_wheelset``: 0-based car per 0-based wheelset; the monitor numbers the train's
     wheelsets from 0)."""
@@ -230,7 +221,6 @@ def _events(outcome, limit: int = 200, car_of_wheelset=None) -> list:
 def _flexible_track_summary(h: ScenarioModel):
     if h.flexible_track is None:
         return None
-    from .flexible_track import flexible_track_summary
     return flexible_track_summary(h.flexible_track.modes, h.flexible_window)
 
 
@@ -269,7 +259,7 @@ def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> Sc
         "scenario_file": source,
         "status": status.kind,
         "status_detail": status.as_dict(),
-        "events": _events(outcome, car_of_wheelset=h.model.car_of_wheelset if _is_train(h) else None),
+        "events": run_events(outcome, car_of_wheelset=h.model.car_of_wheelset if _is_train(h) else None),
         "n_events": len(outcome.events),
         "steps": run.steps,
         "dt_s": dt,

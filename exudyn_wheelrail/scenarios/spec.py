@@ -17,9 +17,14 @@ from pathlib import Path
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
 from ..simulation.solvers import METHODS
-from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
+from ..structures.bridge_exudyn import FORMULATIONS
+from ..track.irregularities import CHANNELS, DEFECT_SHAPES, RAILS
+from ..track.measured import read_irregularity_csv
+from ..track.rigid import SampledIrregularity
+from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrregularity
 from ..validation import Quantity, read_toml
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
+from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
 
 __all__ = ["SCHEMA_VERSION", "V1_MOVED", "TRACK_TYPES", "DIRECTIONS", "UNLOADING_GROUP", "STRUCTURE_GROUPS",
            "TIMESERIES_GROUPS", "FORMATS", "NAMED_X", "CRITERIA_VEHICLES", "DEFAULT_FLOOR_HEIGHT_M", "QUANTITIES",
@@ -212,7 +217,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     # --------------------------------------------------------------------------------------- [structure]
     if "structure" in data:
         out["structure"] = _structure(c, data["structure"])
-    if "flexible_track" in data:                  # rails on pads, sleepers and ballast (track/flexible_scenario.py)
+    if "flexible_track" in data:                  # rails on pads, sleepers and ballast (scenarios/flexible_track.py)
         if "structure" in data:
             raise c.error("flexible_track", "cannot be combined with a [structure] in a scenario (the track on a deck "
                                             "is the Python model track/flexible_deck.py): remove one of the two "
@@ -332,7 +337,6 @@ def _track_component(c: _Check, comp, key: str) -> dict:
     if kind == "spectrum":
         return _spectrum_component(c, comp, key)
     if kind == "defect":
-        from ..track.irregularities import DEFECT_SHAPES, RAILS
         c.table(comp, key, required=("type", "shape", "position_m", "length_m", "depth_m"),
                 optional=("rail", "direction"))
         return {"type": kind, "shape": c.string(comp["shape"], f"{key}.shape", tuple(DEFECT_SHAPES)),
@@ -356,17 +360,13 @@ def _track_table(kind: str, path):
     """The table of a ``sampled`` (columns s_m, y_m, z_m) or ``measured`` (the four channels or the rails,
     :mod:`exudyn_wheelrail.track.measured`) track component."""
     if kind == "sampled":
-        from ..track.rigid import SampledIrregularity
         return SampledIrregularity.from_csv(path)
-    from ..track.measured import read_irregularity_csv
     return read_irregularity_csv(path)
 
 
 def _spectrum_component(c: _Check, comp, key: str) -> dict:
     """A ``spectrum`` track component: irregularities generated from a standard PSD
     (:class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`)."""
-    from ..track.irregularities import CHANNELS
-    from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrregularity
     c.table(comp, key, required=("type", "spectrum", "seed", "length_m"),
             optional=("band_m", "step_m", "start_m", "channels", "scale"))
     band = c.array(comp.get("band_m", list(DEFAULT_BAND_M)), f"{key}.band_m")
@@ -395,7 +395,6 @@ _SECTION_KEYS = ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2", "GJ_Nm2", "EA_N", "Ip_kgm2_m"
 
 
 def _structure(c: _Check, st) -> dict:
-    from ..structures.bridge import FORMULATIONS
     c.table(st, "structure", required=("spans_m", "start_m", "damping_ratio", "rail_height_m", "section"),
             optional=("continuous", "elements_per_span", "formulation", "modes_cutoff_Hz", "track_form",
                       "support_motion"))

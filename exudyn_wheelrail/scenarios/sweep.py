@@ -59,6 +59,7 @@ from pathlib import Path
 
 from .outputs import jsonable
 from .overrides import apply_overrides, set_dotted
+from .plots import pyplot
 from .run import run_scenario
 from .spec import ScenarioError, as_scenario
 
@@ -133,7 +134,7 @@ def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
     return base, combos, scenarios
 
 
-def _executor(executor, workers, n_cases):
+def resolve_executor(executor, workers, n_cases):
     """(executor, own): the executor to use and whether this function created it (and must shut it down)."""
     if executor is None:
         from concurrent.futures import ProcessPoolExecutor
@@ -167,7 +168,7 @@ def sweep(base_scenario, parameters: dict, executor=None, out_dir=None, *, worke
         out.mkdir(parents=True, exist_ok=True)
     case_dirs = [str(out / "cases" / f"case_{i:03d}") if (out is not None and write_cases) else None
                  for i in range(len(scenarios))]
-    pool, own = _executor(executor, workers, len(scenarios))
+    pool, own = resolve_executor(executor, workers, len(scenarios))
     summaries = [None] * len(scenarios)
     try:
         futures = {pool.submit(run_case, scn, d): i for i, (scn, d) in enumerate(zip(scenarios, case_dirs))}
@@ -253,7 +254,6 @@ def _number(v):
 
 def plot_sweep(table: dict, keys: list, result: str, x_key: str, path) -> None:
     """``result`` against ``x_key``, one line per combination of the other parameters (failed cases left out)."""
-    from .plots import pyplot
     plt = pyplot()
     others = [k for k in keys if k != x_key]
     n = len(table["case"])

@@ -25,7 +25,20 @@ import time
 import tomllib
 from pathlib import Path
 
+import exudyn as exu
 import numpy as np
+
+from .. import __version__ as version
+from ..contact import WheelRailPair, WheelsetContact
+from ..creep import kalker_coefficients, kalker_exact, load_table, table_forces
+from ..multibody import build_vehicle, vehicle_from_dict
+from ..multibody import connector as C
+from ..profiles import WheelProfile
+from ..rolling_stock.vehicle_data import VEHICLES_DIR
+from ..simulation.exudyn_settings import simulation_settings
+from ..structures import BridgeModel, DeckSection, fryba_moving_force
+from .moving_forces import simulate_moving_forces
+from .rtri import RTRI_CASE, RtriCase, run_rtri
 
 #: section headings (the test checks them)
 HEADINGS = {
@@ -60,7 +73,6 @@ def _plt():
 # ------------------------------------------------------------------------------------------------------- (a)
 def kalker_slopes(a_over_b, nu=NU_A, **options):
     """(C11, C22, C23) of the exact solver from a small creepage: slope = −F/(G c² ε)."""
-    from ..creep import kalker_exact
     a, b = C_A * math.sqrt(a_over_b), C_A / math.sqrt(a_over_b)
     k = G_A * C_A * C_A * EPS_A
     c11 = -kalker_exact(a, b, EPS_A, 0.0, 0.0, N_A, MU_A, G_A, nu, **options)[0] / k
@@ -70,7 +82,6 @@ def kalker_slopes(a_over_b, nu=NU_A, **options):
 
 
 def section_a(out: Path):
-    from ..creep import kalker_coefficients
     rows = []
     for ab in A_RATIOS:
         ref = np.array(kalker_coefficients(ab, NU_A))
@@ -110,7 +121,6 @@ def section_a(out: Path):
 
 # ------------------------------------------------------------------------------------------------------- (b)
 def section_b(out: Path, n_points: int = 20, seed: int = 2026):
-    from ..creep import kalker_exact, load_table, table_forces
     t = load_table()
     nu = t.poisson
     opts = {k: v for k, v in t.metadata["generator_options"].items() if k in ("n_x", "n_y", "tol")}
@@ -158,15 +168,6 @@ def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, step_s=1e-3, y0_m=None
     :data:`Y0_C`): wavelengths from the zero crossings of the lateral displacement, and Klingel's
     λ = 2π √(r0 e / γ) of the centred pair.  Returns (t [s], y [m], wavelengths [m], λ_Klingel [m], r0 [m],
     e [m]); the rows are the states at their times (t = 0 … end_time_s)."""
-    import exudyn as exu
-
-    from ..contact import WheelRailPair, WheelsetContact
-    from ..multibody import build_vehicle, vehicle_from_dict
-    from ..simulation.exudyn_settings import simulation_settings
-    from ..multibody import connector as C
-    from ..rolling_stock.vehicle_data import VEHICLES_DIR
-    from ..profiles import WheelProfile
-
     d = tomllib.loads((VEHICLES_DIR / "single_wheelset.toml").read_text())
     d["primary"] = {"kx_N_per_m": 0.0, "ky_N_per_m": 0.0, "cx_N_s_per_m": 0.0, "cy_N_s_per_m": 0.0}
     SC = exu.SystemContainer()
@@ -252,14 +253,12 @@ def section_c(out: Path, quick: bool):
 
 # ------------------------------------------------------------------------------------------------------- (d)
 def section_d(out: Path, quick: bool):
-    from ..structures import BridgeModel, DeckSection, fryba_moving_force
-    from .moving_forces import simulate_moving_forces
     sec = DeckSection(m_kg_m=15e3, EI_y_Nm2=2.0e10, EI_z_Nm2=1.0e11, GJ_Nm2=6e9, EA_N=2e11, Ip_kgm2_m=6e4)
     L, P, v = 20.0, 2e5, 40.0
     step = 1e-3 if quick else 5e-4
     modes = BridgeModel((L,), sec).modes(f_max_Hz=150.0)
     t, q, _ = simulate_moving_forces(modes, x_m=[0.0], forces_N=[[0.0, P, 0.0]], speed_m_s=v, s_start_m=0.0,
-                                     end_time_s=L / v + 0.25, step_s=step)
+                                     end_time_s=L / v + 0.25, dt_s=step)
     w = q @ modes.shape_at(L / 2)[1]
     ref = fryba_moving_force(L / 2, t, force_N=P, speed_m_s=v, span_m=L, EI_Nm2=sec.EI_y_Nm2, m_kg_m=sec.m_kg_m,
                              n_terms=60)
@@ -301,7 +300,6 @@ def rtri_report_case(span_m: float):
     """The case of :func:`rtri_command`: :class:`~.rtri.RtriCase` with its defaults, which are the ``rtri``
     command's (the representative speed, Newmark, the published time step for the published 2.5 s, the creep table, the
     online contact search)."""
-    from .rtri import RtriCase
     return RtriCase(span_m=float(span_m))
 
 
@@ -314,7 +312,6 @@ def _window_cells(r) -> dict:
 
 
 def section_e(out: Path, quick: bool):
-    from .rtri import RTRI_CASE, run_rtri
     v = RTRI_CASE.representative_speed_km_h
     spans = (20.0, 40.0)
     reference = ("Reference: Montenegro et al. (2015): the 20 m span gives a much higher lateral contact force than "
@@ -409,7 +406,6 @@ def write_report(out_dir, quick: bool = False, progress=print) -> dict:
         body += lines + [f"_Section runtime: {timing[key]:.1f} s._", ""]
         results[key] = res
     total = time.perf_counter() - t_start
-    from .. import __version__ as version
     head = ["# exudyn_wheelrail validation report", "",
             f"Package version {version}; mode: {'quick' if quick else 'full'}; generated "
             f"{time.strftime('%Y-%m-%d %H:%M:%S')}; total runtime {total:.1f} s. Regenerate with "

@@ -1,0 +1,120 @@
+"""The bridge crossing's recorded columns (:func:`deck_columns`) and the recorder probes that fill them: the first
+axle's place and the quasi-static deflection (:class:`FirstAxleProbe`), the deck's modal response
+(:class:`DeckProbe`)."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..structures.beam import N_DOF_NODE
+from ..structures.load_models import AxleTrain, quasi_static_midspan_deflection_m
+from .bridge_crossing_deck import elements_per_span
+from .deck import CHECK_POINTS_X_OVER_L
+
+__all__ = ["DECK_COLUMNS", "LATERAL_COLUMNS", "SPAN_COLUMNS", "SPAN_LATERAL_COLUMNS", "deck_columns",
+           "FirstAxleProbe", "DeckProbe"]
+
+#: the recorded columns after ``time_s`` and ``x_first_axle_m`` (module docstring)
+DECK_COLUMNS = (("deck_midspan_displacement_m", "deck_midspan_velocity_m_s", "deck_midspan_acceleration_m_s2",
+                 "deck_support_rotation_start_rad", "deck_support_rotation_end_rad")
+                + tuple(f"deck_acceleration_p{k + 1}_m_s2" for k in range(len(CHECK_POINTS_X_OVER_L)))
+                + ("deck_en1990_max_abs_acceleration_m_s2",))
+#: the first span's lateral columns, recorded with lateral modes (module docstring)
+LATERAL_COLUMNS = ("deck_lateral_midspan_displacement_m", "deck_lateral_midspan_acceleration_m_s2")
+#: the columns of every span of a chain (``{k}`` = 1, 2, ...; the lateral ones with lateral modes)
+SPAN_COLUMNS = ("deck_span{k}_midspan_displacement_m", "deck_span{k}_midspan_acceleration_m_s2",
+                "deck_span{k}_en1990_max_abs_acceleration_m_s2")
+SPAN_LATERAL_COLUMNS = ("deck_span{k}_lateral_midspan_displacement_m",
+                        "deck_span{k}_lateral_midspan_acceleration_m_s2")
+
+
+def deck_columns(case) -> tuple:
+    """The deck's recorded columns of ``case`` after ``time_s`` and the axle columns: :data:`DECK_COLUMNS` (the
+    first span), :data:`LATERAL_COLUMNS` with lateral modes, and per span of a chain :data:`SPAN_COLUMNS` (and
+    :data:`SPAN_LATERAL_COLUMNS`)."""
+    cols = DECK_COLUMNS + (LATERAL_COLUMNS if case.lateral_modes else ())
+    if case.n_spans > 1:
+        per = SPAN_COLUMNS + (SPAN_LATERAL_COLUMNS if case.lateral_modes else ())
+        cols += tuple(c.format(k=k + 1) for k in range(case.n_spans) for c in per)
+    return cols
+
+
+class FirstAxleProbe:
+    """``x_first_axle_m``: deck coordinate of the first axle, ``V t``; ``deck_midspan_static_displacement_m``: the
+    quasi-static mid-span deflection under the static axle loads at their places (functions of the time)."""
+
+    def __init__(self, case, axle_x_m, axle_load_N):
+        self.V = float(case.speed_m_s)
+        self.axles = AxleTrain(np.asarray(axle_x_m, dtype=float), np.asarray(axle_load_N, dtype=float),
+                               name="static axle loads")
+        self.L, self.EI = case.span_m, case.EI_Nm2
+        self.columns = [("axle", "x_first_axle_m"), ("axle", "deck_midspan_static_displacement_m")]
+
+    def fill_rows(self, t, rows):
+        rows[:, 0] = self.V * t
+        rows[:, 1] = quasi_static_midspan_deflection_m(t, self.axles, speed_m_s=self.V, span_m=self.L,
+                                                       EI_Nm2=self.EI)
+
+
+class DeckProbe:
+    """The deck's columns (:func:`deck_columns`) from the modal state and the modal accelerations."""
+
+    def __init__(self, case, bridge, deck, modal_forces, cutoffs_Hz):
+        modes = deck.modes
+        cutoff_Hz = cutoffs_Hz[0]
+        self.bridge, self.modal_forces = bridge, modal_forces
+        L, x0 = case.span_m, case.deck_start_m
+        phi, dphi = modes.shape_and_slope_at(np.array([x0 + 0.5 * L, x0, x0 + L]))
+        self.phi_mid = phi[0, 1].copy()
+        self.slopes = dphi[1:, 1].copy()                              # (2, n): dw/dx at the supports
+        if case.n_spans > 1:       # x0 + L is also the start of span 2: the end node of span 1, dw/dx = -θy
+            self.slopes[1] = -modes.shapes[N_DOF_NODE * elements_per_span(case) + 4]
+        s_pts = x0 + L * np.asarray(CHECK_POINTS_X_OVER_L)
+        self.phi_pts = modes.shape_at(s_pts)[:, 1, :].copy()
+        keep = modes.frequencies_Hz <= 1.01 * cutoff_Hz          # FE frequencies lie slightly above the exact ones
+        self.phi_pts_cut = np.where(keep[None, :], self.phi_pts, 0.0)
+        self.w2 = np.diag(modes.modal_stiffness()).copy()
+        self.d = np.diag(modes.modal_damping()).copy()
+        self.columns = [("deck", c) for c in deck_columns(case)]
+        self.lateral = bool(case.lateral_modes)
+        # the lateral columns: the lateral modes' y rows (a vertical mode's lateral DOFs are the eigen-solver's
+        # rounding, about 1e-13 of its vertical ones)
+        lat = np.zeros(modes.n_modes, dtype=bool)
+        for idx in deck.lateral:
+            lat[idx] = True
+        self.phi_lat_mid = np.where(lat, modes.shape_at(x0 + 0.5 * L)[0], 0.0) if self.lateral else None
+        self.spans = []
+        if case.n_spans > 1:
+            for k in range(case.n_spans):
+                xk, Lk = case.span_start_m(k), case.chain_m[k]
+                mid = modes.shape_at(xk + 0.5 * Lk)
+                mine = np.zeros(modes.n_modes, dtype=bool)
+                mine[deck.vertical[k]] = True
+                keep = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
+                pts = modes.shape_at(xk + Lk * np.asarray(CHECK_POINTS_X_OVER_L))[:, 1, :]
+                self.spans.append((mid[1].copy(), np.where(keep[None, :], pts, 0.0), np.where(lat, mid[0], 0.0)))
+
+    def fill(self, mbs, t, out):
+        q, q_t = (np.atleast_1d(v) for v in self.bridge.coordinates(mbs))      # a scalar for one mode
+        q_tt = self.modal_forces(mbs, t) - self.w2 * q - self.d * q_t          # modal equations, M = I
+        out[0] = self.phi_mid @ q
+        out[1] = self.phi_mid @ q_t
+        out[2] = self.phi_mid @ q_tt
+        out[3:5] = self.slopes @ q
+        k = 5 + self.phi_pts.shape[0]
+        out[5:k] = self.phi_pts @ q_tt
+        out[k] = np.max(np.abs(self.phi_pts_cut @ q_tt))
+        k += 1
+        if self.lateral:
+            out[k] = self.phi_lat_mid @ q
+            out[k + 1] = self.phi_lat_mid @ q_tt
+            k += 2
+        for phi_mid, phi_cut, phi_lat in self.spans:
+            out[k] = phi_mid @ q
+            out[k + 1] = phi_mid @ q_tt
+            out[k + 2] = np.max(np.abs(phi_cut @ q_tt))
+            k += 3
+            if self.lateral:
+                out[k] = phi_lat @ q
+                out[k + 1] = phi_lat @ q_tt
+                k += 2
+
