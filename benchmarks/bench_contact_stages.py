@@ -62,10 +62,12 @@ from exudyn_wheelrail.contact.layout import (CP_V_MIN, F_A_REL, F_B_REL, F_NR_Y,
                                              RES_N, RES_PHI, RES_STATUS, RES_XI)
 from exudyn_wheelrail.contact.normal import hertz_from_penetration
 from exudyn_wheelrail.creep.registry import creep_forces
-from exudyn_wheelrail.multibody.connector_core import (V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL, V_P_CENTRE,
-                                                       V_P_CONTACT, V_V_CENTRE, V_V_RAIL, WS_COS_ROLL, WS_COS_TH,
-                                                       WS_COS_YAW, WS_SIN_ROLL, WS_SIN_TH, WS_SIN_YAW, WS_Y_RAIL,
-                                                       WS_Z_RAIL, contact_forces_core, wheel_forces, wheelset_poses)
+from exudyn_wheelrail.multibody.connector_core import contact_forces_core, wheel_forces, wheelset_poses
+from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, MODEL_CREEP, MODEL_GEOMETRY, ST_DECK_STATE, ST_OUT,
+                                                  ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL,
+                                                  V_P_CENTRE, V_P_CONTACT, V_V_CENTRE, V_V_RAIL, W_FRAME, W_ROT, W_VEC,
+                                                  W_WHEELSET, WS_COS_ROLL, WS_COS_TH, WS_COS_YAW, WS_SIN_ROLL,
+                                                  WS_SIN_TH, WS_SIN_YAW, WS_Y_RAIL, WS_Z_RAIL)
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario, run_model
 from exudyn_wheelrail.simulation.presets import PRESETS
@@ -119,16 +121,17 @@ def stage_poses(qs, vs, ts, model, state, work, i0, i1):
 
 @njit
 def stage_geometry(sp_all, ws, warm, model, state, out_all, i0, i1):
-    nodes, meta, mono, curve_ids, params, gtab, scan = model[2]
-    stats = state[3]
+    nodes, meta, mono, curve_ids, params, gtab, scan = model[MODEL_GEOMETRY]
+    stats = state[ST_STATS]
     for i in range(i0, i1):
         warm[:] = ws[i]
         if gtab is None:
             K.evaluate_wheels(nodes, meta, mono, curve_ids, sp_all[i], warm, params, out_all[i], scan)
             GT.count_fallback(out_all[i], stats)
         else:
-            GT.evaluate_wheels_tabulated(gtab[0], gtab[1], gtab[2], nodes, meta, mono, curve_ids, sp_all[i], warm,
-                                         params, out_all[i], stats, scan)
+            table_par, table_cz_ref, table_data = gtab
+            GT.evaluate_wheels_tabulated(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids,
+                                         sp_all[i], warm, params, out_all[i], stats, scan)
 
 
 @njit
@@ -148,11 +151,11 @@ def stage_hertz(out_all, params, i0, i1):
 
 @njit
 def stage_wheel_forces(qs, vs, model, state, work, out_all, rot_all, wsd_all, f, res, i0, i1):
-    out = state[1]
+    out = state[ST_OUT]
     for i in range(i0, i1):
         out[:] = out_all[i]
-        work[1][:] = rot_all[i]
-        work[2][:] = wsd_all[i]
+        work[W_ROT][:] = rot_all[i]
+        work[W_WHEELSET][:] = wsd_all[i]
         f[:] = 0.0
         res[:] = 0.0
         wheel_forces(qs[i], vs[i], model, state, work, f, res)
@@ -161,11 +164,11 @@ def stage_wheel_forces(qs, vs, model, state, work, out_all, rot_all, wsd_all, f,
 @njit
 def stage_copy_inputs(model, state, work, out_all, rot_all, wsd_all, f, res, i0, i1):
     """What :func:`stage_wheel_forces` does besides ``wheel_forces`` (subtracted)."""
-    out = state[1]
+    out = state[ST_OUT]
     for i in range(i0, i1):
         out[:] = out_all[i]
-        work[1][:] = rot_all[i]
-        work[2][:] = wsd_all[i]
+        work[W_ROT][:] = rot_all[i]
+        work[W_WHEELSET][:] = wsd_all[i]
         f[:] = 0.0
         res[:] = 0.0
 
@@ -270,24 +273,24 @@ def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
     """Stage costs (µs per call) of the connector ``c`` over the states (module docstring)."""
     n = len(ts)
     model, state, work, data = c._model, c._state, c._work, c._data
-    warm, out = state[0], state[1]
+    warm, out = state[ST_WARM], state[ST_OUT]
     f, res = c._f, c.results
     # untimed pass through the connector: every stage's inputs for every state
     out_all = np.empty((n,) + out.shape)
     res_all = np.empty((n,) + res.shape)
     sp_all = np.empty((n,) + c._side_poses.shape)
-    wsd_all = np.empty((n,) + work[2].shape)
-    rot_all = np.empty((n,) + work[1].shape)
+    wsd_all = np.empty((n,) + work[W_WHEELSET].shape)
+    rot_all = np.empty((n,) + work[W_ROT].shape)
     for i in range(n):
         warm[...] = ws[i]
         c.forces(qs[i], vs[i], ts[i])
         out_all[i] = out
         res_all[i] = res
         sp_all[i] = c._side_poses
-        wsd_all[i] = work[2]
-        rot_all[i] = work[1]
+        wsd_all[i] = work[W_WHEELSET]
+        rot_all[i] = work[W_ROT]
     out_tmp = np.empty_like(out_all)
-    params = model[2][4]
+    params = model[MODEL_GEOMETRY][GEO_PARAMS]
     v_min = c.cp[CP_V_MIN]
     stages = {
         "restore": lambda a, b: stage_restore(ws, warm, a, b),
@@ -295,9 +298,9 @@ def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
         "pose_irregularity": lambda a, b: stage_poses(qs, vs, ts, model, state, work, a, b),
         "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, a, b),
         "hertz": lambda a, b: stage_hertz(out_all, params, a, b),
-        "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[7], work[3],
-                                                  work[4], v_min, a, b),
-        "creep_law": lambda a, b: stage_creep_law(res_all, model[3], a, b),
+        "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[ST_DECK_STATE],
+                                                  work[W_VEC], work[W_FRAME], v_min, a, b),
+        "creep_law": lambda a, b: stage_creep_law(res_all, model[MODEL_CREEP], a, b),
         "copies": lambda a, b: stage_copy_inputs(model, state, work, out_all, rot_all, wsd_all, f, res, a, b),
         "stage3": lambda a, b: stage_wheel_forces(qs, vs, model, state, work, out_all, rot_all, wsd_all, f, res, a,
                                                   b),

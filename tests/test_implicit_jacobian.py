@@ -24,7 +24,7 @@ from exudyn_wheelrail.creep import linear as creep_linear
 from exudyn_wheelrail.creep.registry import CREEP_LAWS
 from exudyn_wheelrail.multibody import connector as C
 from exudyn_wheelrail.multibody import contact_jacobian as CJ
-from exudyn_wheelrail.multibody.connector_core import WS_COS_TH, WS_SIN_TH
+from exudyn_wheelrail.multibody.core_data import W_WHEELSET, WS_COS_TH, WS_SIN_TH
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
 
@@ -180,7 +180,7 @@ def test_penetration_gradient_is_the_envelope_theorem(rtri_states, deck_state):
         contact.forces(q, v, t)
         res = contact.results.copy()
         out = contact.kernel_output().copy()
-        wsd = contact._work[2]
+        wsd = contact._work[W_WHEELSET]
         for w in range(res.shape[0]):
             k, side = divmod(w, 2)
             R = Rotation.from_rotvec(q[6 * k + 3:6 * k + 6]).as_matrix()

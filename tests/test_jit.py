@@ -79,6 +79,7 @@ def test_a_rigid_straight_contact_passes_none_for_every_optional_part():
 
     from exudyn_wheelrail.contact import WheelRailPair
     from exudyn_wheelrail.multibody import connector as C
+    from exudyn_wheelrail.multibody.core_data import GEO_TABLE, VEH_LAYOUT, VEH_LAYOUT_PAR
     from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
 
     mbs = exu.SystemContainer().AddSystem()
@@ -87,10 +88,12 @@ def test_a_rigid_straight_contact_passes_none_for_every_optional_part():
     C.place_on_rails(mbs, model, pair)
     contact = C.add_wheel_rail_contact(mbs, [model.wheelsets[0].node], pair, speed_m_s=20.0, creep_law="fastsim")
     vehicle, _, geometry, creep, deck = contact._model
-    assert vehicle[2] is None and vehicle[3] is None                  # no layout
-    assert geometry[5] is None                                        # no geometry table
-    assert creep[4] is None                                           # no creep table
-    assert deck[4] is None and deck[5] is None                        # no structure: no shapes, no residual
+    assert vehicle[VEH_LAYOUT] is None and vehicle[VEH_LAYOUT_PAR] is None   # no layout
+    assert geometry[GEO_TABLE] is None                                # no geometry table
+    _, _, _, _, creep_table = creep                                   # creep_model's (code, cp, t_nodes, coef, tab)
+    assert creep_table is None                                        # no creep table
+    _, _, _, _, node_shapes, node_residual, _ = deck                  # deck_arrays
+    assert node_shapes is None and node_residual is None              # no structure: no shapes, no residual
 
 
 def test_the_none_branches_compile_and_give_the_rigid_values():

@@ -86,9 +86,10 @@ from ..creep.registry import CREEP_AB_CLAMPED, CREEP_LAWS, combined_elastic_cons
 from ..creep.registry import creep_forces as _creep  # noqa: F401  (the compiled creep dispatch, importable here)
 from ..structures.deck_kinematics import DECK_GROUND_VY, DECK_GROUND_Y, N_DECK_STATE, deck_arrays
 from ..validation import finite, poisson_ratio, youngs_modulus
-from .connector_core import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, N_FRAME,
-                             WS_HALF_GAUGE, compiled_for, contact_data, contact_forces_core, contact_jacobian_core,
-                             work_arrays)
+from .connector_core import contact_forces_core, contact_jacobian_core
+from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, N_FRAME, W_WHEELSET,
+                        WS_HALF_GAUGE, compiled_for, contact_data, geometry_tuple, model_tuple, state_tuple,
+                        vehicle_tuple, work_arrays)
 from .contact_jacobian import JACOBIAN_METHODS, N_BLOCK, needs_differences, semi_analytic_jacobian
 from ..rolling_stock.placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
 from ..rolling_stock.train import place_train_on_track
@@ -280,10 +281,11 @@ class WheelRailContact:
         self._side_poses = np.zeros((2 * n_ws, 3))
         kc = self._kc
         # the compiled call's packed arguments (connector_core): model data, updated arrays, scratch: one object
-        self._model = ((self.p_ref, self._frame) + lay, irr, (kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params,
-                                                      table, kc.scan), creep.core, self._deck)
-        self._state = (kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws, self._rail_f,
-                       self._deck_state)
+        self._model = model_tuple(vehicle_tuple(self.p_ref, self._frame, *lay), irr,
+                                  geometry_tuple(kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params, table, kc.scan),
+                                  creep.core, self._deck)
+        self._state = state_tuple(kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws,
+                                  self._rail_f, self._deck_state)
         self._work = work_arrays(n_ws)
         self._data = contact_data(self._model, self._state, self._work)
         n = 6 * n_ws + self.n_modes
@@ -327,7 +329,7 @@ class WheelRailContact:
         """Ground (support) motion of the bridge at t into the deck parameters of the compiled call (zero without
         one)."""
         motion = self.bridge.support_motion if self.bridge is not None else None
-        par = self._deck[0]
+        par, _, _, _, _, _, _ = self._deck         # deck_arrays: par, the shape table, residual, prediction
         if motion is None:
             par[DECK_GROUND_Y] = par[DECK_GROUND_VY] = 0.0
             return
@@ -415,7 +417,8 @@ class WheelRailContact:
 
     def _discard_held(self) -> None:
         """Drop the evaluation kept by :meth:`evaluate_state`, putting back the warm start it started from."""
-        self._kc.warm[:] = self._held[3]
+        _, _, _, saved, _ = self._held
+        self._kc.warm[:] = saved
         self._held = None
 
     def _raise_bad(self, bad: int, t: float):
@@ -462,7 +465,7 @@ class WheelRailContact:
                     shape = (len(self.nodes_exu), N_BLOCK, N_BLOCK)
                     blocks = self._tangent_blocks = (np.zeros(shape), np.zeros(shape))
                 semi_analytic_jacobian(q, q_t, self._data, self._f, self.results, float(fODE2), float(fODE2_t),
-                                       self._jac, blocks[0], blocks[1])
+                                       self._jac, *blocks)
                 return self._jac
         contact_jacobian_core(*self._args(q, q_t, t), self._f, self.results, float(fODE2), float(fODE2_t),
                               self._jac, 1e-7, 1e-7, 1e-5)
@@ -511,7 +514,10 @@ class WheelRailContact:
     def save_warm_start(self) -> np.ndarray:
         """A copy of the contact search's warm-start state (restore with :meth:`restore_warm_start`); with an
         evaluation kept by :meth:`evaluate_state`, the one it started from."""
-        return (self._held[3] if self._held is not None else self._kc.warm).copy()
+        if self._held is None:
+            return self._kc.warm.copy()
+        _, _, _, saved, _ = self._held
+        return saved.copy()
 
     def restore_warm_start(self, state: np.ndarray) -> None:
         self._held = None
@@ -570,9 +576,10 @@ class WheelRailContact:
         (:func:`~.connector_core.series_compliance`).  The results do not depend on it beyond the geometry's
         linearization over that distance; it saves the second geometry pass."""
         F = np.asarray(forces_N, dtype=float)
-        if F.shape != self._deck[6].shape or not np.all(np.isfinite(F)):
-            raise ValueError(f"forces_N of shape {F.shape}: expected finite values of shape {self._deck[6].shape}")
-        self._deck[6][:] = F
+        _, _, _, _, _, _, prediction = self._deck  # deck_arrays: par, the shape table, residual, prediction
+        if F.shape != prediction.shape or not np.all(np.isfinite(F)):
+            raise ValueError(f"forces_N of shape {F.shape}: expected finite values of shape {prediction.shape}")
+        prediction[:] = F
         if self._held is not None:
             self._discard_held()
 
@@ -593,7 +600,7 @@ class WheelRailContact:
         copies: for readers that take them once and must not allocate per state): the pose ``(c_y, c_z, roll)`` of
         each wheel relative to its rail (2 n, 3; wheel ``2k`` the right one, its rows are the wheelset's pose less
         the half gauge in ``c_y``) and per wheelset the half gauge (n,) [m]."""
-        return self._side_poses, self._work[2][:, WS_HALF_GAUGE]
+        return self._side_poses, self._work[W_WHEELSET][:, WS_HALF_GAUGE]
 
     def geometry_statistics(self) -> dict:
         """Wheel evaluations answered by the geometry table and by the online search since the start (both count

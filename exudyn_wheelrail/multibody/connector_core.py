@@ -1,48 +1,8 @@
 """The compiled call behind the wheel–rail connector: the contact forces of all wheelsets (and on the bridge deck)
 in one call, and their Jacobian by structured forward differences.
 
-:class:`~.connector.WheelRailContact` packs everything once at construction and hands it over as
-
-``contact_forces_core(q, q_t, t, data, f_out, res)``
-
-* ``q``, ``q_t`` (6 n + n_m): per wheelset displacement (global), rotation vector, velocity (global) and body-frame
-  angular velocity (Lie-group node coordinates), then the n_m modal coordinates of the bridge (none without one);
-  ``t`` the time [s];
-* ``data`` — a :class:`ContactData` (:func:`contact_data`) holding the three tuples below as ``data.model``,
-  ``data.state`` and ``data.work``: one argument for numba to unbox per call instead of the forty arrays in them
-  (about 0.1 µs each);
-* ``model`` — constant data, ``(vehicle, track, geometry, creep, deck)``:
-
-  - ``vehicle = (p_ref, frame, layout, layout_par)``: reference positions (n, 3) [m] of the wheelset nodes
-    (track/model frame), ``frame[FRAME_*]`` (running speed V [m/s], 1.0 for a model frame moving with V, track
-    distance s_start [m] of the frame's origin at t = 0, 1.0 on a curved layout, the gradient's pitch [rad]) and
-    the track layout's packed pieces and parameters (:func:`~exudyn_wheelrail.track.layout.layout_at`; read only
-    when ``frame[FRAME_CURVED]`` is set; ``None`` on straight track);
-  - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)`` (:func:`~.track.irregularity_channels_at`:
-    alignment, vertical level, cross level and gauge deviation);
-  - ``geometry = (nodes, meta, mono, curve_ids, params, table, scan)``: the profiles and kernel parameters of a
-    :class:`~exudyn_wheelrail.contact.WheelsetContact`, the geometry table's ``(par, cz_ref, data)``
-    (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`; ``None`` for the online search,
-    :func:`contact_geometry`) and the coarse scan's cached wheel points
-    (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
-  - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
-  - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
-    ``par``);
-
-* ``state`` — arrays the call reads and updates, ``(warm, out, side_poses, stats, rail_delta, phi_ws, rail_f,
-  deck_state)``: the kernel's warm start and output, the per-wheel pose relative to the rails (2 n, 3), the
-  ``STAT_*`` counters, the increments added to the deck state of every wheelset on the deck (n, 6; zero, the
-  Jacobian perturbs it), and per wheelset ``Φ(s)`` (n, 3, n_m), the force on the rails ``(F_y, F_z, M_x)`` that is
-  projected (n, 3) and the deck state (n, ``N_DECK_STATE``);
-* ``work`` — scratch the call overwrites, allocated once (:func:`work_arrays`; nothing is allocated per call):
-  ``(deck_work, rot, wheelset, vec, frame, lay, residual, contacts, series, index)``: the deck's rail state (9,),
-  per wheelset its rotation matrix (n, 3, 3) and the quantities ``WS_*`` of its pose (n, ``N_WS``), the vectors
-  ``V_*`` of a contact (``N_VEC``, 3), the contact frame (3, 3), the layout values at a wheelset (4,), and for a
-  structure with residual flexibility (:func:`series_compliance`) per wheelset the rails' residual displacement
-  where the geometry was found and the solve's (n, 6), a wheelset's contacts (2 ``N_SLOTS``, ``N_SC``), the
-  solve's scratch (7, 3) and the contacts' wheel and region (2 ``N_SLOTS``, 2);
-* ``f_out`` (6 n + n_m): force (global) and torque (body frame) per wheelset, then the generalized modal forces;
-  ``res`` (2 n, N_SLOTS, N_RES) the results (``RES_*``).
+The arguments — ``contact_forces_core(q, q_t, t, data, f_out, res)`` with the ``model``, ``state`` and ``work``
+tuples in ``data`` and their fields by name — are described in :mod:`.core_data`, which builds them.
 
 The call runs in three stages (:func:`wheelset_poses`, :func:`contact_geometry`, :func:`wheel_forces`); the
 trigonometry of a wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
@@ -69,111 +29,40 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
-from numba import types
-from numba.experimental import structref
 
 from ..contact import geometry_table as GT
 from ..contact import kernel as K
 from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..contact.creepage import creepages_core, yawed_contact_point_cs
 from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
-                              F_PENETRATION, F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, N_SLOTS, RES_A, RES_B,
+                              F_PENETRATION, F_PW_Y, F_PW_Z, F_SEMI_A, F_SEMI_B, F_STATUS, RES_A, RES_B,
                               RES_CREEP_STATUS, RES_DECK_ROLL, RES_DECK_Y, RES_DECK_Z, RES_DELTA, RES_ETA, RES_FLAGS,
                               RES_FX, RES_FY, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_GROUND_VY,
                               RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_PHI, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS,
                               RES_S_TRACK, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
 from ..creep.registry import creep_forces
 from ..jit import compiled
-from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, N_SC, SC_AT, SC_AY, SC_AZ,
+from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, SC_AT, SC_AY, SC_AZ,
                                           SC_DELTA_G, SC_DN, SC_DN_G, SC_N, SC_N_G, SC_RATIO, deck_state_under,
                                           pose_relative_to_rails, project_shapes, rail_material_velocity,
                                           rail_moment_about_deck_line, rail_pair_to_track, rails_under,
                                           series_contacts)
-from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, N_LAYOUT, layout_at
-from .rotations import rotation_from_vector, rotation_vector_from_matrix
+from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, layout_at
 from ..track.rigid import irregularity_channels_at
+from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, GEO_TABLE, MODEL_DECK,
+                        MODEL_GEOMETRY, MODEL_VEHICLE, N_FRAME, ST_DECK_STATE, ST_OUT, ST_RAIL_F, ST_SIDE_POSES,
+                        ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL, V_P_CENTRE, V_P_CONTACT,
+                        V_V_CENTRE, V_V_RAIL, VEH_FRAME, VEH_LAYOUT, VEH_LAYOUT_PAR, VEH_P_REF, W_CONTACTS, W_DECK,
+                        W_FRAME, W_INDEX, W_LAYOUT, W_RESIDUAL, W_ROT, W_SERIES, W_VEC, W_WHEELSET, WS_COS_ROLL,
+                        WS_COS_TH, WS_COS_YAW, WS_HALF_GAUGE, WS_ROLL, WS_S, WS_SIN_ROLL, WS_SIN_TH, WS_SIN_YAW,
+                        WS_Y_RAIL, WS_YAW, WS_Z_RAIL)
+from .core_data import ContactData, compiled_for, contact_data, work_arrays  # noqa: F401  (importable from here)
+from .rotations import rotation_from_vector, rotation_vector_from_matrix
 
 __all__ = ["contact_forces_core", "contact_jacobian_core", "contact_data", "ContactData", "work_arrays", "compiled_for",
            "wheelset_poses", "wheel_forces", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED",
            "FRAME_PITCH", "N_FRAME"]
-
-# ---- model frame: frame[FRAME_*] ---------------------------------------------------------------------------------
-FRAME_SPEED = 0       # running speed V [m/s]
-FRAME_MOVING = 1      # 1.0: the model frame translates with V (rail material velocity -V); 0.0: fixed to the track
-FRAME_S_START = 2     # track distance of the frame's origin at t = 0 [m]
-FRAME_CURVED = 3      # 1.0: the wheelsets follow a track layout (creepage terms of the turning frame)
-FRAME_PITCH = 4       # the layout's gradient as a pitch angle θ [rad]
-N_FRAME = 5
-
-# ---- per wheelset quantities of the call: work[2][k, WS_*] ----------------------------------------------------------
-WS_S = 0              # track distance s of the axle centre [m]
-WS_ROLL = 1           # roll and yaw of the wheelset (from its axle direction) [rad]
-WS_YAW = 2
-WS_COS_ROLL = 3       # their cosines and sines
-WS_SIN_ROLL = 4
-WS_COS_YAW = 5
-WS_SIN_YAW = 6
-WS_Y_RAIL = 7         # the rails' centre line under the wheelset (irregularity, ground, deck) [m]
-WS_Z_RAIL = 8
-WS_COS_TH = 9         # cosine and sine of the rail pair's roll θ (deck roll + cross level)
-WS_SIN_TH = 10
-WS_HALF_GAUGE = 11    # half the gauge deviation: each rail's outward shift in its side frame [m]
-N_WS = 12
-
-# ---- vectors of one contact (track frame): work[3][V_*] -----------------------------------------------------------
-V_P_CONTACT = 0       # contact point [m]
-V_N_RAIL = 1          # outward rail normal
-V_E_AXLE = 2          # wheelset axle direction
-V_P_CENTRE = 3        # axle centre [m]
-V_V_CENTRE = 4        # its velocity [m/s]
-V_OMEGA = 5           # wheelset angular velocity [rad/s]
-V_V_RAIL = 6          # rail material velocity at the contact [m/s]
-V_OMEGA_RAIL = 7      # rail angular velocity [rad/s]
-N_VEC = 8
-
-
-def work_arrays(n_wheelsets: int) -> tuple:
-    """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets``."""
-    return (np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
-            np.zeros((N_VEC, 3)), np.zeros((3, 3)), np.zeros(N_LAYOUT), np.zeros((n_wheelsets, 6)),
-            np.zeros((2 * N_SLOTS, N_SC)), np.zeros((7, 3)), np.zeros((2 * N_SLOTS, 2), dtype=np.int64))
-
-
-@structref.register
-class ContactDataType(types.StructRef):
-    """Numba type of :class:`ContactData`."""
-
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(typ)) for name, typ in fields)
-
-
-class ContactData(structref.StructRefProxy):
-    """The ``model``, ``state`` and ``work`` tuples of the compiled call in one object (module docstring); build it
-    with :func:`contact_data`."""
-
-
-structref.define_constructor(ContactData, ContactDataType, ["model", "state", "work"])
-structref.define_boxing(ContactDataType, ContactData)
-
-
-@compiled
-def contact_data(model, state, work):
-    """The :class:`ContactData` of the tuples (compiled and cached, like the calls that take it)."""
-    return ContactData(model, state, work)
-
-
-def compiled_for(dispatcher, *args):
-    """The compiled specialization of the numba ``dispatcher`` for the types of ``args``, callable from Python
-    without numba's type dispatch (for the contact call's arguments about 0.6 µs of the about 0.9 µs it costs per
-    call).  The caller must then pass arguments of exactly these types (arrays of the same dtype, dimension and
-    layout: nothing is checked).  Returns the dispatcher itself when numba offers no such entry."""
-    compile_ = getattr(dispatcher, "compile", None)
-    if compile_ is None:
-        return dispatcher
-    entry = compile_(tuple(numba.typeof(a) for a in args))
-    return entry if callable(entry) else dispatcher
 
 
 @compiled
@@ -182,11 +71,11 @@ def wheelset_poses(q, q_t, t, model, state, work):
     (irregularity, ground motion, deck state) and the pose of each wheel relative to its rail (``side_poses``).
     Returns the index of the first wheelset with a non-finite state, n for non-finite modal coordinates, or -1."""
     vehicle, track, geometry, creep, deck = model
-    p_ref = vehicle[0]
-    frame_par = vehicle[1]
+    p_ref = vehicle[VEH_P_REF]
+    frame_par = vehicle[VEH_FRAME]
     irr_rows, irr_knots, irr_coefs = track
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
-    deck_work, rot, wsd = work[0], work[1], work[2]
+    deck_work, rot, wsd = work[W_DECK], work[W_ROT], work[W_WHEELSET]
     speed = frame_par[FRAME_SPEED]
     moving_frame = frame_par[FRAME_MOVING] != 0.0
     s_start = frame_par[FRAME_S_START]
@@ -195,7 +84,8 @@ def wheelset_poses(q, q_t, t, model, state, work):
     n_m = q.shape[0] - n_w6
     q_m = q[n_w6:]
     q_m_t = q_t[n_w6:]
-    y_g = deck[0][DECK_GROUND_Y]
+    deck_par, _, _, _, _, _, _ = deck           # deck_arrays: par, the shape table, residual, prediction
+    y_g = deck_par[DECK_GROUND_Y]
     bad = -1
     for k in range(n_ws):
         o = 6 * k
@@ -286,11 +176,11 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
     the creepages, the creep law and the force on the wheelset; the results ``res``, the forces ``f_out``, the
     force on the rails and its projection on the deck.  ``f_out``, ``rail_f`` and ``res`` must be zero on entry."""
     vehicle, track, geometry, creep, deck = model
-    p_ref = vehicle[0]
-    frame_par = vehicle[1]
+    p_ref = vehicle[VEH_P_REF]
+    frame_par = vehicle[VEH_FRAME]
     law, cp, t_nodes, coef, tab = creep
     warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state = state
-    rot, wsd, vec, frame = work[1], work[2], work[3], work[4]
+    rot, wsd, vec, frame = work[W_ROT], work[W_WHEELSET], work[W_VEC], work[W_FRAME]
     n_ws = p_ref.shape[0]
     n_w6 = 6 * n_ws
     f_m = f_out[n_w6:]
@@ -298,8 +188,9 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
     om_x = 0.0               # the local track frame's angular velocity (curved layout)
     om_y = 0.0
     om_z = 0.0
-    y_g = deck[0][DECK_GROUND_Y]
-    v_g = deck[0][DECK_GROUND_VY]
+    deck_par, _, _, _, _, _, _ = deck           # deck_arrays: par, the shape table, residual, prediction
+    y_g = deck_par[DECK_GROUND_Y]
+    v_g = deck_par[DECK_GROUND_VY]
     v_min = cp[CP_V_MIN]
     pc = vec[V_P_CONTACT]
     nr = vec[V_N_RAIL]
@@ -342,8 +233,8 @@ def wheel_forces(q, q_t, model, state, work, f_out, res):
         h_g = wk[WS_HALF_GAUGE]
         omega_rail[0] = ds[5]
         if curved:
-            om_x, om_y, om_z = _frame_rate(vehicle[2], vehicle[3], wk[WS_S], frame_par[FRAME_SPEED],
-                                           frame_par[FRAME_PITCH], work[5])
+            om_x, om_y, om_z = _frame_rate(vehicle[VEH_LAYOUT], vehicle[VEH_LAYOUT_PAR], wk[WS_S],
+                                           frame_par[FRAME_SPEED], frame_par[FRAME_PITCH], work[W_LAYOUT])
             omega_rail[0] = ds[5] - om_x
             omega_rail[1] = -om_y
             omega_rail[2] = -om_z
@@ -463,7 +354,7 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     state = data.state
     work = data.work
     bad = wheelset_poses(q, q_t, t, model, state, work)
-    rail_f = state[6]
+    rail_f = state[ST_RAIL_F]
     for i in range(f_out.shape[0]):
         f_out[i] = 0.0
     for k in range(rail_f.shape[0]):
@@ -473,22 +364,24 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     res[:, :, :] = 0.0
     if bad >= 0:
         return bad
-    contact_geometry(q, model, state, work, model[2][5], model[4][5])
+    _, _, _, _, _, residual, _ = model[MODEL_DECK]     # the deck arrays' residual flexibility table (or None)
+    contact_geometry(q, model, state, work, model[MODEL_GEOMETRY][GEO_TABLE], residual)
     wheel_forces(q, q_t, model, state, work, f_out, res)
     return -1
 
 
 @compiled
 def contact_geometry(q, model, state, work, table, residual):
-    """Stage 2: the contact geometry and Hertz of every wheel (the kernel's output ``state[1]``), with ``table``
-    the geometry table's arrays (``model[2][5]``; :func:`~exudyn_wheelrail.contact.geometry_table.
-    evaluate_wheels_tabulated`) and ``residual`` the structure's residual flexibility table (``model[4][5]``) in
-    series with the contacts.  Either may be ``None``: then numba compiles none of its code (a branch on a
-    ``None`` argument is dropped by its type), so a run on the rigid track with the online search compiles
-    neither the table nor the series solve.  (The kernel is called from here, not through a wrapper: every layer
-    of compiled functions generates the machine code of all it calls once more.)"""
-    nodes, meta, mono, curve_ids, params, _, scan = model[2]
-    poses, warm, out, stats = state[2], state[0], state[1], state[3]
+    """Stage 2: the contact geometry and Hertz of every wheel (the kernel's output ``state[ST_OUT]``), with
+    ``table`` the geometry table's arrays (``model[MODEL_GEOMETRY][GEO_TABLE]``;
+    :func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`) and ``residual`` the structure's
+    residual flexibility table (the deck arrays' ``node_residual``) in series with the contacts.  Either may be
+    ``None``: then numba compiles none of its code (a branch on a ``None`` argument is dropped by its type), so a
+    run on the rigid track with the online search compiles neither the table nor the series solve.  (The kernel
+    is called from here, not through a wrapper: every layer of compiled functions generates the machine code of
+    all it calls once more.)"""
+    nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
+    poses, warm, out, stats = state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS]
     if residual is not None:
         _predict_residual(q, model, state, work)
     for attempt in range(2):
@@ -496,8 +389,9 @@ def contact_geometry(q, model, state, work, table, residual):
             K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
             GT.count_fallback(out, stats)
         else:
-            GT.evaluate_wheels_tabulated(table[0], table[1], table[2], nodes, meta, mono, curve_ids, poses, warm,
-                                         params, out, stats, scan)
+            table_par, table_cz_ref, table_data = table
+            GT.evaluate_wheels_tabulated(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses,
+                                         warm, params, out, stats, scan)
         if residual is None:
             return
         # a solve that moves its rails further than the geometry's linearization is trusted: move them there and
@@ -517,25 +411,25 @@ SERIES_REGEOMETRY_M = 2.0e-5
 @compiled
 def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
     """Move the rails under wheelset k by ``(du_y, du_z, du_th)`` (deck state and the wheels' poses)."""
-    ds = state[7][k]
-    wk = work[2][k]
+    ds = state[ST_DECK_STATE][k]
+    wk = work[W_WHEELSET][k]
     ds[0] += du_y
     ds[1] += du_z
     ds[2] += du_th
     _side_poses(k, p_ref[k, 1] + q[6 * k + 1], p_ref[k, 2] + q[6 * k + 2], wk[WS_ROLL], wk[WS_Y_RAIL] + du_y,
-                wk[WS_Z_RAIL] + du_z, math.atan2(wk[WS_SIN_TH], wk[WS_COS_TH]) + du_th, wk, state[2])
+                wk[WS_Z_RAIL] + du_z, math.atan2(wk[WS_SIN_TH], wk[WS_COS_TH]) + du_th, wk, state[ST_SIDE_POSES])
 
 
 @compiled
 def _predict_residual(q, model, state, work):
     """Before the geometry, with a residual flexibility: the rails of every wheelset on the structure moved by the
     residual displacement ``G_res F`` of its predicted rail load (deck arrays' ``rail_load_prediction``; zero: not
-    moved), kept in ``work[6][:, :3]``."""
-    deck = model[4]
-    pred = deck[6]
-    deck_state = state[7]
-    store = work[6]
-    p_ref = model[0][0]
+    moved), kept in ``work[W_RESIDUAL][:, :3]``."""
+    deck = model[MODEL_DECK]
+    _, _, _, _, _, _, pred = deck      # the deck arrays' rail_load_prediction
+    deck_state = state[ST_DECK_STATE]
+    store = work[W_RESIDUAL]
+    p_ref = model[MODEL_VEHICLE][VEH_P_REF]
     for k in range(deck_state.shape[0]):
         ds = deck_state[k]
         for i in range(6):
@@ -559,10 +453,10 @@ def _predict_residual(q, model, state, work):
 
 @compiled
 def _move_rails(q, model, state, work):
-    """Move the rails of every wheelset from where the geometry was found (``work[6][:, :3]``) to the solve's
-    residual displacement (``work[6][:, 3:]``)."""
-    store = work[6]
-    p_ref = model[0][0]
+    """Move the rails of every wheelset from where the geometry was found (``work[W_RESIDUAL][:, :3]``) to the
+    solve's residual displacement (``work[W_RESIDUAL][:, 3:]``)."""
+    store = work[W_RESIDUAL]
+    p_ref = model[MODEL_VEHICLE][VEH_P_REF]
     for k in range(store.shape[0]):
         du_y = store[k, 3] - store[k, 0]
         du_z = store[k, 4] - store[k, 1]
@@ -579,21 +473,21 @@ def series_compliance(state, work, final):
     """Stage 2b, after the geometry, with a structure's residual flexibility
     (:mod:`~exudyn_wheelrail.structures.deck_kinematics`): the contacts of every wheelset on the structure in series
     with the rails' residual flexibility there (:func:`~exudyn_wheelrail.structures.deck_kinematics.series_contacts`),
-    from the penetrations found on the rails at their residual displacement ``work[6][:, :3]`` (the prediction of
-    :func:`_predict_residual`, or zero); the solution u into ``work[6][:, 3:]``.  Not ``final``: returns True if a
+    from the penetrations found on the rails at their residual displacement ``work[W_RESIDUAL][:, :3]`` (the prediction of
+    :func:`_predict_residual`, or zero); the solution u into ``work[W_RESIDUAL][:, 3:]``.  Not ``final``: returns True if a
     wheelset's u lies more than :data:`SERIES_REGEOMETRY_M` from where its geometry was found (the caller then
     moves the rails there, :func:`_move_rails`, and finds the geometry again: on the undeflected rail head a
     penetration deeper by the pads' compression shows a second, spurious tread maximum) and changes nothing else.
     ``final``: moves the deck state to u and replaces the kernel's normal force, dN/dδ, semi-axes and penetration
     (now the Hertz approach) by the series values (semi-axes and Hertz's dN/dδ scale with the square root of the
     approach)."""
-    out = state[1]
-    deck_state = state[7]
-    wsd = work[2]
-    store = work[6]
-    contacts = work[7]
-    scratch = work[8]
-    index = work[9]
+    out = state[ST_OUT]
+    deck_state = state[ST_DECK_STATE]
+    wsd = work[W_WHEELSET]
+    store = work[W_RESIDUAL]
+    contacts = work[W_CONTACTS]
+    scratch = work[W_SERIES]
+    index = work[W_INDEX]
     n_reg = out.shape[1]
     again = False
     for k in range(deck_state.shape[0]):
@@ -664,7 +558,7 @@ def contact_jacobian_core(q, q_t, t, data, f0, res, f_odeq, f_odev, jac, h_pos, 
     The warm-start state is restored after every perturbed call."""
     warm, _, _, _, rail_delta, phi_ws, rail_f, deck_state = data.state
     n = q.shape[0]
-    n_ws = data.model[0][0].shape[0]
+    n_ws = data.model[MODEL_VEHICLE][VEH_P_REF].shape[0]
     n_w6 = 6 * n_ws
     n_m = n - n_w6
     warm0 = warm.copy()

@@ -60,7 +60,9 @@ from ..contact.layout import (CP_V_MIN, F_DN_DDELTA, F_FLAGS, F_KR_LAT, F_KW_LAT
 from ..creep.registry import CREEP_LAWS, creep_forces
 from ..jit import compiled
 from ..structures.deck_kinematics import DECK_GROUND_Y, rail_pair_to_track
-from .connector_core import V_E_AXLE, V_N_RAIL, WS_COS_TH, WS_SIN_TH, WS_Y_RAIL, WS_Z_RAIL
+from .core_data import (GEO_PARAMS, MODEL_CREEP, MODEL_DECK, MODEL_GEOMETRY, MODEL_VEHICLE, ST_DECK_STATE, ST_OUT,
+                        ST_PHI_WS, V_E_AXLE, V_N_RAIL, VEH_P_REF, W_FRAME, W_ROT, W_VEC, W_WHEELSET, WS_COS_TH,
+                        WS_SIN_TH, WS_Y_RAIL, WS_Z_RAIL)
 
 __all__ = ["JACOBIAN_METHODS", "CONFORMAL_LIMIT", "semi_analytic_jacobian", "contact_tangent_blocks", "creep_tangent",
            "needs_differences"]
@@ -134,18 +136,19 @@ def contact_tangent_blocks(q, q_t, data, res, Kq, Cv):
     model = data.model
     state = data.state
     work = data.work
-    p_ref = model[0][0]
-    law, cp, t_nodes, coef, tab = model[3]
-    y_g = model[4][0][DECK_GROUND_Y]
-    out = state[1]
-    deck_state = state[7]
-    rot = work[1]
-    wsd = work[2]
-    vec = work[3]
-    fr = work[4]
+    p_ref = model[MODEL_VEHICLE][VEH_P_REF]
+    law, cp, t_nodes, coef, tab = model[MODEL_CREEP]
+    deck_par, _, _, _, _, _, _ = model[MODEL_DECK]    # deck_arrays: par, the shape table, residual, prediction
+    y_g = deck_par[DECK_GROUND_Y]
+    out = state[ST_OUT]
+    deck_state = state[ST_DECK_STATE]
+    rot = work[W_ROT]
+    wsd = work[W_WHEELSET]
+    vec = work[W_VEC]
+    fr = work[W_FRAME]
     n_ws = p_ref.shape[0]
     v_min = cp[CP_V_MIN]
-    params = model[2][4]
+    params = model[MODEL_GEOMETRY][GEO_PARAMS]
     n_slots = res.shape[1]
     D = np.empty((3, 3))
     dFN = np.empty(3)
@@ -377,15 +380,15 @@ def semi_analytic_jacobian(q, q_t, data, f0, res, f_odeq, f_odev, jac, Kq, Cv):
     fast-turning normal instead (:func:`needs_differences`).
 
     The compiled code here calls no function of :mod:`.connector_core` (its cache would not see their changes);
-    it reads the call's work arrays by their ``WS_*``/``V_*`` indices."""
+    it reads the call's tuples and work arrays by their indices (:mod:`.core_data`)."""
     n = q.shape[0]
     for r in range(n):
         for c in range(n):
             jac[r, c] = 0.0
     contact_tangent_blocks(q, q_t, data, res, Kq, Cv)
-    rot = data.work[1]
-    phi_ws = data.state[5]
-    deck_state = data.state[7]
+    rot = data.work[W_ROT]
+    phi_ws = data.state[ST_PHI_WS]
+    deck_state = data.state[ST_DECK_STATE]
     n_ws = Kq.shape[0]
     n_w6 = 6 * n_ws
     n_m = n - n_w6

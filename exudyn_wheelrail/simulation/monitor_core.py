@@ -157,6 +157,15 @@ WSF_STABILITY = 4         # omega h near RK44's limit: Python decides with the e
 CODE_WHEEL = 1
 CODE_WHEELSET = 2
 
+# ---- the stability estimate's scratch matrices: work[MW_*] (empty_arrays), each (2 N_SLOTS, 2 N_SLOTS) -----------
+MW_R = 0                  # the wheelset's rotation matrix (top-left 3 x 3)
+MW_S = 1                  # R I^(-1/2) R^T (top-left 3 x 3)
+MW_T = 2                  # R I^(-1/2) (top-left 3 x 3)
+MW_A = 3                  # the contact rows against the wheelset's inertia, A = G M^(-1/2)
+MW_B = 4                  # A A^T (plus the rails' modal mass on a structure)
+MW_JACOBI = 5             # the copy Jacobi's method rotates
+N_MW = 6
+
 
 @compiled(inline="always")
 def _max_nan(a, b):
@@ -284,10 +293,10 @@ def contact_rows(k, q, res, out, ws_par, G):
 @compiled
 def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
     """ω h of wheelset k from its rows: the largest eigenvalue of A Aᵀ, A = G Mh, Mh = diag(I/√m, R I^(-1/2) Rᵀ)."""
-    R = work[0, :3, :3]
+    R = work[MW_R, :3, :3]
     rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
-    S = work[1, :3, :3]                                 # R I^(-1/2) R^T
-    T = work[2, :3, :3]
+    S = work[MW_S, :3, :3]                              # R I^(-1/2) R^T
+    T = work[MW_T, :3, :3]
     for i in range(3):
         for j in range(3):
             acc = 0.0
@@ -300,7 +309,7 @@ def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
             for m in range(3):
                 acc += T[i, m] * R[j, m]
             S[i, j] = acc
-    A = work[3]
+    A = work[MW_A]
     sm = ws_par[k, WSP_INV_SQRT_MASS]
     for i in range(n_rows):
         for j in range(3):
@@ -310,7 +319,7 @@ def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
             for m in range(3):
                 acc += G[k, i, 3 + m] * S[m, j]
             A[i, 3 + j] = acc
-    B = work[4]
+    B = work[MW_B]
     for i in range(n_rows):
         for j in range(n_rows):
             acc = 0.0
@@ -318,7 +327,7 @@ def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
                 acc += A[i, m] * A[j, m]
             B[i, j] = acc
     rail_mobility(k, n_rows, G, phi_ws, B)
-    lam = largest_eigenvalue_psd(B, n_rows, work[5])
+    lam = largest_eigenvalue_psd(B, n_rows, work[MW_JACOBI])
     return math.sqrt(max(lam, 0.0)) * h
 
 
@@ -589,5 +598,5 @@ def empty_arrays(n_ws: int, need: int):
     wss = np.zeros((n_ws, N_WS))
     rings = np.zeros((n_ws, 2, max(1, need)))
     G = np.zeros((n_ws, 2 * N_SLOTS, N_G))
-    work = np.zeros((6, 2 * N_SLOTS, 2 * N_SLOTS))
+    work = np.zeros((N_MW, 2 * N_SLOTS, 2 * N_SLOTS))
     return ext, iv, wq, wflag, wss, rings, G, work
