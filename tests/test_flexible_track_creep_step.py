@@ -19,7 +19,7 @@ import warnings
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.simulation.monitor import coupled_damper_rate_1_s
+from exudyn_wheelrail.simulation.monitor_stability import coupled_damper_rate_1_s
 from exudyn_wheelrail.validation import InputWarning
 
 VEHICLE = "manchester_vehicle1"

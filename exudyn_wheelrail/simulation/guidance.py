@@ -26,8 +26,8 @@ import numpy as np
 from ..analysis.safety import EN14363_WINDOW_M, prudhomme_limit_N
 from ..contact.layout import N_RES, N_SLOTS
 from ..jit import compiled
-from ..multibody.connector_core import compiled_for
-from .monitor import SIDES, Status
+from ..multibody.core_data import compiled_for
+from .monitor_records import SIDES, Status
 from .recorder import wheel_force_yz
 
 __all__ = ["FlangeClimbCheck"]
@@ -100,7 +100,7 @@ def window_quotient(t, res, window_s, nadal, idx, ring_t, ring_y, ring_q, sums, 
 
 class FlangeClimbCheck:
     """``check(contact, t)`` after the monitor evaluated the contact at the state of time ``t``: a ``derailment``
-    :class:`~exudyn_wheelrail.simulation.monitor.Status` when a wheel's 2 m quotient exceeds ``nadal_limit``, else
+    :class:`~.monitor_records.Status` when a wheel's 2 m quotient exceeds ``nadal_limit``, else
     None.  Inactive for a flangeless wheel (``nadal_limit`` NaN) or a standing vehicle.  The per-state work is one
     compiled call (:func:`window_quotient`)."""
 

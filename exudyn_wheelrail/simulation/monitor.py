@@ -17,7 +17,8 @@ system vectors.  An explicit step's first stage evaluates the contact at that sa
 the monitor's evaluation instead of computing it again (bit-identical; ``tests/test_watching.py``), so watching
 costs no contact call of its own with an explicit solver.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
 checked in ``tests/stress``) then still completes the step it was about to take and stops, so the solve ends one
-step after the detected state, at ``mbs.systemData.GetTime()``.  :func:`run_monitored` wraps ``SolveDynamic``: it
+step after the detected state, at ``mbs.systemData.GetTime()``.
+:func:`~.runner.run_monitored` wraps ``SolveDynamic``: it
 catches :class:`~.connector.ContactStateError` (non-finite coordinates; Exudyn re-raises a user function's exception
 with it as the ``__cause__``) and any other solver failure, checks the final state and returns ``(status, t_end)``.
 
@@ -94,17 +95,17 @@ Invalid states (stop the run)
   Hertz force of tens of MN);
 * a wheelset velocity (lateral or vertical, model frame) above ``max_speed_m_s`` (10 m/s) or a roll/yaw rate above
   ``max_rate_rad_s`` (20 rad/s) — reached by a diverging integration, not by a running wheelset;
-* with RK44 (:func:`run_monitored` passes the step): the **stability estimate** — the highest natural frequency ω
-  of each wheelset on its linearised contact stiffness (6x6: Σ dN/dδ g gᵀ over the loaded contacts, g = (n, r x n)
-  with the rail normal n and the lever r from the axle centre, against the wheelset's mass and inertia) — exceeds
-  RK44's limit ω h <= 2√2 (per state the largest eigenvalue by Jacobi's method; within
-  :data:`STABILITY_SCREEN_MARGIN` of the limit LAPACK's eigenvalue decides).  This alone is recorded as a
-  ``step_size`` event (a short excursion may pass); every stopping status after it becomes ``invalid_state`` naming
-  both ("the integration is not trustworthy; then: …"), so a diverged run is never reported as a derailment.  The
-  creep damping (:meth:`RunMonitor.creep_decay_rate_1_s`: Kalker's linear theory on the loaded contacts, decay
-  rates growing as 1/V) is checked at the first state against RK44's real-axis limit σ h <= 2.785: beyond it the
-  run stops with the same ``step_size`` event (a low-speed run at 1 ms integrates a limit cycle of the creep forces,
-  not rolling).
+* with RK44 (:func:`~.runner.run_monitored` passes the step): the **stability estimate** — the highest natural
+  frequency ω of each wheelset on its linearised contact stiffness (6x6: Σ dN/dδ g gᵀ over the loaded contacts,
+  g = (n, r x n) with the rail normal n and the lever r from the axle centre, against the wheelset's mass and
+  inertia) — exceeds RK44's limit ω h <= 2√2 (per state the largest eigenvalue by Jacobi's method; within
+  :data:`~.monitor_stability.STABILITY_SCREEN_MARGIN` of the limit LAPACK's eigenvalue decides).  This alone is
+  recorded as a ``step_size`` event (a short excursion may pass); every stopping status after it becomes
+  ``invalid_state`` naming both ("the integration is not trustworthy; then: …"), so a diverged run is never
+  reported as a derailment.  The creep damping (:meth:`RunMonitor.creep_decay_rate_1_s`: Kalker's linear theory
+  on the loaded contacts, decay rates growing as 1/V) is checked at the first state against RK44's real-axis
+  limit σ h <= 2.785: beyond it the run stops with the same ``step_size`` event (a low-speed run at 1 ms
+  integrates a limit cycle of the creep forces, not rolling).
 
 ``time_limit``: the wall-clock limit ``time_limit_s`` was reached.  ``solver_failure``: ``SolveDynamic`` failed for
 another reason (returned False, raised, or stopped early).  Completed runs end with ``completed`` — or ``hunting``
@@ -115,138 +116,26 @@ never with ``completed``.
 from __future__ import annotations
 
 import math
-import re
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..analysis.safety import nadal_limit, prudhomme_limit_N
 from ..contact import layout as L
 from ..multibody import connector as C
+from ..multibody.core_data import compiled_for
 from . import monitor_core as MC
+from .monitor_records import (SIDES, STATUS_KINDS, STOP_KINDS, Interval, Status, WheelRecord,  # noqa: F401
+                              contact_state_error, status_from_state_error)
+from .monitor_stability import (STABILITY_SCREEN_MARGIN, StabilityEstimate, coupled_damper_rate_1_s,  # noqa: F401
+                                wheelset_inertia)
 from .solvers import RK44
-from ..multibody.connector_core import compiled_for
-from ..multibody.rotations import rotation_from_vector
 
 __all__ = ["Status", "Interval", "WheelRecord", "RunMonitor", "STATUS_KINDS", "STOP_KINDS",
            "coupled_damper_rate_1_s"]
 
-#: every status kind; the first two are completed runs
-STATUS_KINDS = ("completed", "hunting", "derailment", "invalid_state", "time_limit", "solver_failure")
-#: kinds the monitor can stop a run for (``stop_on``)
-STOP_KINDS = ("derailment", "invalid_state", "time_limit", "hunting", "flange_climb", "lift_off", "deep_penetration",
-              "step_size")
-SIDES = ("right", "left")          # wheel 2k right, 2k+1 left (the connector's order)
-
-
-@dataclass(frozen=True)
-class Status:
-    """Outcome of a run or an event: ``kind`` (:data:`STATUS_KINDS`, or an event kind), the time of the state
-    [s], the wheelset index and side (``"right"``/``"left"``) where it applies, and a readable detail."""
-
-    kind: str
-    time_s: float | None
-    wheelset: int | None = None
-    side: str | None = None
-    detail: str = ""
-
-    @property
-    def completed(self) -> bool:
-        """The run reached its end time (``completed`` or ``hunting``)."""
-        return self.kind in ("completed", "hunting")
-
-    def __str__(self) -> str:
-        where = "" if self.wheelset is None else f" wheelset {self.wheelset}" + (f" {self.side}" if self.side else "")
-        when = "" if self.time_s is None else f" at t = {self.time_s:.6g} s"
-        return f"{self.kind}{where}{when}" + (f": {self.detail}" if self.detail else "")
-
-
-@dataclass
-class Interval:
-    """A period of a per-wheel condition: from the first state with it to the first state without it (``end_s``
-    None while it lasts; :meth:`duration_s` then counts to the last checked state)."""
-
-    start_s: float
-    end_s: float | None = None
-    last_s: float = 0.0                 # last state checked inside the interval
-    peak: float = 0.0                   # the interval's extreme value (gap for lift-off, depth for penetration)
-    reasons: set = field(default_factory=set)
-
-    def duration_s(self) -> float:
-        return (self.end_s if self.end_s is not None else self.last_s) - self.start_s
-
-
-@dataclass
-class WheelRecord:
-    """What the monitor recorded for one wheel (extremes over the checked states and the event intervals)."""
-
-    wheelset: int
-    side: str
-    lift_offs: list = field(default_factory=list)
-    flange_climbs: list = field(default_factory=list)
-    deep_penetrations: list = field(default_factory=list)
-    max_contact_angle_rad: float = -math.inf   # of the loaded contacts
-    max_normal_force_N: float = 0.0            # sum over the wheel's contacts
-    max_abs_lateral_force_N: float = 0.0       # |Y| of the wheel (track frame, all contacts)
-    max_penetration_m: float = 0.0
-    max_gap_m: float = 0.0                     # largest gap while lifted
-    max_lateral_m: float = -math.inf           # c_y, towards the field side, relative to the rail
-    min_lateral_m: float = math.inf
-
-    def total_lift_s(self) -> float:
-        return sum(i.duration_s() for i in self.lift_offs)
-
-
-_STATE_ERROR = re.compile(r"t = ([-+0-9.eEinfa]+) s: wheelset (\d+)")
-_STATE_ERROR_T = re.compile(r"t = ([-+0-9.eEinfa]+) s")
-
-
-def contact_state_error(exc: BaseException):
-    """The ContactStateError in an exception's chain (Exudyn re-raises a user function's exception with it as the
-    cause), or None."""
-    seen = set()
-    e = exc
-    while e is not None and id(e) not in seen:
-        if isinstance(e, C.ContactStateError):
-            return e
-        seen.add(id(e))
-        e = e.__cause__ or e.__context__
-    return None
-
-
-def status_from_state_error(err: C.ContactStateError, fallback_t: float | None) -> Status:
-    msg = str(err).splitlines()[0]
-    m = _STATE_ERROR.search(msg)
-    wheelset = int(m.group(2)) if m else None
-    mt = _STATE_ERROR_T.search(msg)
-    try:
-        t = float(mt.group(1)) if mt else fallback_t
-    except ValueError:
-        t = fallback_t
-    return Status("invalid_state", t, wheelset, None, f"ContactStateError: {msg}")
-
-
 #: a flange contact counts as beyond the flank where the profile's slope is this much below the flank's steepest
 FLANK_ANGLE_DROP_RAD = 0.05
-#: relative margin below RK44's imaginary-axis limit (:data:`~.solvers.RK44`) above which the compiled value of the stability estimate (Jacobi's method,
-#: :func:`.monitor_core.largest_eigenvalue_psd`, relative error near 1e-15) is replaced by LAPACK's eigenvalue before
-#: anything is decided
-STABILITY_SCREEN_MARGIN = 1e-6
-
-
-def _wheelset_inertia(mbs, nodes):
-    """Per wheelset node: (mass, inverse square root of the 3x3 body inertia) of the ObjectRigidBody on it, or None
-    when there is none."""
-    found = {}
-    for i in range(mbs.systemData.NumberOfObjects()):
-        d = mbs.GetObject(i)
-        if d.get("objectType") == "RigidBody" and int(d.get("nodeNumber", -1)) in [int(n) for n in nodes]:
-            J = np.asarray(d["inertia"], dtype=float)      # Ixx, Iyy, Izz, Iyz, Ixz, Ixy
-            I3 = np.array([[J[0], J[5], J[4]], [J[5], J[1], J[3]], [J[4], J[3], J[2]]])
-            ev, U = np.linalg.eigh(I3)
-            found[int(d["nodeNumber"])] = (float(d["mass"]), U @ np.diag(1.0 / np.sqrt(ev)) @ U.T)
-    return [found.get(int(n)) for n in nodes]
 
 
 def _reason_names(bits: int) -> set:
@@ -258,20 +147,7 @@ _INTERVALS = ((MC.IV_FLANGE, "flange_climb", "flange_climbs"), (MC.IV_LIFT, "lif
               (MC.IV_DEEP, "deep_penetration", "deep_penetrations"))
 
 
-def coupled_damper_rate_1_s(rows_g: np.ndarray, rows_h: np.ndarray, Mh: np.ndarray, W: np.ndarray) -> float:
-    """The fastest decay rate [1/s] of dampers between a rigid body and a structure's modes: damper i (coefficient
-    c_i) acts along ``g_i`` on the body (6: force direction and its moment) and along ``h_i`` on the structure at the
-    same point (its directions in the structure's rows), ``rows_g[i] = √c_i g_i``, ``rows_h[i] = √c_i h_i``;
-    ``Mh = M^-1/2`` of the body, ``W = Φ Φᵀ`` the structure's inverse modal mass there (mass-normalised modes Φ).
-    The coupled damping ``D = Σ c_i d_i d_iᵀ``, ``d_i = (g_i, -Φᵀ h_i)``, against ``diag(M, 1)`` has the nonzero
-    eigenvalues of ``B = A Aᵀ + H W Hᵀ`` (``A = rows_g Mh``, ``H = rows_h``; B is one row per damper): the largest
-    is returned (:meth:`RunMonitor.creep_decay_rate_1_s`)."""
-    A = rows_g @ Mh
-    H = rows_h
-    return float(np.linalg.eigvalsh(A @ A.T + H @ W @ H.T)[-1])
-
-
-class RunMonitor:
+class RunMonitor(StabilityEstimate):
     """Per-step checks of a model with a :class:`~.connector.WheelRailContact` (module docstring).
 
     Parameters
@@ -458,12 +334,12 @@ class RunMonitor:
         if given (Exudyn's arguments; it must return a bool; the contact's results are then those of the checked
         state); ``t_start_s`` is the time of the initial state.  Starts the wall clock of ``time_limit_s``.
         ``rk44_step_s``: the step of an RK44 solve — enables the stability estimate (module docstring;
-        :func:`run_monitored` sets it)."""
+        :func:`~.runner.run_monitored` sets it)."""
         self._user = user_function
         self._t_prev = float(t_start_s)
         self._wall0 = time.perf_counter()
         self.rk44_step_s = None if rk44_step_s is None else float(rk44_step_s)
-        self._inertia = _wheelset_inertia(mbs, self.contact.nodes_exu) if self.rk44_step_s else None
+        self._inertia = wheelset_inertia(mbs, self.contact.nodes_exu) if self.rk44_step_s else None
         self._par[MC.PAR_STEP] = self.rk44_step_s or 0.0
         self._ws_par[:, MC.WSP_HAS_INERTIA] = 0.0
         for k, inertia in enumerate(self._inertia or ()):
@@ -564,81 +440,6 @@ class RunMonitor:
         if self.n_checks == 1 and self._inertia is not None and self.status is None:
             self._creep_stability(t, q)
         return self.status
-
-    def creep_decay_rate_1_s(self, k: int, q) -> float:
-        """The fastest decay rate σ [1/s] of wheelset k's creep damping at the evaluated state: at small creepage
-        every contact acts on the rolling wheelset like two dampers, ``c_x = G a b C11 / V`` along the track's x and
-        ``c_y = G a b C22 / V`` across it (Kalker's linear theory, :func:`~exudyn_wheelrail.creep.linear.
-        kalker_coefficients` at the patch's a/b; G, ν the connector's), acting at the contact point; σ is the
-        largest eigenvalue of ``M^-1/2 D M^-1/2`` with ``D = Σ c g gᵀ``, ``g = (t, r × t)`` (r the lever from the
-        axle centre) and the wheelset's mass and inertia M.  It grows as 1/V: an explicit step needs σ h <= 2.785
-        (:data:`RK44.real_axis_limit`) or it integrates a limit cycle of the creep forces instead of rolling.  0 without
-        a loaded contact or with the creep law ``none``.
-
-        On a structure (a flexible track, a deck) the lateral damper also acts on the rails, whose inverse modal
-        mass at the wheelset is ``W = Φ Φᵀ`` (rows y, z, θ; :func:`.monitor_core.rail_mobility`): σ is then the
-        largest eigenvalue of ``B = A Aᵀ + H W Hᵀ`` over the dampers (rows ``√c g M^-1/2`` and ``√c h``, h the
-        damper's direction on the rails: y and its moment about the rails' centre line; the longitudinal damper
-        has none), the same nonzero eigenvalues as the coupled system's ``M^-1/2 D M^-1/2``
-        (:func:`coupled_damper_rate_1_s`, used in every case: on the rigid track ``W = 0``, and B has those of the
-        wheelset's ``M^-1/2 D M^-1/2``).  A flexible rail's lateral modal mass per wheelset is tens of kilograms
-        (62 kg on the shipped ballasted track, modes to 800 Hz) against the wheelset's 1.8 t: the Manchester vehicle
-        at 50 km/h has σ = 2.5e4 1/s there, 4.5e3 1/s on the rigid track, and an explicit step beyond it settles
-        into a false steady lateral force of nearly μ Q per wheel instead of diverging (docs/track.md, "The creep
-        damping on the rails")."""
-        from ..creep.linear import A_OVER_B_MAX, A_OVER_B_MIN, kalker_coefficients
-        c = self.contact
-        inertia = self._inertia[k] if self._inertia is not None else None
-        if inertia is None or c.creep_law == "none":
-            return 0.0
-        G_mod, nu = float(c.cp[L.CP_G]), min(max(float(c.cp[L.CP_NU]), 0.0), 0.5)
-        res = c.results
-        centre = np.asarray(c.p_ref[k], dtype=float) + np.asarray(q[6 * k:6 * k + 3], dtype=float)
-        rows_g, rows_h = [], []
-        for w in (2 * k, 2 * k + 1):
-            for r in res[w]:
-                N, a, b, V = r[L.RES_N], r[L.RES_A], r[L.RES_B], abs(r[L.RES_V])
-                if not (N > 0.0 and a > 0.0 and b > 0.0 and V > 0.0):
-                    continue
-                c11, c22, _ = kalker_coefficients(min(max(a / b, A_OVER_B_MIN), A_OVER_B_MAX), nu)
-                lever = np.array([r[L.RES_P_X], r[L.RES_P_Y], r[L.RES_P_Z]]) - centre
-                for coefficient, t_dir in ((c11, (1.0, 0.0, 0.0)), (c22, (0.0, 1.0, 0.0))):
-                    root_c = math.sqrt(G_mod * a * b * coefficient / V)
-                    # the damper on the wheelset (direction and moment about the axle centre) and on the rails (y, z,
-                    # θ about their centre line, as contact_rows)
-                    rows_g.append(root_c * np.concatenate([t_dir, np.cross(lever, t_dir)]))
-                    rows_h.append(root_c * np.array((t_dir[1], t_dir[2], t_dir[2] * (r[L.RES_P_Y] - r[L.RES_DECK_Y])
-                                                     - t_dir[1] * (r[L.RES_P_Z] - r[L.RES_DECK_Z]))))
-        if not rows_g:
-            return 0.0
-        phi = self._phi_ws[k]                                         # no structure: no columns, W = 0
-        return coupled_damper_rate_1_s(np.array(rows_g), np.array(rows_h), self._mass_scaling(k, q), phi @ phi.T)
-
-    def _mass_scaling(self, k: int, q) -> np.ndarray:
-        """``M^-1/2`` of wheelset k at its current rotation (6x6, global: ``1/√m`` and ``(R I Rᵀ)^-1/2``) in a
-        scratch array, for the eigenvalues of a stiffness or damping matrix against the wheelset's inertia."""
-        mass, I_inv_sqrt = self._inertia[k]
-        R, Mh = self._R, self._Mh
-        rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
-        Mh[:3, :3] = np.eye(3) / math.sqrt(mass)
-        Mh[3:, 3:] = R @ I_inv_sqrt @ R.T
-        return Mh
-
-    def _creep_stability(self, t, q):
-        """At the first checked state of an RK44 run: the creep damping's decay rates against the step
-        (:meth:`creep_decay_rate_1_s`; the speed is constant, the rates change with the patch size only, as
-        N^(2/3)); beyond RK44's real-axis limit a ``step_size`` event stops the run."""
-        h = self.rk44_step_s
-        self.creep_rate_1_s = [self.creep_decay_rate_1_s(k, q) for k in range(self.n_wheelsets)]
-        k = int(np.argmax(self.creep_rate_1_s))
-        sh = self.creep_rate_1_s[k] * h
-        if sh > RK44.real_axis_limit and self.stability_exceeded is None:
-            st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the creep "
-                        f"damping (sigma h = {sh:.3g} > {RK44.real_axis_limit:.3f}, sigma = {sh / h:.4g} 1/s, growing as "
-                        f"1/V at low speed): use dt_s <= {RK44.real_axis_limit / (sh / h):.3g} s or the implicit solver "
-                        "newmark")
-            self.stability_exceeded = st
-            self._stop(st)
 
     def _events_of_state(self, t, q, v):
         """What the compiled call reported for this state, in the order of the checks: implausible velocities, the
@@ -746,27 +547,6 @@ class RunMonitor:
         cur.last_s = float(iv[MC.IVF_LAST])
         cur.peak = float(iv[MC.IVF_PEAK])
         cur.reasons = _reason_names(int(iv[MC.IVF_REASONS]))
-
-    def _stability_exact(self, t, k, q):
-        """The stability estimate of wheelset k with LAPACK's eigenvalue (the compiled screening value came close
-        to or above RK44's limit): the highest frequency on its linearised contact stiffness (module docstring)."""
-        h = self.rk44_step_s
-        n_rows = int(self._wss[k, MC.WS_ROWS])
-        G = self._G[k, :n_rows, :6].copy()
-        Mh = self._mass_scaling(k, q)
-        A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
-        B = A @ A.T
-        MC.rail_mobility(k, n_rows, self._G, self._phi_ws, B)     # the rails' modal mass on a structure
-        lam = float(np.linalg.eigvalsh(B)[-1]) if n_rows > 1 else float(B[0, 0])
-        wh = math.sqrt(max(lam, 0.0)) * h
-        self._wss[k, MC.WS_MAX_OMEGA_H] = max(float(self._wss[k, MC.WS_MAX_OMEGA_H]), wh)
-        if wh > RK44.imaginary_axis_limit and self.stability_exceeded is None:
-            st = Status("step_size", t, k, None, f"time step {h:.4g} s beyond the RK44 stability limit of the "
-                        f"contact stiffness (omega h = {wh:.3g} > {RK44.imaginary_axis_limit:.3f}, omega = {wh / h:.4g} rad/s: "
-                        f"stable below {RK44.imaginary_axis_limit / (wh / h):.3g} s)")
-            self.stability_exceeded = st
-            self._par[MC.PAR_STAB_SCREEN] = math.inf       # decided once
-            self._stop(st)
 
     # -- results --------------------------------------------------------------------------------------------------
     @property

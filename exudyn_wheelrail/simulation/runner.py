@@ -1,5 +1,5 @@
 r"""The one solve wrapper: every run goes through :func:`solve` (:func:`run` for a :class:`~.settings.RunSettings`;
-:func:`~exudyn_wheelrail.simulation.monitor.run_monitored` for a caller's own Exudyn settings).
+:func:`run_monitored` for a caller's own Exudyn settings).
 
 >>> outcome = run(h.mbs, RunSettings(solver="rk44", duration_s=0.5), contact=h.contact, speed_m_s=V,
 ...               recorder=recorder)                                                    # doctest: +SKIP
@@ -54,7 +54,8 @@ from ..validation import InputWarning
 from . import status as S
 from .exudyn_settings import run_solver_settings
 from .guidance import FlangeClimbCheck
-from .monitor import RunMonitor, Status, contact_state_error, status_from_state_error
+from .monitor import RunMonitor
+from .monitor_records import Status, contact_state_error, status_from_state_error
 from .settings import RunSettings
 from .solvers import METHODS, RK44
 from .step_checks import check_explicit_step
@@ -69,7 +70,7 @@ _SERIOUS = ("invalid_state", "derailment")
 
 @dataclass
 class RunOutcome:
-    """What a run ended with.  ``stop``: the monitor-style :class:`~exudyn_wheelrail.simulation.monitor.Status`
+    """What a run ended with.  ``stop``: the monitor-style :class:`~exudyn_wheelrail.simulation.monitor_records.Status`
     that ended it (``completed``/``hunting`` for a complete run); :attr:`status`: the run status."""
 
     stop: Status

@@ -29,7 +29,7 @@ status             exit code  meaning
 Exit code 2: bad input (reported before any work starts, one line ``error: <option or key>: <problem>``); 1: any
 other error.  A sweep exits with 1 if a case failed with an error, else with the largest exit code of its cases.
 
-The monitor's own kinds (:data:`~exudyn_wheelrail.simulation.monitor.STATUS_KINDS`) map onto these
+The monitor's own kinds (:data:`~exudyn_wheelrail.simulation.monitor_records.STATUS_KINDS`) map onto these
 (:data:`MONITOR_KINDS`); its detail text is kept.  Time series keep the rows recorded up to the last valid state;
 the peaks of a ``diverged`` run are not evaluated (no number of the diverged part is printed as a peak).
 """

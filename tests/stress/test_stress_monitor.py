@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from stress_models import build
 
-from exudyn_wheelrail.simulation.monitor import RunMonitor, Status
+from exudyn_wheelrail.simulation.monitor import RunMonitor
+from exudyn_wheelrail.simulation.monitor_records import Status
 
 FLANGE_HEIGHT_M = 0.028          # S1002, EN 13715
 
