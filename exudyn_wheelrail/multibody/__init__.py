@@ -15,7 +15,8 @@ from ..rolling_stock.placement import place_on_rails, static_axle_offset_m
 from ..rolling_stock.train import Consist, ConsistError, TrainModel, build_train, load_consist, shipped_trains
 from ..rolling_stock.vehicle_builder import (LongitudinalRestraint, RailSprings, VehicleModel, WheelsetHandle,
                                              build_vehicle, static_load_path)
-from ..rolling_stock.vehicle_data import VehicleData, VehicleDataError, load_vehicle, shipped_vehicles, vehicle_from_dict
+from ..rolling_stock.vehicle_data import VehicleDataError, load_vehicle, shipped_vehicles, vehicle_from_dict
+from ..rolling_stock.vehicle_records import VehicleData
 from ..track.rigid import (Harmonic, Irregularity, IrregularitySum, NoIrregularity, RigidStraightTrack,
                            SampledIrregularity, SpanDeflection, irregularity_at, irregularity_many)
 from .connector import ContactStateError, WheelRailContact, add_train_contact, add_wheel_rail_contact

@@ -13,7 +13,8 @@ from .placement import place_on_rails, start_on_track, static_axle_offset_m
 from .train import Consist, ConsistError, TrainModel, build_train, load_consist, place_train_on_track, shipped_trains
 from .vehicle_builder import (LongitudinalRestraint, RailSprings, VehicleModel, WheelsetHandle, build_vehicle,
                               static_load_path)
-from .vehicle_data import VehicleData, VehicleDataError, load_vehicle, shipped_vehicles, vehicle_from_dict
+from .vehicle_data import VehicleDataError, load_vehicle, shipped_vehicles, vehicle_from_dict
+from .vehicle_records import VehicleData
 
 __all__ = [
     "load_vehicle", "vehicle_from_dict", "shipped_vehicles", "VehicleData", "VehicleDataError",

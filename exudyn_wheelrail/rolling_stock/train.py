@@ -60,7 +60,8 @@ import numpy as np
 from ..validation import read_toml
 from .placement import place_on_rails, start_on_track
 from .vehicle_builder import GRAVITY_M_S2, StaticLoadPath, VehicleModel, build_vehicle, static_load_path
-from .vehicle_data import VEHICLES_DIR, VehicleData, load_vehicle
+from .vehicle_data import VEHICLES_DIR, load_vehicle
+from .vehicle_records import VehicleData
 
 __all__ = ["TRAINS_DIR", "DEFAULT_GAP_M", "ConsistError", "CouplingData", "CarEntry", "Consist", "TrainModel",
            "load_consist", "consist_from_dict", "shipped_trains", "build_train", "place_train_on_track",
