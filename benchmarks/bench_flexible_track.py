@@ -30,7 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from exudyn_wheelrail.track.flexible import FlexibleTrackModel, TrackParameters
+from exudyn_wheelrail.track.flexible import FlexibleTrackModel
+from exudyn_wheelrail.track.flexible_parameters import TrackParameters
 from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -145,7 +146,7 @@ def _flexible_run(vehicle_name: str, length_m: str, duration_s: float, dt_s: flo
     s_start = 8.0 - x.max()
     table = {"length_m": length_m}
     if extend_bays:
-        from exudyn_wheelrail.track.flexible import segment_for_run
+        from exudyn_wheelrail.track.flexible_segment import segment_for_run
         p = TrackParameters.from_file()
         start, length = segment_for_run(s_start + x.min(), s_start + V * duration_s + x.max(), p)
         table = {"start_m": start - extend_bays * p.sleeper_spacing_m,

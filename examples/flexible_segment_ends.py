@@ -47,7 +47,8 @@ def main(argv=None) -> dict:
     from exudyn_wheelrail.simulation.recorder import Recorder
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings
-    from exudyn_wheelrail.track.flexible import FlexibleTrackModel, TrackParameters, add_flexible_track
+    from exudyn_wheelrail.track.flexible import FlexibleTrackModel, add_flexible_track
+    from exudyn_wheelrail.track.flexible_parameters import TrackParameters
     from exudyn_wheelrail.track.flexible_outputs import track_under_wheels
 
     consist = consist_from_dict(CAR, "<one car>")

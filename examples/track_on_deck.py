@@ -30,8 +30,9 @@ from exudyn_wheelrail.scenarios.spec import load_scenario
 from exudyn_wheelrail.simulation.recorder import Recorder
 from exudyn_wheelrail.simulation.runner import run
 from exudyn_wheelrail.simulation.settings import RunSettings
-from exudyn_wheelrail.structures.bridge import BridgeModel, DeckSection
-from exudyn_wheelrail.track.flexible import TrackParameters, add_flexible_track, segment_for_run
+from exudyn_wheelrail.structures import BridgeModel, DeckSection
+from exudyn_wheelrail.track import TrackParameters, add_flexible_track
+from exudyn_wheelrail.track.flexible_segment import segment_for_run
 from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
 from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
 from exudyn_wheelrail.simulation.solvers import RK44

@@ -161,7 +161,7 @@ def check(a) -> None:
     from exudyn_wheelrail.cli import SPEED_KM_H
     from exudyn_wheelrail.rolling_stock.train import ConsistError, load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing import MAX_MODES
-    from exudyn_wheelrail.track.flexible import TrackParameters
+    from exudyn_wheelrail.track import TrackParameters
     from exudyn_wheelrail.simulation.solvers import RK44
 
     def positive(opt, v):
@@ -257,7 +257,7 @@ class _TrackUnderWheels:
 # ================================================================================================== runs
 def _crossing_case(a, deck):
     from exudyn_wheelrail.scenarios.bridge_crossing import MAX_MODES, BridgeCrossing
-    from exudyn_wheelrail.track.flexible import TrackParameters
+    from exudyn_wheelrail.track import TrackParameters
     n = a.deck_modes
     if n is None:             # the deck's vertical modes up to the track's cut-off (N² f1 for a simple span)
         n = min(MAX_MODES, int(math.floor(math.sqrt(TrackParameters.from_file().modes_up_to_Hz / deck["f1_Hz"]))))
@@ -326,7 +326,7 @@ def run_rigid(a, case, duration):
     import exudyn as exu
 
     from exudyn_wheelrail.scenarios.bridge_crossing import deck_modes
-    from exudyn_wheelrail.structures.bridge import add_bridge
+    from exudyn_wheelrail.structures import add_bridge
     t0 = time.perf_counter()
     modes = deck_modes(case).modes
     mbs = exu.SystemContainer().AddSystem()
@@ -342,7 +342,7 @@ def run_rigid(a, case, duration):
 
 
 def _rail_centre_distance_m() -> float:
-    from exudyn_wheelrail.track.flexible import TrackParameters
+    from exudyn_wheelrail.track import TrackParameters
     return TrackParameters.from_file().rail_centre_distance_m
 
 
@@ -350,8 +350,9 @@ def track_on_deck_modes(case, s_from_m: float, s_to_m: float):
     """(b)'s reduced model: the crossing's deck less the track's mass, the ballasted track over the segment that
     carries the wheels from ``s_from_m`` to ``s_to_m`` and the whole span, with five decay lengths at both ends."""
     from exudyn_wheelrail.scenarios.bridge_crossing import ELEMENTS_PER_MODE, MIN_ELEMENTS, deck_section
-    from exudyn_wheelrail.structures.bridge import BridgeModel
-    from exudyn_wheelrail.track.flexible import TrackParameters, segment_for_run
+    from exudyn_wheelrail.structures import BridgeModel
+    from exudyn_wheelrail.track import TrackParameters
+    from exudyn_wheelrail.track.flexible_segment import segment_for_run
     from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
     params = TrackParameters.from_file()
     m_track = 2.0 * params.rail_mass_kg_m + params.sleeper_mass_kg / params.sleeper_spacing_m

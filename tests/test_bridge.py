@@ -22,6 +22,7 @@ from scipy.optimize import brentq
 from exudyn_wheelrail.structures import (
     BridgeModel,
     DeckSection,
+    MovingForces,
     add_bridge,
     add_projected_force,
     fryba_moving_force,
@@ -30,7 +31,7 @@ from exudyn_wheelrail.structures import (
     rail_state_at,
 )
 from exudyn_wheelrail.scenarios.moving_forces import simulate_moving_forces
-from exudyn_wheelrail.structures.bridge import MovingForces, element_matrices
+from exudyn_wheelrail.structures.beam import element_matrices
 
 # a 20 m steel-concrete deck: f1 (vertical) 4.53 Hz, lateral 10.1 Hz, torsion 7.91 Hz
 SEC = DeckSection(m_kg_m=15e3, EI_y_Nm2=2.0e10, EI_z_Nm2=1.0e11, GJ_Nm2=6e9, EA_N=2e11, Ip_kgm2_m=6e4)

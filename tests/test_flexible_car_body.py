@@ -11,14 +11,9 @@ import exudyn as exu
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.rolling_stock.flexible_body import (
-    DEFAULT_ELEMENTS,
-    BodyPointKinematics,
-    CarBodyBeam,
-    _rigid_fields,
-    add_flexible_car_body,
-    beam_from_car_body,
-)
+from exudyn_wheelrail.rolling_stock.car_body_model import (DEFAULT_ELEMENTS, CarBodyBeam, beam_from_car_body,
+                                                           rigid_fields)
+from exudyn_wheelrail.rolling_stock.flexible_body import BodyPointKinematics, add_flexible_car_body
 from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
 from exudyn_wheelrail.simulation.exudyn_settings import solver_settings
 from exudyn_wheelrail.rolling_stock.vehicle_data import VEHICLES_DIR, VehicleDataError, load_vehicle
@@ -66,7 +61,7 @@ def test_modes_mass_orthogonal_and_free_of_rigid_motion():
     # round-off of a dense symmetric eigen solver on a matrix with condition ~1e8: 1e-8 is ample
     assert np.allclose(P.T @ M @ P, np.eye(8), atol=1e-8)
     assert np.allclose(P.T @ K @ P / modes.omega_rad_s[None, :] ** 2, np.eye(8), atol=1e-8)
-    R = _rigid_fields(beam.mesh_x_m())
+    R = rigid_fields(beam.mesh_x_m())
     scale = np.sqrt(np.diag(R.T @ M @ R))
     assert np.max(np.abs(P.T @ M @ R) / scale[None, :]) < 1e-8          # the frame carries the rigid motion
     assert np.allclose(np.diag(modes.modal_damping()), 2 * modes.damping_ratio * modes.omega_rad_s)
@@ -310,7 +305,7 @@ def test_modes_from_an_external_fe_model(tmp_path):
     import scipy.sparse as sp
     from exudyn.FEM import FEMinterface
 
-    from exudyn_wheelrail.rolling_stock.flexible_body import modes_from_fe_file
+    from exudyn_wheelrail.rolling_stock.car_body_fe import modes_from_fe_file
     pts, M, K = _truss_fe_model(tmp_path / "truss.npz")
     modes = modes_from_fe_file(tmp_path / "truss.npz", 4, 0.0)
     fem = FEMinterface()                              # the same model through Exudyn's own file format

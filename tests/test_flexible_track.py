@@ -13,9 +13,10 @@ import tomllib
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.track.flexible import (DEFAULT_TRACK_FILE, FlexibleTrackModel, TrackFileError, TrackParameters,
-                                             continuous_receptance_m_N, winkler_moving_load_deflection_m,
-                                             zimmermann_deflection_m, zimmermann_moment_Nm)
+from exudyn_wheelrail.track.flexible import FlexibleTrackModel
+from exudyn_wheelrail.track.flexible_parameters import DEFAULT_TRACK_FILE, TrackFileError, TrackParameters
+from exudyn_wheelrail.track.flexible_references import (continuous_receptance_m_N, winkler_moving_load_deflection_m,
+                                                        zimmermann_deflection_m, zimmermann_moment_Nm)
 
 P_WHEEL_N = 80e3
 
@@ -401,7 +402,7 @@ def test_exudyn_track_carries_the_full_projected_damping(params, track_on_deck, 
 def track_on_deck(params):
     """The ballasted track over the 20 m simply supported span of examples/scenarios/bridge_20m.toml (f1 = 6 Hz),
     embankment on both sides."""
-    from exudyn_wheelrail.structures.bridge import BridgeModel, DeckSection
+    from exudyn_wheelrail.structures import BridgeModel, DeckSection
     from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
     sec = DeckSection(m_kg_m=15e3, EI_y_Nm2=3.501660107e10, EI_z_Nm2=2.801328085e11, GJ_Nm2=3.501660107e10,
                       EA_N=1.44e11, Ip_kgm2_m=40262.5)

@@ -34,7 +34,7 @@ def _first_move_start():
     ``gap_m`` of running (the least gap its sleeper grid allows, plus 1 mm): the shift re-projects the rails' modal
     state, which rounds asymmetrically, and seeds an unstable lateral mode."""
     from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle_with_overrides
-    from exudyn_wheelrail.track.flexible import DEFAULT_TRACK_FILE, TrackParameters
+    from exudyn_wheelrail.track import DEFAULT_TRACK_FILE, TrackParameters
     from exudyn_wheelrail.track.flexible_window import window_length_m, window_margin_m
     params = TrackParameters.from_file(DEFAULT_TRACK_FILE)
     x = np.asarray(load_vehicle_with_overrides(VEHICLE, None).wheelset_x_m(), dtype=float)

@@ -8,7 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.track.flexible import FlexibleTrackModel, TrackFileError, TrackParameters, add_flexible_track
+from exudyn_wheelrail.track.flexible import FlexibleTrackModel, add_flexible_track
+from exudyn_wheelrail.track.flexible_parameters import TrackFileError, TrackParameters
 from exudyn_wheelrail.track.flexible_window import (FlexibleTrackWindow, shift_gather, shift_matrix, shifted_state,
                                                     transfer_modal_state, window_length_m, window_margin_m,
                                                     window_start_m)

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.structures.bridge import BridgeModel, DeckSection
-from exudyn_wheelrail.track.flexible import TrackParameters
+from exudyn_wheelrail.structures import BridgeModel, DeckSection
+from exudyn_wheelrail.track import TrackParameters
 from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
 from exudyn_wheelrail.track.flexible_outputs import support_force_totals_N, track_under_wheels
 

@@ -14,7 +14,8 @@ import scipy.optimize
 
 from exudyn_wheelrail.structures.deck_kinematics import (N_SC, SC_AT, SC_AY, SC_AZ, SC_DELTA_G, SC_DN_G, SC_N,
                                                          SC_N_G, SC_RATIO, series_contacts)
-from exudyn_wheelrail.track.flexible import FlexibleTrackModel, TrackParameters
+from exudyn_wheelrail.track.flexible import FlexibleTrackModel
+from exudyn_wheelrail.track.flexible_parameters import TrackParameters
 from exudyn_wheelrail.validation import InputWarning
 
 
@@ -217,8 +218,8 @@ def test_track_on_deck_residual_completes_the_coupled_statics():
     the kept coupled modes' Σ φ φᵀ/ω² plus the residual equals the coupled model's static flexibility — a dense
     solve of the assembled coupled stiffness under unit loads on each rail field, separate from the residual's
     sparse one — to round-off (1e-6 of the diagonal), cross terms included; the residual is a sizeable part there."""
-    from exudyn_wheelrail.structures.bridge import BridgeModel, DeckSection
-    from exudyn_wheelrail.track.flexible import _hermite
+    from exudyn_wheelrail.structures import BridgeModel, DeckSection
+    from exudyn_wheelrail.structures.beam import hermite
     from exudyn_wheelrail.track.flexible_deck import TrackOnDeckModel
 
     sec = DeckSection(m_kg_m=15e3, EI_y_Nm2=3.501660107e10, EI_z_Nm2=2.801328085e11, GJ_Nm2=3.501660107e10,
@@ -230,7 +231,7 @@ def test_track_on_deck_residual_completes_the_coupled_statics():
     _, K, _, off = model.assemble_coupled()
     for s0 in (3.0, 16.2):                                             # embankment, on the deck (table points)
         e, xi = model._locate(np.array([s0]))
-        N, _ = _hermite(xi, model.h_m)
+        N, _, _ = hermite(xi, model.h_m)
         Psi = np.zeros((K.shape[0], 3))
         for row, kind in enumerate(("lateral", "vertical", "roll")):
             Psi[off[kind] + 2 * e[0] + np.arange(4), row] = N[0]
@@ -251,7 +252,8 @@ def test_runner_refuses_an_explicit_step_the_rail_cannot_carry():
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import build_train_on_straight_track
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings
-    from exudyn_wheelrail.track.flexible import TrackFileError, add_flexible_track
+    from exudyn_wheelrail.track.flexible import add_flexible_track
+    from exudyn_wheelrail.track.flexible_parameters import TrackFileError
     from exudyn_wheelrail.scenarios.flexible_track import start_on_flexible_track
 
     modes = FlexibleTrackModel(TrackParameters.from_file(), -70.0, 100.0).modes(f_max_Hz=600.0)

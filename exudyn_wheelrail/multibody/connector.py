@@ -174,7 +174,7 @@ class WheelRailContact:
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 
         from ..contact.wheelset import WheelsetContact
-        from ..structures.bridge import ExudynBridge
+        from ..structures.bridge_exudyn import ExudynBridge
 
         if bridge is not None and not isinstance(bridge, ExudynBridge):
             raise TypeError(f"bridge={bridge!r}: expected an ExudynBridge (structures.bridge.add_bridge) or None")

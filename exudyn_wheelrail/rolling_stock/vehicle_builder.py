@@ -90,6 +90,8 @@ from exudyn.itemInterface import (
 )
 from exudyn.rigidBodyUtilities import RigidBodyInertia
 
+from .body_handle import BodyHandle
+from .flexible_body import add_vehicle_car_body
 from .vehicle_data import BumpStopData, VehicleData, load_vehicle
 
 __all__ = [
@@ -183,19 +185,6 @@ class LongitudinalRestraint:
 
 
 # --------------------------------------------------------------------------------------------------- handles
-@dataclass
-class BodyHandle:
-    """One rigid body of the model: Exudyn numbers and nominal data (simulation frame)."""
-
-    name: str
-    node: exu.NodeIndex
-    body: exu.ObjectIndex
-    marker: exu.MarkerIndex            #: MarkerBodyRigid at the CG (loads, sensors, rigid connectors)
-    marker_node: exu.MarkerIndex       #: MarkerNodeRigid of the node (same point)
-    p_cg_in_frame: np.ndarray          #: nominal CG position [m]
-    mass_kg: float
-
-
 @dataclass
 class WheelsetHandle(BodyHandle):
     """A wheelset: CG = axle centre; spin about the body y axis."""
@@ -453,7 +442,6 @@ def build_vehicle(mbs, vehicle: VehicleData | str, *, speed_m_s: float = 0.0, wh
         if cb.flexible is None:
             car = BodyHandle(**rigid_body("car_body", cb, (cb.cg_x_m, cb.cg_y_m, -cb.cg_height_m)))
         else:                                           # floating frame of reference body (flexible_body.py)
-            from .flexible_body import add_vehicle_car_body
             car = add_vehicle_car_body(mbs, vehicle, (cb.cg_x_m + x_offset_m, cb.cg_y_m, -cb.cg_height_m),
                                        gravity=gravity, name="car_body" + name_suffix,
                                        preload_N=path.secondary if path is not None else None)

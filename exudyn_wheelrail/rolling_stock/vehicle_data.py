@@ -86,6 +86,8 @@ from ..contact.pair import BACK_TO_BACK_M, GAUGE_M, INCLINATION_TAN, R0_M, back_
 from ..conventions import parse_inclination
 from ..profiles.profiles import RAIL_PROFILE_NAMES, WHEEL_PROFILE_NAMES
 from ..validation import Quantity, read_toml
+from .car_body_fe import read_fe_file
+from .car_body_model import DEFAULT_ELEMENTS
 from .vehicle_records import (BodyData, BumpStopData, FlexibleBodyData, GeometryData, SuspensionData,  # noqa: F401
                               VehicleData)
 
@@ -332,7 +334,6 @@ def _flexible(r: _Reader, car: BodyData, base: Path | None) -> FlexibleBodyData:
     if elements is not None and (isinstance(elements, bool) or not isinstance(elements, int) or elements < 2):
         raise r.error(f"{t}.elements", f"expected an integer >= 2, got {elements!r}")
     if "fe_model" not in tab:
-        from .flexible_body import DEFAULT_ELEMENTS
         n_max = 6 * (elements or DEFAULT_ELEMENTS)           # 6 DOFs per node, n_e + 1 nodes, 6 rigid modes
         if n > n_max:
             raise r.error(f"{t}.n_modes", f"{n} modes but a beam of {elements or DEFAULT_ELEMENTS} elements has "
@@ -373,7 +374,6 @@ def _check_flexible_points(r: _Reader, vehicle: "VehicleData") -> None:
                 raise r.error(f"{t}.length_m", f"{fx.length_m} m: the secondary suspension point at x = {p[0]:g} m "
                                                f"from the car-body CG is off the body (x within ±{half:g} m)")
         return
-    from .flexible_body import read_fe_file
     try:
         nodes, mass, _ = read_fe_file(fx.fe_model)
     except ValueError as exc:

@@ -11,8 +11,10 @@ import exudyn as exu
 import numpy as np
 
 from ..simulation.exudyn_settings import simulation_settings
-from ..structures.bridge import (FORMULATIONS, BridgeModel, BridgeModes, DeckSection, add_bridge,
-                                 fryba_moving_force)
+from ..structures.beam import DeckSection
+from ..structures.bridge import BridgeModel, BridgeModes
+from ..structures.bridge_exudyn import FORMULATIONS, add_bridge
+from ..structures.fryba import fryba_moving_force
 from ..validation import finite
 
 __all__ = ["simulate_moving_forces", "benchmark_formulations"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from ..track.flexible import TrackFileError
+from ..track.flexible_parameters import TrackFileError
 from ..track.flexible_contact import CONTACT_STIFFNESS_N_M, contact_mode_Hz
 from .solvers import METHODS
 

@@ -1,13 +1,13 @@
 """How a bridge deck moves the rails under the wheelsets, and where the wheel forces go on the deck (compiled).
 
 The wheel–rail connector (:mod:`exudyn_wheelrail.multibody.connector`) coupled to an
-:class:`~.bridge.ExudynBridge` spans the bridge's modal node; its compiled call uses the functions here per
+:class:`~.bridge_exudyn.ExudynBridge` spans the bridge's modal node; its compiled call uses the functions here per
 wheelset.  Frames and signs are those of :mod:`.bridge`: track frame, y right, z down; θ right-handed about +x, so
 θ > 0 lowers the right rail.  For wheelset k at track distance ``s_k = s_start + V t + x_k`` (the axle centre; the
 same s as the irregularity):
 
 * **deck state** ``(y_b, z_b, θ_b) = Φ(s_k) q`` and ``(ẏ_b, ż_b, θ̇_b) = Φ(s_k) q̇`` (:func:`deck_state_under`,
-  from :func:`~.bridge.modal_shape_at`; zero when s_k is off the deck): displacement and material velocity of the
+  from :func:`~.modal_shapes.modal_shape_at`; zero when s_k is off the deck): displacement and material velocity of the
   rails' centre line at rail-top level, roll of the rail pair about it — the rows of :data:`N_DECK_STATE`;
 * **rails** = the irregularity plus the ground motion plus the deck (:func:`rails_under`): centre line at
   ``y_r = y_irr + y_g + y_b``, ``z_r = z_irr + z_b``, rolled by ``θ_b``.  The contact search gets the wheelset pose
@@ -22,12 +22,12 @@ same s as the irregularity):
   F_z``, ``M_rx = -Σ [(p_y - y_g - y_b) F_z - (p_z - z_b) F_y] - Σ M_spin n_x`` (sums over both wheels and all
   contact regions; moments about the deck's deflected rail-top centre line, :func:`rail_moment_about_deck_line`;
   the spin moment's x component, zero on a straight track), and ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)``
-  (:func:`~.bridge.project_shapes` with the shapes the deck state used) — the virtual work of the rail forces on
+  (:func:`~.modal_shapes.project_shapes` with the shapes the deck state used) — the virtual work of the rail forces on
   the rail displacement the kinematics used, so the coupling is energy-consistent.  Longitudinal forces are not projected (the bridge model has no x row).
 
 Wheels off the deck see the rigid track (``Φ = 0``; their results are identical to a model without bridge).
 
-*Lateral support motion* (:meth:`~.bridge.ExudynBridge.add_support_motion`, :mod:`.support_motion`): the modal
+*Lateral support motion* (:meth:`~.bridge_exudyn.ExudynBridge.add_support_motion`, :mod:`.support_motion`): the modal
 coordinates are the deck's motion relative to its supports, and the ground displacement ``y_g(t)`` and velocity
 ``ẏ_g(t)`` come on top for **every** wheelset, on the deck and off it (synchronous ground motion: the track off the
 deck moves with the ground).  They depend on time only; the connector evaluates them once per call and writes them
@@ -47,7 +47,7 @@ coupling through ``G_res`` of different wheelsets (the pads' compression is loca
 wheel) and the creep forces' share (they load the kept modes only).
 
 The deck arrays of the compiled call (:func:`deck_arrays`): ``(par, elem_x0, elem_len, elem_nodes, node_shapes,
-node_residual, rail_load_prediction)`` — ``par[DECK_*]``, the :class:`~.bridge.ShapeTable` of the deck, the
+node_residual, rail_load_prediction)`` — ``par[DECK_*]``, the :class:`~.modal_shapes.ShapeTable` of the deck, the
 residual flexibility at its points (n_points, 6) (no bridge: empty element arrays and ``None`` for the shapes;
 ``None``: no residual; numba compiles nothing of what a ``None`` stands for) and per
 wheelset a prediction of its generalized force on the rails ``(F_y, F_z, M_x)`` (n_wheelsets, 3; zero unless set,
@@ -61,7 +61,7 @@ import math
 import numpy as np
 
 from ..jit import compiled
-from .bridge import _find_element, modal_shape_at, project_shapes, shapes_times
+from .modal_shapes import find_element, modal_shape_at, project_shapes, shapes_times
 
 __all__ = ["N_DECK_STATE", "DS_RESIDUAL", "DECK_START", "DECK_RAIL_HEIGHT", "DECK_GROUND_Y", "DECK_GROUND_VY",
            "N_DECK_PAR", "deck_arrays", "deck_state_under", "rails_under", "pose_relative_to_rails",
@@ -84,7 +84,7 @@ N_DECK_PAR = 4
 
 def deck_arrays(bridge, n_wheelsets: int = 0) -> tuple[tuple, int]:
     """``(deck, n_modes)``: the deck arrays of the compiled call for an
-    :class:`~.bridge.ExudynBridge` (module docstring), or for none (``bridge=None``: no modes); the ground entries
+    :class:`~.bridge_exudyn.ExudynBridge` (module docstring), or for none (``bridge=None``: no modes); the ground entries
     of ``par`` start at zero."""
     if bridge is None:
         return (np.zeros(N_DECK_PAR), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64), None, None,
@@ -112,7 +112,7 @@ def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work, state):
     """Deck state under a wheelset at track distance ``s_m`` into ``state`` (:data:`N_DECK_STATE`): ``Φ(s) q`` and
     ``Φ(s) q̇`` of the modal coordinates ``q_m``, ``q_m_t`` plus the increments ``delta`` (6; the Jacobian's
     perturbation), zero off the deck.  ``phi`` (3, n_m) receives ``Φ(s)`` (the connector projects the rail
-    forces with it, :func:`~.bridge.project_shapes`); ``work`` (9): scratch.  Returns True on the deck."""
+    forces with it, :func:`~.modal_shapes.project_shapes`); ``work`` (9): scratch.  Returns True on the deck."""
     par, elem_x0, elem_len, elem_nodes = deck[0], deck[1], deck[2], deck[3]
     node_residual = deck[5]
     on = False
@@ -152,7 +152,7 @@ def residual_at(s_m, start_m, elem_x0, elem_len, elem_nodes, node_residual, out)
         return
     if node_residual.shape[0] == 0:
         return
-    e = _find_element(s_m - start_m, elem_x0, elem_len)
+    e = find_element(s_m - start_m, elem_x0, elem_len)
     if e < 0:
         return
     xi = min(max((s_m - start_m - elem_x0[e]) / elem_len[e], 0.0), 1.0)

@@ -62,22 +62,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
+
+from .item_names import unique_name
+from .numbers import checked_number
 
 __all__ = ["SupportMotion", "SmoothHarmonicSupportMotion", "SupportMotionLoad", "smoothstep5"]
-
-
-def _number(name, value, *, positive=False, non_negative=False, allow_inf=False):
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name}={value!r}: expected a number") from None
-    if math.isnan(x) or (math.isinf(x) and not allow_inf):
-        raise ValueError(f"{name}={value!r}: expected a finite number")
-    if positive and not x > 0.0:
-        raise ValueError(f"{name}={value!r}: expected a value > 0")
-    if non_negative and not x >= 0.0:
-        raise ValueError(f"{name}={value!r}: expected a value >= 0")
-    return x
 
 
 class SupportMotion:
@@ -127,11 +117,11 @@ class SmoothHarmonicSupportMotion(SupportMotion):
 
     def __init__(self, peak_acceleration_m_s2: float, frequency_Hz: float, *, ramp_cycles: float = 1.0,
                  plateau_cycles: float = 2.0, start_s: float = 0.0):
-        self.peak_acceleration_m_s2 = _number("peak_acceleration_m_s2", peak_acceleration_m_s2, non_negative=True)
-        self.frequency_Hz = _number("frequency_Hz", frequency_Hz, positive=True)
-        self.ramp_cycles = _number("ramp_cycles", ramp_cycles, non_negative=True)
-        self.plateau_cycles = _number("plateau_cycles", plateau_cycles, non_negative=True, allow_inf=True)
-        self.start_s = _number("start_s", start_s)
+        self.peak_acceleration_m_s2 = checked_number("peak_acceleration_m_s2", peak_acceleration_m_s2, non_negative=True)
+        self.frequency_Hz = checked_number("frequency_Hz", frequency_Hz, positive=True)
+        self.ramp_cycles = checked_number("ramp_cycles", ramp_cycles, non_negative=True)
+        self.plateau_cycles = checked_number("plateau_cycles", plateau_cycles, non_negative=True, allow_inf=True)
+        self.start_s = checked_number("start_s", start_s)
         self.omega_rad_s = 2.0 * math.pi * self.frequency_Hz
         period = 1.0 / self.frequency_Hz
         self.ramp_s = self.ramp_cycles * period
@@ -189,14 +179,10 @@ class SmoothHarmonicSupportMotion(SupportMotion):
 
 class SupportMotionLoad:
     """The effective earthquake load ``-Γ ÿ_g(t)`` on a bridge's modal coordinates: one zero-mass
-    ``ObjectGenericODE2`` on :attr:`~.bridge.ExudynBridge.modal_node` with a force user function and a zero
-    Jacobian (the load depends on time only).  Created by :meth:`~.bridge.ExudynBridge.add_support_motion`."""
+    ``ObjectGenericODE2`` on :attr:`~.bridge_exudyn.ExudynBridge.modal_node` with a force user function and a zero
+    Jacobian (the load depends on time only).  Created by :meth:`~.bridge_exudyn.ExudynBridge.add_support_motion`."""
 
     def __init__(self, mbs, bridge, motion: SupportMotion, name: str = "support_motion"):
-        from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
-
-        from .bridge import _unique_name
-
         if not isinstance(motion, SupportMotion):
             raise TypeError(f"motion={motion!r}: expected a SupportMotion (e.g. SmoothHarmonicSupportMotion)")
         self.motion = motion
@@ -205,7 +191,7 @@ class SupportMotionLoad:
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.object = mbs.AddObject(ObjectGenericODE2(
-            name=_unique_name(mbs, name), nodeNumbers=[bridge.modal_node], massMatrix=np.zeros((n, n)),
+            name=unique_name(mbs, name), nodeNumbers=[bridge.modal_node], massMatrix=np.zeros((n, n)),
             forceUserFunction=self._force_uf, jacobianUserFunction=self._jacobian_uf,
             visualization=VObjectGenericODE2(show=False)))
 

@@ -8,8 +8,8 @@ from .irregularities import (ChannelTable, IsolatedDefect, channel_values,  # no
                              rail_values)
 from .measured import read_irregularity_csv  # noqa: E402,F401  (measured irregularity files)
 from .spectra import SPECTRA, SpectralIrregularity, TrackSpectrum  # noqa: E402,F401  (standard spectra)
-from .flexible import (DEFAULT_TRACK_FILE, FlexibleTrackModel, FlexibleTrackModes,  # noqa: E402,F401
-                       TrackFileError, TrackParameters, add_flexible_track)  # (the flexible track)
+from .flexible_parameters import DEFAULT_TRACK_FILE, TrackFileError, TrackParameters  # noqa: E402,F401
+from .flexible import FlexibleTrackModel, FlexibleTrackModes, add_flexible_track  # noqa: E402,F401  (flexible track)
 from .flexible_deck import TrackOnDeckModel, TrackOnDeckModes  # noqa: E402,F401  (the track over a deck)
 from .flexible_window import FlexibleTrackWindow, window_length_m  # noqa: E402,F401  (the moving window)
 from .flexible_outputs import track_under_wheels  # noqa: E402,F401  (rail, sleeper, pad, ballast under wheels)

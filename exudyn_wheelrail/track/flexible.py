@@ -10,7 +10,7 @@ deck interface of :mod:`exudyn_wheelrail.structures.deck_kinematics`.
 
 Model
 -----
-Frames and signs of :mod:`exudyn_wheelrail.conventions` and :mod:`exudyn_wheelrail.structures.bridge`: track
+Frames and signs of :mod:`exudyn_wheelrail.conventions` and :mod:`exudyn_wheelrail.structures.beam`: track
 frame, x along the track (track distance ``s``), y right, z **down**; a roll θ > 0 (right-handed about +x) lowers
 the right rail.  Each rail is an Euler–Bernoulli beam bending vertically (``E I_vertical``, displacement ``w``) and
 laterally (``E I_lateral``, ``v``), mass ``m`` per metre, meshed with ``elements_per_bay`` two-node Hermite elements
@@ -39,6 +39,8 @@ laterally, and the rail under a flange does not give way more than the other.  T
 ``β = (k/(4EI))^¼`` (``k`` the support stiffness of one rail per metre).
 
 Over a bridge deck: :mod:`.flexible_deck` (the ballast on the deck beam over a span, coupled modes).
+The parameters and the track file: :mod:`.flexible_parameters`; the closed-form references (Zimmermann, Winkler,
+the continuously supported track): :mod:`.flexible_references`; the length of a segment: :mod:`.flexible_segment`.
 
 Modal reduction and coupling
 ----------------------------
@@ -46,7 +48,7 @@ The segment is reduced by the undamped eigenmodes of each beam up to ``modes_up_
 ``Φᵀ M Φ = I``, ``Φᵀ K Φ = diag(ω²)``), with the damping projected, ``Φᵀ C Φ`` (pads and ballast damp
 non-proportionally: the full projected matrix is kept, one block per beam; ``damping="diagonal"`` keeps its
 diagonal).  The modes' rail displacement ``(y_rail, z_rail, θ_rail)`` along the track is a
-:class:`~exudyn_wheelrail.structures.bridge.ShapeTable` with the rail height 0: the connector reads it exactly as
+:class:`~exudyn_wheelrail.structures.modal_shapes.ShapeTable` with the rail height 0: the connector reads it exactly as
 a bridge deck (:func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays`: ``Φ(s) q`` under each wheelset,
 forces back as ``Φ(s)ᵀ (F_y, F_z, M_x)``) — the contact force acts on the rails at the moving contact point
 through the beam's Hermite shape functions, and the rails' displacement and velocity there enter the contact
@@ -80,246 +82,27 @@ through the contact in series with the residual, is the highest coupled frequenc
 at 800 Hz, 0.79 ms at 400 Hz (0.35 and 0.42 ms without the correction).
 
 Cost: one modal coordinate per kept mode, their number proportional to the segment's length (9.4 per metre at
-800 Hz for the default track); the segment should carry the run (:func:`segment_for_run`) and no more.
+800 Hz for the default track); the segment should carry the run (:func:`~.flexible_segment.segment_for_run`) and no more.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
-from pathlib import Path
 
+import exudyn as exu
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg
+from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2, VObjectGenericODE2
 
 from ..jit import compiled
-from ..structures.bridge import ExudynBridge, ShapeTable, modal_shape_at
-from ..validation import read_toml
+from ..structures.beam import bending_element, hermite
+from ..structures.bridge_exudyn import ExudynBridge
+from ..structures.deck_kinematics import residual_at
+from ..structures.modal_shapes import NS_DV, NS_DW, NS_TH, NS_V, NS_W, ShapeTable, modal_shape_at
+from .flexible_parameters import DAMPING_FORMS, KINDS, TrackFileError, TrackParameters
 
-__all__ = ["DEFAULT_TRACK_FILE", "KINDS", "DAMPING_FORMS", "TrackFileError", "TrackParameters",
-           "FlexibleTrackModel", "FlexibleTrackModes", "add_flexible_track", "segment_for_run", "segment_margin_m",
-           "decay_length_m", "MARGIN_DECAY_LENGTHS",
-           "zimmermann_deflection_m", "zimmermann_moment_Nm", "winkler_moving_load_deflection_m",
-           "continuous_receptance_m_N"]
-
-#: the default track file: ballasted 60E1 track on concrete sleepers, every value with its source
-DEFAULT_TRACK_FILE = Path(__file__).resolve().parent.parent / "data" / "track_60E1_ballasted.toml"
-#: the three independent beams of the track (module docstring), in the order of the modal coordinates
-KINDS = ("vertical", "roll", "lateral")
-#: the projected modal damping kept: the full matrix Φᵀ C Φ per beam, or its diagonal
-DAMPING_FORMS = ("full", "diagonal")
-#: rows of the shape table (:class:`~exudyn_wheelrail.structures.bridge.ShapeTable`): v, dv/ds, w, dw/ds, θ
-_NS_V, _NS_DV, _NS_W, _NS_DW, _NS_TH = range(5)
-
-
-class TrackFileError(ValueError):
-    """Invalid track parameters: the message names the file (or ``<parameters>``) and the key."""
-
-
-# ------------------------------------------------------------------------------------------- parameters
-#: (table, key) of every track-file entry -> (attribute, kind): "positive", "non_negative", "count"
-_FILE_KEYS = {
-    ("rail", "E_Pa"): ("rail_E_Pa", "positive"),
-    ("rail", "I_vertical_m4"): ("rail_I_vertical_m4", "positive"),
-    ("rail", "I_lateral_m4"): ("rail_I_lateral_m4", "positive"),
-    ("rail", "mass_kg_m"): ("rail_mass_kg_m", "positive"),
-    ("rail", "centre_distance_m"): ("rail_centre_distance_m", "positive"),
-    ("pad", "k_vertical_N_m"): ("pad_k_vertical_N_m", "positive"),
-    ("pad", "c_vertical_Ns_m"): ("pad_c_vertical_Ns_m", "non_negative"),
-    ("pad", "k_lateral_N_m"): ("pad_k_lateral_N_m", "positive"),
-    ("pad", "c_lateral_Ns_m"): ("pad_c_lateral_Ns_m", "non_negative"),
-    ("sleeper", "spacing_m"): ("sleeper_spacing_m", "positive"),
-    ("sleeper", "mass_kg"): ("sleeper_mass_kg", "positive"),
-    ("sleeper", "roll_inertia_kgm2"): ("sleeper_roll_inertia_kgm2", "positive"),
-    ("ballast", "k_vertical_N_m"): ("ballast_k_vertical_N_m", "positive"),
-    ("ballast", "c_vertical_Ns_m"): ("ballast_c_vertical_Ns_m", "non_negative"),
-    ("ballast", "k_lateral_N_m"): ("ballast_k_lateral_N_m", "positive"),
-    ("ballast", "c_lateral_Ns_m"): ("ballast_c_lateral_Ns_m", "non_negative"),
-    ("model", "elements_per_bay"): ("elements_per_bay", "count"),
-    ("model", "modes_up_to_Hz"): ("modes_up_to_Hz", "positive"),
-    ("model", "table_subdivision"): ("table_subdivision", "count"),
-}
-_KEY_OF = {attr: f"{t}.{k}" for (t, k), (attr, _) in _FILE_KEYS.items()}
-
-
-@dataclass(frozen=True)
-class TrackParameters:
-    """The parameters of a flexible track (the track file's keys, module docstring; units in the names; per rail
-    seat for the pads, per sleeper for the ballast).  Checked on construction: a bad value raises
-    :class:`TrackFileError` naming the track-file key.  The defaults live in one place, the track file
-    :data:`DEFAULT_TRACK_FILE` (:meth:`from_file`)."""
-
-    rail_E_Pa: float
-    rail_I_vertical_m4: float
-    rail_I_lateral_m4: float
-    rail_mass_kg_m: float
-    rail_centre_distance_m: float
-    pad_k_vertical_N_m: float
-    pad_c_vertical_Ns_m: float
-    pad_k_lateral_N_m: float
-    pad_c_lateral_Ns_m: float
-    sleeper_spacing_m: float
-    sleeper_mass_kg: float
-    sleeper_roll_inertia_kgm2: float
-    ballast_k_vertical_N_m: float
-    ballast_c_vertical_Ns_m: float
-    ballast_k_lateral_N_m: float
-    ballast_c_lateral_Ns_m: float
-    elements_per_bay: int
-    modes_up_to_Hz: float
-    table_subdivision: int
-    source: str = "<parameters>"
-
-    def __post_init__(self):
-        for attr, kind in _FILE_KEYS.values():
-            v = getattr(self, attr)
-            where = f"{self.source}: {_KEY_OF[attr]}"
-            if kind == "count":
-                if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                    raise TrackFileError(f"{where}: {v!r}: expected an integer >= 1")
-                continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
-                    or not math.isfinite(float(v)):
-                raise TrackFileError(f"{where}: {v!r}: expected a finite number")
-            if kind == "positive" and not v > 0.0:
-                raise TrackFileError(f"{where}: {v!r}: must be > 0")
-            if kind == "non_negative" and v < 0.0:
-                raise TrackFileError(f"{where}: {v!r}: must be >= 0 (a negative damping feeds energy in)")
-
-    @classmethod
-    def from_file(cls, path=None, **overrides) -> "TrackParameters":
-        """The parameters of a track file (TOML; default :data:`DEFAULT_TRACK_FILE`), with attribute
-        ``overrides`` (e.g. ``pad_k_vertical_N_m=1e9``).  Every key of the file is required."""
-        path = Path(path) if path is not None else DEFAULT_TRACK_FILE
-        if not path.is_file():
-            raise TrackFileError(f"{path}: track file not found")
-        data = read_toml(path, TrackFileError)
-        tables = sorted({t for t, _ in _FILE_KEYS})
-        for t in data:
-            if t not in tables:
-                raise TrackFileError(f"{path}: {t}: unknown table (expected {', '.join(tables)})")
-        values = {}
-        for (t, k), (attr, _) in _FILE_KEYS.items():
-            tab = data.get(t)
-            if not isinstance(tab, dict):
-                raise TrackFileError(f"{path}: [{t}]: missing table")
-            if k not in tab:
-                raise TrackFileError(f"{path}: {t}.{k}: missing (required)")
-            values[attr] = tab[k]
-        for t in tables:
-            for k in data[t]:
-                if (t, k) not in _FILE_KEYS:
-                    raise TrackFileError(f"{path}: {t}.{k}: unknown key")
-        for attr in overrides:
-            if attr not in values:
-                raise TrackFileError(f"{path}: override {attr!r}: not a track parameter "
-                                     f"(one of {', '.join(values)})")
-        values.update(overrides)
-        return cls(**values, source=str(path))
-
-    def replace(self, **changes) -> "TrackParameters":
-        d = {f.name: getattr(self, f.name) for f in fields(self)}
-        d.update(changes)
-        return TrackParameters(**d)
-
-    # the three beams (module docstring): (EI, m, k_pad, c_pad, m_sleeper, k_ballast, c_ballast)
-    def beam(self, kind: str) -> tuple:
-        b2 = self.rail_centre_distance_m ** 2
-        E, m = self.rail_E_Pa, self.rail_mass_kg_m
-        if kind == "vertical":
-            return (2 * E * self.rail_I_vertical_m4, 2 * m, 2 * self.pad_k_vertical_N_m, 2 * self.pad_c_vertical_Ns_m,
-                    self.sleeper_mass_kg, self.ballast_k_vertical_N_m, self.ballast_c_vertical_Ns_m)
-        if kind == "roll":
-            return (E * self.rail_I_vertical_m4 * b2 / 2, m * b2 / 2, self.pad_k_vertical_N_m * b2 / 2,
-                    self.pad_c_vertical_Ns_m * b2 / 2, self.sleeper_roll_inertia_kgm2,
-                    self.ballast_k_vertical_N_m * b2 / 4, self.ballast_c_vertical_Ns_m * b2 / 4)
-        if kind == "lateral":
-            return (2 * E * self.rail_I_lateral_m4, 2 * m, 2 * self.pad_k_lateral_N_m, 2 * self.pad_c_lateral_Ns_m,
-                    self.sleeper_mass_kg, self.ballast_k_lateral_N_m, self.ballast_c_lateral_Ns_m)
-        raise ValueError(f"kind={kind!r}: expected one of {KINDS}")
-
-    def support_stiffness_per_rail_N_m2(self) -> float:
-        """Vertical support stiffness of one rail per metre, pad and half the ballast in series, smeared over
-        the sleeper spacing [N/m²] (the ``k`` of Zimmermann's continuous support)."""
-        kp, kb = self.pad_k_vertical_N_m, 0.5 * self.ballast_k_vertical_N_m
-        return kp * kb / (kp + kb) / self.sleeper_spacing_m
-
-
-# ---------------------------------------------------------------------------------------- reference formulas
-def zimmermann_deflection_m(P_N: float, EI_Nm2: float, k_N_m2: float) -> float:
-    """Zimmermann/Winkler: deflection under a point load ``P`` on an infinite beam on a continuous elastic
-    foundation, ``w0 = P β/(2k)``, ``β = (k/(4EI))^¼``."""
-    beta = (k_N_m2 / (4.0 * EI_Nm2)) ** 0.25
-    return P_N * beta / (2.0 * k_N_m2)
-
-
-def zimmermann_moment_Nm(P_N: float, EI_Nm2: float, k_N_m2: float) -> float:
-    """Bending moment under the load of :func:`zimmermann_deflection_m`: ``M0 = P/(4β)``."""
-    return P_N / (4.0 * (k_N_m2 / (4.0 * EI_Nm2)) ** 0.25)
-
-
-def winkler_moving_load_deflection_m(xi_m, P_N: float, EI_Nm2: float, m_kg_m: float, k_N_m2: float,
-                                     speed_m_s: float, c_Ns_m2: float = 0.0) -> np.ndarray:
-    """Steady-state deflection of an infinite beam on a viscoelastic Winkler foundation (``k``, ``c`` per metre)
-    under a constant load moving at ``speed_m_s`` below the critical speed ``(4 k EI/m²)^¼``, at ``xi = x - V t``
-    (Timoshenko 1927; Frýba 1972, Ch. 2): ``EI w'''' + m V² w'' - c V w' + k w = P δ(ξ)``; the decaying
-    exponentials (roots of ``EI r⁴ + m V² r² - c V r + k``) on either side matched at ξ = 0 (w, w', w''
-    continuous, ``EI`` times the jump of w''' equal to ``P``, z down positive)."""
-    v_cr = (4.0 * k_N_m2 * EI_Nm2 / m_kg_m ** 2) ** 0.25
-    if not speed_m_s < v_cr:
-        raise ValueError(f"speed {speed_m_s} m/s is not below the critical speed {v_cr:.6g} m/s")
-    roots = np.roots([EI_Nm2, 0.0, m_kg_m * speed_m_s ** 2, -c_Ns_m2 * speed_m_s, k_N_m2])
-    neg = roots[roots.real < 0.0]            # decaying for ξ > 0
-    pos = roots[roots.real > 0.0]            # decaying for ξ < 0
-    # unknowns: a1, a2 (ξ > 0, roots neg), b1, b2 (ξ < 0, roots pos); conditions on w, w', w'', w'''
-    A = np.zeros((4, 4), dtype=complex)
-    rhs = np.zeros(4, dtype=complex)
-    for d in range(4):
-        A[d, 0:2] = neg ** d
-        A[d, 2:4] = -(pos ** d)
-    rhs[3] = P_N / EI_Nm2
-    c = np.linalg.solve(A, rhs)
-    xi = np.asarray(xi_m, dtype=float)
-    xp, xm = np.maximum(xi, 0.0), np.minimum(xi, 0.0)
-    w = np.where(xi >= 0.0, c[0] * np.exp(neg[0] * xp) + c[1] * np.exp(neg[1] * xp),
-                 c[2] * np.exp(pos[0] * xm) + c[3] * np.exp(pos[1] * xm))
-    return np.real(w)
-
-
-def continuous_receptance_m_N(f_Hz, EI_Nm2: float, m_kg_m: float, k_pad_N_m2: float, c_pad_Ns_m2: float,
-                              m_sleeper_kg_m: float, k_ballast_N_m2: float, c_ballast_Ns_m2: float) -> np.ndarray:
-    """Point receptance ``w/F`` [m/N] of an infinite Euler–Bernoulli beam on a continuous two-layer support (pad,
-    smeared sleeper mass, ballast; all per metre) — the continuously supported track model (Knothe & Grassie
-    1993; Thompson 2009 Ch. 3): ``EI w'''' + (s(ω) − m ω²) w = F δ(x)`` with the support's dynamic stiffness
-    ``s = k̃_p (k̃_b − ω² m_s)/(k̃_p + k̃_b − ω² m_s)``, ``k̃ = k + iωc``; ``w(0)/F = 1/(8 EI λ³)``,
-    ``λ = ((s − mω²)/(4EI))^¼`` (principal root, decaying)."""
-    w = 2.0 * np.pi * np.asarray(f_Hz, dtype=float)
-    kp = k_pad_N_m2 + 1j * w * c_pad_Ns_m2
-    kb = k_ballast_N_m2 + 1j * w * c_ballast_Ns_m2
-    s = kp * (kb - w ** 2 * m_sleeper_kg_m) / (kp + kb - w ** 2 * m_sleeper_kg_m)
-    lam = ((s - m_kg_m * w ** 2) / (4.0 * EI_Nm2)) ** 0.25
-    return 1.0 / (8.0 * EI_Nm2 * lam ** 3)
-
-
-# ------------------------------------------------------------------------------------------------- the model
-def _beam_element(h: float, EI: float, m: float) -> tuple[np.ndarray, np.ndarray]:
-    """Euler–Bernoulli Hermite element, DOFs (u1, du1/dx, u2, du2/dx): stiffness and consistent mass."""
-    K = EI / h ** 3 * np.array([[12.0, 6 * h, -12.0, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
-                                [-12.0, -6 * h, 12.0, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
-    M = m * h / 420.0 * np.array([[156.0, 22 * h, 54.0, -13 * h], [22 * h, 4 * h * h, 13 * h, -3 * h * h],
-                                  [54.0, 13 * h, 156.0, -22 * h], [-13 * h, -3 * h * h, -22 * h, 4 * h * h]])
-    return K, M
-
-
-def _hermite(xi: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-    """Hermite shape functions (n, 4) and their x-derivatives (n, 4) at ξ ∈ [0, 1] of an element of length h."""
-    xi = np.asarray(xi, dtype=float)
-    N = np.stack([1 - 3 * xi ** 2 + 2 * xi ** 3, h * (xi - 2 * xi ** 2 + xi ** 3), 3 * xi ** 2 - 2 * xi ** 3,
-                  h * (xi ** 3 - xi ** 2)], axis=-1)
-    dN = np.stack([(-6 * xi + 6 * xi ** 2) / h, 1 - 4 * xi + 3 * xi ** 2, (6 * xi - 6 * xi ** 2) / h,
-                   3 * xi ** 2 - 2 * xi], axis=-1)
-    return N, dN
+__all__ = ["FlexibleTrackModel", "FlexibleTrackModes", "add_flexible_track"]
 
 
 class FlexibleTrackModel:
@@ -356,7 +139,7 @@ class FlexibleTrackModel:
     def assemble(self, kind: str) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
         """``(M, K, C)`` of one beam (:data:`KINDS`): rail DOFs ``(u_i, du_i/ds)`` then the sleepers'."""
         EI, m, kp, cp, ms, kb, cb = self.params.beam(kind)
-        Ke, Me = _beam_element(self.h_m, EI, m)
+        Ke, Me = bending_element(self.h_m, EI, m)
         rows, cols, kv, mv, cv = [], [], [], [], []
         idx = np.arange(4)
         for e in range(self.n_nodes - 1):
@@ -386,7 +169,7 @@ class FlexibleTrackModel:
     def load_vector(self, kind: str, s_m: float, force: float) -> np.ndarray:
         """Consistent nodal load of a point force (or moment, ``roll``) on the rail field at ``s_m``."""
         e, xi = self._locate(np.atleast_1d(s_m))
-        N, _ = _hermite(xi, self.h_m)
+        N, _, _ = hermite(xi, self.h_m)
         f = np.zeros(self.n_dof)
         f[2 * e[0] + np.arange(4)] += force * N[0]
         return f
@@ -394,7 +177,7 @@ class FlexibleTrackModel:
     def rail_field(self, kind: str, u: np.ndarray, s_m) -> tuple[np.ndarray, np.ndarray]:
         """The rail field ``u`` and ``du/ds`` of one beam's DOF vector(s) ``u`` (n_dof, ...) at ``s_m``."""
         e, xi = self._locate(np.atleast_1d(np.asarray(s_m, dtype=float)))
-        N, dN = _hermite(xi, self.h_m)
+        N, dN, _ = hermite(xi, self.h_m)
         dofs = 2 * e[:, None] + np.arange(4)
         U = np.asarray(u)[dofs]                                      # (n_s, 4, ...)
         return np.einsum("ij,ij...->i...", N, U), np.einsum("ij,ij...->i...", dN, U)
@@ -406,7 +189,7 @@ class FlexibleTrackModel:
         e, xi = self._locate(np.atleast_1d(s_m), left=True)
         h = self.h_m
         x = xi[0]
-        d2N = np.array([(-6 + 12 * x) / h ** 2, (-4 + 6 * x) / h, (6 - 12 * x) / h ** 2, (6 * x - 2) / h])
+        _, _, d2N = hermite(x, h)
         return float(-EI * d2N @ np.asarray(u)[2 * e[0] + np.arange(4)])
 
     def nearest_sleeper(self, s_m, start_m: float | None = None) -> np.ndarray:
@@ -480,7 +263,7 @@ class FlexibleTrackModel:
 class FlexibleTrackModes:
     """The reduced flexible track (:meth:`FlexibleTrackModel.modes`): ``omega_rad_s`` (n_modes,), ``kinds``
     (per mode, :data:`KINDS`), ``shapes[kind]`` (n_dof of that beam × its modes), ``damping_matrix`` (n × n,
-    block diagonal), ``table`` (the :class:`~exudyn_wheelrail.structures.bridge.ShapeTable` the connector reads).
+    block diagonal), ``table`` (the :class:`~exudyn_wheelrail.structures.modal_shapes.ShapeTable` the connector reads).
     Modal equations ``q̈ + D q̇ + diag(ω²) q = Q``; the same interface as
     :class:`~exudyn_wheelrail.structures.bridge.BridgeModes` where the deck machinery uses it."""
 
@@ -521,10 +304,10 @@ class FlexibleTrackModes:
         s_pts = mdl.start_m + hs * np.arange(n_el + 1)
         e = np.minimum(np.arange(n_el + 1) // sub, mdl.n_nodes - 2)
         xi = (s_pts - mdl.node_s_m[e]) / mdl.h_m
-        N, dN = _hermite(xi, mdl.h_m)
+        N, dN, _ = hermite(xi, mdl.h_m)
         dofs = 2 * e[:, None] + np.arange(4)
         ns = np.zeros((n_el + 1, 5, self.n_modes))
-        for kind, rows in (("lateral", (_NS_V, _NS_DV)), ("vertical", (_NS_W, _NS_DW)), ("roll", (_NS_TH, None))):
+        for kind, rows in (("lateral", (NS_V, NS_DV)), ("vertical", (NS_W, NS_DW)), ("roll", (NS_TH, None))):
             phi = self.shapes[kind]
             if phi.shape[1] == 0:
                 continue
@@ -555,7 +338,6 @@ class FlexibleTrackModes:
     def residual_at(self, s_m) -> np.ndarray:
         """``G_res(s)`` (..., 3, 3) at track distance(s) ``s_m`` (:attr:`residual_table`, linear between the
         table's points as the connector reads it; zero off the segment or without the static correction)."""
-        from ..structures.deck_kinematics import residual_at
         s = np.asarray(s_m, dtype=float)
         out = np.zeros((s.size, 3, 3))
         R = self.residual_table
@@ -573,7 +355,7 @@ class FlexibleTrackModes:
         mdl = self.model
         G = np.zeros((s_pts.size, 3, 3))
         e, xi = mdl._locate(s_pts)
-        N, _ = _hermite(xi, mdl.h_m)
+        N, _, _ = hermite(xi, mdl.h_m)
         for kind, row in (("lateral", 0), ("vertical", 1), ("roll", 2)):
             if self.shapes[kind].shape[1] == 0:
                 continue
@@ -590,7 +372,7 @@ class FlexibleTrackModes:
         tb = self.table
         s_pts = tb.start_m + np.concatenate([tb.elem_x0, [tb.elem_x0[-1] + tb.elem_len[-1]]])
         G = self._static_flexibility(s_pts)
-        rows = tb.node_shapes[:, [_NS_V, _NS_W, _NS_TH], :]                  # (n_points, 3, n_modes) at the points
+        rows = tb.node_shapes[:, [NS_V, NS_W, NS_TH], :]                  # (n_points, 3, n_modes) at the points
         G -= np.einsum("pik,pjk->pij", rows / self.omega_rad_s, rows / self.omega_rad_s)
         out = np.empty((s_pts.size, 6))
         for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
@@ -733,12 +515,9 @@ def add_flexible_track(mbs, modes: FlexibleTrackModes, name: str = "flexible_tra
     """Enter the reduced track into ``mbs`` (before ``mbs.Assemble()``): one ``NodeGenericODE2`` with the modal
     coordinates, one ``ObjectGenericODE2`` with ``I``, ``diag(ω²)`` and the diagonal of the kept damping (sparse
     containers), and, with ``damping="full"``, a second one on the same node whose force is the damping's coupling
-    ``-D_off q̇`` (:class:`_CouplingDamping`).  Returns an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge`
+    ``-D_off q̇`` (:class:`_CouplingDamping`).  Returns an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge`
     handle whose ``modes`` is the :class:`FlexibleTrackModes`: pass it as the connector's ``bridge=`` (the deck
     interface, module docstring)."""
-    import exudyn as exu
-    from exudyn.itemInterface import NodeGenericODE2, ObjectGenericODE2, VObjectGenericODE2
-
     if not isinstance(modes, FlexibleTrackModes):
         raise TypeError(f"modes={modes!r}: expected FlexibleTrackModes (FlexibleTrackModel.modes())")
     n = modes.n_modes
@@ -763,32 +542,3 @@ def add_flexible_track(mbs, modes: FlexibleTrackModes, name: str = "flexible_tra
                                         forceUserFunction=coupling.force, visualization=VObjectGenericODE2(show=False)))
         mbs.variables[f"{name}_damping_coupling"] = coupling          # keeps the user function's owner alive
     return ExudynBridge(modes, "modal", int(node), int(obj))
-
-
-#: the margin a segment keeps beyond the outermost wheelsets, in decay lengths 1/β of the vertical support: there a
-#: wheel load's static deflection ``e^{-βx}(cos βx + sin βx)`` is below 0.5 % of its peak
-MARGIN_DECAY_LENGTHS = 5.0
-
-
-def decay_length_m(params: TrackParameters) -> float:
-    """``1/β`` [m] of the vertical support, ``β = (k/(4EI))^¼`` with the single rail's EI and support stiffness
-    per metre (:meth:`TrackParameters.support_stiffness_per_rail_N_m2`)."""
-    k = params.support_stiffness_per_rail_N_m2()
-    return (4.0 * params.rail_E_Pa * params.rail_I_vertical_m4 / k) ** 0.25
-
-
-def segment_margin_m(params: TrackParameters) -> float:
-    """The default margin of a segment (or moving window) beyond the outermost wheelsets [m]:
-    :data:`MARGIN_DECAY_LENGTHS` decay lengths, at least two sleeper bays."""
-    return max(MARGIN_DECAY_LENGTHS * decay_length_m(params), 2.0 * params.sleeper_spacing_m)
-
-
-def segment_for_run(s_rear_start_m: float, s_front_end_m: float, params: TrackParameters,
-                    margin_m: float | None = None) -> tuple[float, float]:
-    """``(start_m, length_m)`` of a segment that carries every wheelset over a run, from the rearmost wheelset's
-    start to the leading wheelset's end, plus ``margin_m`` at both ends (default :func:`segment_margin_m`)."""
-    if margin_m is None:
-        margin_m = segment_margin_m(params)
-    d = params.sleeper_spacing_m
-    start = math.floor((s_rear_start_m - margin_m) / d) * d
-    return float(start), float(s_front_end_m + margin_m - start)

@@ -33,8 +33,10 @@ import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
 
+from ..structures.beam import hermite
 from ..structures.bridge import BridgeModel
-from .flexible import KINDS, FlexibleTrackModel, FlexibleTrackModes, TrackParameters, _hermite
+from .flexible import FlexibleTrackModel, FlexibleTrackModes
+from .flexible_parameters import KINDS, TrackParameters
 
 __all__ = ["TrackOnDeckModel", "TrackOnDeckModes"]
 
@@ -73,7 +75,7 @@ class TrackOnDeckModel(FlexibleTrackModel):
             out[6 * a + _DOF_TX] = 1.0 - xi
             out[6 * b + _DOF_TX] = xi
         else:
-            N, _ = _hermite(np.array([xi]), Le)
+            N, _, _ = hermite(np.array([xi]), Le)
             N = N[0]
             if row == "w":
                 out[[6 * a + _DOF_W, 6 * a + _DOF_TY, 6 * b + _DOF_W, 6 * b + _DOF_TY]] = N * [1.0, -1.0, 1.0, -1.0]
@@ -162,7 +164,7 @@ class TrackOnDeckModes(FlexibleTrackModes):
         K, off = self._stiffness
         mdl = self.model
         e, xi = mdl._locate(s_pts)
-        N, _ = _hermite(xi, mdl.h_m)
+        N, _, _ = hermite(xi, mdl.h_m)
         lu = scipy.sparse.linalg.splu(scipy.sparse.csc_matrix(K))
         G = np.empty((s_pts.size, 3, 3))
         for c0 in range(0, s_pts.size, 128):                 # in chunks of points: the right-hand sides are dense

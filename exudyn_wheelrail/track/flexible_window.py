@@ -46,7 +46,7 @@ bays: the centre is then ``k d / 2`` before it, every wheelset at the mirror ima
 position before the move, where the mirror-symmetric segment has the same modal flexibility (a single wheelset
 meets no jump of it at all).  The window is ``⌈(2 m + span)/d⌉ + k`` bays long (:func:`window_length_m`), so that
 the wheelsets always keep the margin ``m`` (:func:`window_margin_m`: five decay lengths 1/β of the vertical
-support, at least two bays, the rule of :func:`.flexible.segment_for_run`) to both ends, to within one step's
+support, at least two bays, the rule of :func:`.flexible_segment.segment_for_run`) to both ends, to within one step's
 travel.  Only frames moving with the vehicle (``frame="moving"``, every wheelset at ``s = s_start + V t + x``)
 and explicit solvers (the state is ``q, q̇``; an implicit solver's accelerations are not carried over) are
 supported.
@@ -86,9 +86,11 @@ import math
 
 import numpy as np
 
-from ..structures.bridge import modal_shape_and_slope_at, modal_shape_at
 from ..structures.deck_kinematics import DECK_START, N_DECK_PAR
-from .flexible import KINDS, FlexibleTrackModel, FlexibleTrackModes, TrackParameters, segment_margin_m
+from ..structures.modal_shapes import modal_shape_and_slope_at, modal_shape_at
+from .flexible import FlexibleTrackModel, FlexibleTrackModes
+from .flexible_parameters import KINDS, TrackParameters
+from .flexible_segment import segment_margin_m
 
 __all__ = ["DEFAULT_SHIFT_BAYS", "window_margin_m", "window_length_m",
            "window_start_m", "shift_gather", "shift_matrix", "shifted_state", "modal_state", "set_modal_state",
@@ -99,7 +101,7 @@ __all__ = ["DEFAULT_SHIFT_BAYS", "window_margin_m", "window_length_m",
 DEFAULT_SHIFT_BAYS = 1
 def window_margin_m(params: TrackParameters) -> float:
     """The default margin behind the rearmost and ahead of the leading wheelset [m]: a fixed segment's
-    (:func:`.flexible.segment_margin_m`)."""
+    (:func:`.flexible_segment.segment_margin_m`)."""
     return segment_margin_m(params)
 
 
