@@ -12,6 +12,8 @@ The case, one job per module (each re-exported here):
 
 * :mod:`.rtri_case` — the case as a spec: :class:`RtriCase` (what is simulated, where the deviation lies, how long
   the run is) → the normalised scenario; the case's assumptions and :func:`assumptions_table`;
+* :mod:`.rtri_result` — the result of a run (:class:`RtriResult`) and the averaging window of the smoothed
+  lateral-force peak (:data:`AVERAGE_WINDOW_S`);
 * :mod:`.rtri_run` — the run and its summary: :func:`run_rtri` (coverage, whole-run and passage peaks, what is left
   after the passage, notes), the time-series columns (:data:`RTRI_COLUMNS`), :func:`write_rtri_outputs`;
 * :mod:`.rtri_figures` — the paper's Figs. 5, 6 and 7: :func:`plot_fig5`, :func:`plot_fig6`, :func:`plot_fig7`;
@@ -33,11 +35,10 @@ from __future__ import annotations
 from .rtri_assumptions import RTRI, RtriAssumptions
 from .rtri_case import RTRI_CASE, RTRI_GROUPS, RtriCase, RtriCaseAssumptions, assumptions_table
 from .rtri_figures import plot_fig5, plot_fig6, plot_fig7
+from .rtri_result import AVERAGE_WINDOW_S, RtriResult
 from .rtri_run import (
-    AVERAGE_WINDOW_S,
     RTRI_COLUMNS,
     TIMESERIES_REQUIRED,
-    RtriResult,
     rtri_columns,
     run_rtri,
     write_rtri_outputs,

@@ -19,8 +19,8 @@ one solve wrapper (:func:`exudyn_wheelrail.simulation.runner.run`: watched by th
 The modules, one job each (this module is the public import path: it re-exports their public names):
 :mod:`.spec` — the schema's constants, the loader and the validation; :mod:`.overrides` — the dotted-key
 overrides; :mod:`.build` — spec → Exudyn model; :mod:`.deck` — the flexible deck's support motion, recorded
-columns and summary; :mod:`.run` — the run and its summary (peaks, scalars, criteria, notes); :mod:`.outputs` and
-:mod:`.plots` — the files and the figures.
+columns and summary; :mod:`.run` — the run and its summary (peaks, scalars, criteria, notes); :mod:`.result` —
+the result of a run (:class:`ScenarioResult`); :mod:`.outputs` and :mod:`.plots` — the files and the figures.
 
 Schema (``schema_version = 2``)
 ===============================
@@ -198,7 +198,8 @@ from ..rolling_stock.placement import start_on_track
 from .outputs import jsonable, write_csv, write_json, write_scenario_outputs
 from .overrides import apply_overrides, parse_value, set_dotted
 from .plots import group_figure
-from .run import ScenarioResult, peaks, run_model, run_scenario, scenario_summary, static_wheel_loads
+from .result import ScenarioResult
+from .run import peaks, run_model, run_scenario, scenario_summary, static_wheel_loads
 from .spec import (
     CRITERIA_VEHICLES,
     DEFAULT_FLOOR_HEIGHT_M,
