@@ -1,4 +1,4 @@
-"""Cost of the flexible car body (multibody.flexible_body): the RTRI 20 m case at 250 km/h with the rigid and the
+"""Cost of the flexible car body (rolling_stock.flexible_body): the RTRI 20 m case at 250 km/h with the rigid and the
 flexible car body (``RtriCase(car_body=...)``), RK44 1 ms (the ``default`` preset's integrator) and the paper's
 Newmark 1 ms, the contact connector as in every RTRI run; and, to show where the cost goes, the vehicle on rail
 springs (no contact) with Exudyn's CPU-time statistics of the solver.

@@ -6,7 +6,7 @@ sleeper.  Running onto the segment, the wheel meets the unloaded free rail end, 
 the continuous track (up to four times for a continuously supported rail end, Hetényi's semi-infinite beam); leaving
 it, the wheel steps from the deflected rail end up onto the rigid rail — a step of the end's deflection, an impact.
 Neither is a property of a track: a run on a flexible segment must keep every wheel away from the segment's ends
-(:func:`exudyn_wheelrail.track.flexible.segment_for_run`, the scenario check of ``[flexible_track]``,
+(:func:`exudyn_wheelrail.track.flexible_segment.segment_for_run`, the scenario check of ``[flexible_track]``,
 examples/train_on_ballasted_bridge.py).  This example measures both transients; its run goes through the runner
 like any other and prints the status it reports.
 

@@ -19,7 +19,7 @@ under every wheelset, :func:`~exudyn_wheelrail.scenarios.flexible_track.start_on
 
 The flexible segment (b).  It carries the whole run: from the rearmost wheelset at t = 0 (or the first abutment,
 whichever comes first) to the leading wheelset at the end (or the far abutment), plus five decay lengths 1/β of the
-track's vertical support at both ends (:func:`~exudyn_wheelrail.track.flexible.segment_for_run`; 3.9 m for the
+track's vertical support at both ends (:func:`~exudyn_wheelrail.track.flexible_segment.segment_for_run`; 3.9 m for the
 default track, where a wheel load's static deflection has fallen below 1 % of its peak).  No wheel enters or leaves
 the segment during the run.  Off the segment the track is rigid (``Φ = 0``), and the segment's rails end free on its
 first and last sleeper: a wheel running onto the segment meets a free rail end, and leaving it steps from the

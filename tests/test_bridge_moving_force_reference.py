@@ -1,4 +1,4 @@
-"""Frýba's moving-force solution (``structures.bridge.fryba_moving_force``) against an independent numerical solution.
+"""Frýba's moving-force solution (``structures.fryba.fryba_moving_force``) against an independent numerical solution.
 
 Reference: the modal equations of a simply supported Euler–Bernoulli beam (span L, EI, mass per length m, modal
 damping ζ) under constant forces P (down, deflection w down) moving at speed v, force k at ``x_k(t) = v t - d_k``

@@ -129,7 +129,7 @@ class WheelRailView:
     pair : the :class:`~exudyn_wheelrail.contact.WheelRailPair` of the contact.
     contact : the :class:`~exudyn_wheelrail.multibody.connector.WheelRailContact` (its ``results`` are drawn).
     track : the :class:`~exudyn_wheelrail.track.rigid.RigidStraightTrack` (irregularity) or ``None``.
-    bridge : an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` or ``None``.
+    bridge : an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` or ``None``.
     """
 
     def __init__(self, mbs, model, pair, contact, *, track=None, bridge=None, options: ViewOptions | None = None):

@@ -40,7 +40,7 @@ bridge, below).
 
 Flexible bridge (``bridge=``)
 -----------------------------
-With an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` the object also spans the bridge's modal node:
+With an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` the object also spans the bridge's modal node:
 coordinates ``[6 per wheelset..., n_m modal]``, forces ``[force, torque per wheelset..., Q]``, still one compiled
 call per evaluation.  The deck under each wheelset moves its rails (displacement, roll and material velocity), and
 minus the wheel forces are projected on the modes, ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)`` — the kinematics, frames and
@@ -148,13 +148,13 @@ class WheelRailContact:
     global_search : run the kernel's global scan at every evaluation (slower; follows jumps without warm start).
     jacobian : ``"numerical"`` — the connector's own Jacobian user function for implicit solvers (default; how it
         differentiates: :attr:`jacobian_method`); ``None`` — none (Exudyn's own handling).
-    bridge : an :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` (:func:`~exudyn_wheelrail.structures.
-        bridge.add_bridge` in the same ``mbs``) or ``None`` (rigid track).  The object then also spans the bridge's
-        modal node: wheels on the deck see the deck's rail displacement and velocity, and the forces on the rails
-        go to the modal coordinates (module docstring, "Flexible bridge").  The deck's track distances are those
-        of the track (``BridgeModel.start_m``), the same s as the irregularity.  A support motion of the bridge
-        (``bridge.add_support_motion``, before or after this call) moves the rails of every wheelset laterally
-        by the ground displacement and velocity as well.
+    bridge : an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge`
+        (:func:`~exudyn_wheelrail.structures.bridge_exudyn.add_bridge` in the same ``mbs``) or ``None`` (rigid
+        track).  The object then also spans the bridge's modal node: wheels on the deck see the deck's rail displacement
+        and velocity, and the forces on the rails go to the modal coordinates (module docstring, "Flexible bridge").
+        The deck's track distances are those of the track (``BridgeModel.start_m``), the same s as the irregularity.  A
+        support motion of the bridge (``bridge.add_support_motion``, before or after this call) moves the rails of every
+        wheelset laterally by the ground displacement and velocity as well.
     layout : a :class:`~exudyn_wheelrail.track.layout.TrackLayout` (curves, cant, gradient) or ``None`` (straight
         track).  Each wheelset's coordinates are then relative to the local track frame at its own s, and the
         creepages get the terms of the turning frame (:mod:`.connector_core`, "Curved track"); the bodies' inertia
@@ -177,7 +177,7 @@ class WheelRailContact:
         from ..structures.bridge_exudyn import ExudynBridge
 
         if bridge is not None and not isinstance(bridge, ExudynBridge):
-            raise TypeError(f"bridge={bridge!r}: expected an ExudynBridge (structures.bridge.add_bridge) or None")
+            raise TypeError(f"bridge={bridge!r}: expected an ExudynBridge (structures.add_bridge) or None")
         if frame not in ("moving", "track"):
             raise ValueError(f"frame={frame!r}: expected 'moving' or 'track'")
         if layout is not None:

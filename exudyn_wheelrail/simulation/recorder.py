@@ -21,7 +21,7 @@ z down):
 * ``track`` ``track_lateral_w<j>_m``, ``track_vertical_w<j>_m`` — the track irregularity (y, z) under wheelset j;
 * ``carbody`` per car-body point p: ``carbody_lateral_acceleration_<p>_m_s2``, ``carbody_vertical_acceleration_
   <p>_m_s2`` (track frame, kinematic: no gravity; Exudyn's rigid-body ``Acceleration`` output at the point; a
-  flexible car body: its frame's and modes' motion at the point, :class:`~..multibody.flexible_body.
+  flexible car body: its frame's and modes' motion at the point, :class:`~..rolling_stock.flexible_body.
   BodyPointKinematics`, the accelerometer then in the axes of the deformed section; a rigid car body's points are
   read by Exudyn sensors stored in memory when the probes are built with the model's ``mbs``: the same outputs,
   no Python call per state),

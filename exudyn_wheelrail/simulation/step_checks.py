@@ -13,12 +13,12 @@ __all__ = ["check_explicit_step"]
 
 def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None = None,
                         s_to_m: float | None = None) -> None:
-    """Raise :class:`~exudyn_wheelrail.track.flexible.TrackFileError` (naming ``run.dt_s`` and the largest stable step) if the explicit
-    ``solver`` at ``dt_s`` cannot carry the wheel on the rail's kept modal mass over ``[s_from_m, s_to_m]``
-    (:func:`~exudyn_wheelrail.track.flexible_contact.contact_mode_Hz`; the limits of the solver table
-    :data:`~.solvers.METHODS`); nothing for an implicit solver.  The scenario build and the runner call it before the
-    solve, over the track the wheelsets will cross; the run monitor checks the same stiffness on the rail's modal mass
-    where the wheelsets are during the run."""
+    """Raise :class:`~exudyn_wheelrail.track.flexible_parameters.TrackFileError` (naming ``run.dt_s`` and the largest
+    stable step) if the explicit ``solver`` at ``dt_s`` cannot carry the wheel on the rail's kept modal mass over
+    ``[s_from_m, s_to_m]`` (:func:`~exudyn_wheelrail.track.flexible_contact.contact_mode_Hz`; the limits of the solver
+    table :data:`~.solvers.METHODS`); nothing for an implicit solver.  The scenario build and the runner call it before
+    the solve, over the track the wheelsets will cross; the run monitor checks the same stiffness on the rail's modal
+    mass where the wheelsets are during the run."""
     limit = METHODS[solver].imaginary_axis_limit
     if limit is None:
         return
