@@ -14,7 +14,7 @@ from the first frequency: ``f1 = π/(2L²) √(EI/m)`` ⇒ ``EI = m (2L² f1/π)
 :mod:`exudyn_wheelrail.structures.bridge` — the 3-D beam meshed with ``max(20, 8 N)`` elements
 (:data:`MIN_ELEMENTS`, :data:`ELEMENTS_PER_MODE`; the N-th bending frequency then lies within 3e-5 of
 ``N² f1``), reduced to its **N lowest vertical bending modes** (mass-normalised) with the modal damping ratio ζ in
-every mode, entered into Exudyn by :func:`~exudyn_wheelrail.structures.bridge.add_bridge` (``"modal"``: one
+every mode, entered into Exudyn by :func:`~exudyn_wheelrail.structures.bridge_exudyn.add_bridge` (``"modal"``: one
 ``NodeGenericODE2`` with ``I``, ``diag(ω²)``, ``diag(2ζω)``) — the same bridge object a vehicle model couples
 its wheel–rail contact to.  The lateral, torsional and axial stiffnesses of the section (:func:`deck_section`) do
 not act on the vertical modes (the beam axis is the shear centre and the centre of mass, the rails at its height);
@@ -62,7 +62,7 @@ Load models (:data:`LOAD_MODELS`)
 case, bridge)`` returning a :class:`LoadModelHandle` (the contact the run monitor watches or None, the axle places
 and static loads, the generalized modal forces at the recorded state, extra recorder probes and summary entries).
 ``"moving-loads"``: the axle loads as constant vertical forces moving at V
-(:class:`~exudyn_wheelrail.structures.bridge.MovingForces`: ``Q = Σ Φ(s_k(t))ᵀ F_k`` in one compiled call).
+(:class:`~exudyn_wheelrail.structures.bridge_exudyn.MovingForces`: ``Q = Σ Φ(s_k(t))ᵀ F_k`` in one compiled call).
 ``"vehicles"``: the full vehicle–bridge interaction, provided by
 ``exudyn_wheelrail.scenarios.bridge_crossing_vehicles`` (module attribute ``VEHICLES``); when that module is not
 part of the installation the command stops before any work with ``error: --model: ...`` (exit code 2).

@@ -15,7 +15,7 @@ __all__ = ["deck_section", "elements_per_span", "DeckModes", "deck_modes", "vert
 
 
 def deck_section(case: BridgeCrossing):
-    """The :class:`~exudyn_wheelrail.structures.bridge.DeckSection` of every span: ``m``, ``EI_y`` from ``f1`` of
+    """The :class:`~exudyn_wheelrail.structures.beam.DeckSection` of every span: ``m``, ``EI_y`` from ``f1`` of
     the first span, ``EI_z`` (:attr:`BridgeCrossing.EI_z_Nm2`: from the lateral frequency, else
     :data:`LATERAL_EI_RATIO` ``EI_y``); the torsional (``GJ = EI_y``, ``I_p = m (2 m)²``) and axial
     (``EA = 1e3 EI_y / m²``) values are placeholders of the right order that do not act on the bending modes (beam

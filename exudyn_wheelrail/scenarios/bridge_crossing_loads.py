@@ -50,8 +50,8 @@ class LoadModelHandle:
 @dataclass(frozen=True)
 class LoadModel:
     """A load model: ``check(case)`` (``ValueError`` naming the option; no work) and ``build(mbs, case, bridge)
-    -> LoadModelHandle`` (``bridge`` the :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge` of the deck, not
-    assembled)."""
+    -> LoadModelHandle`` (``bridge`` the :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` of the
+    deck, not assembled)."""
 
     check: Callable
     build: Callable

@@ -93,7 +93,7 @@ def _check(case: BridgeCrossing) -> None:
 def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: float, bridge=None):
     """``(train, track)``: the consist built in ``mbs`` with one wheel–rail connector (the first car's profiles,
     the default contact settings) on the straight rigid track, coupled to ``bridge`` (an
-    :class:`~exudyn_wheelrail.structures.bridge.ExudynBridge`, e.g. a deck or a flexible track) if given."""
+    :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge`, e.g. a deck or a flexible track) if given."""
     geo = consist.cars[0].vehicle.geometry
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)

@@ -73,7 +73,7 @@ dotted overrides with the old keys are moved the same way.
     ``examples/scenarios/README.md``.
 
 ``[structure]`` (optional) — a flexible bridge deck under the track (:class:`~..structures.bridge.BridgeModel`,
-entered with :func:`~..structures.bridge.add_bridge`):
+entered with :func:`~..structures.bridge_exudyn.add_bridge`):
     ``spans_m`` (list of span lengths, running order), ``start_m`` (s of the first abutment),
     ``damping_ratio`` (modal ζ of every mode, 0 ≤ ζ < 1), ``rail_height_m`` (top of rail above the beam axis),
     optional ``continuous`` (false: independent simply supported spans), ``elements_per_span`` (20),
