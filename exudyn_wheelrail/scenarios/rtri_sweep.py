@@ -46,8 +46,11 @@ span   V km/h   max |a| m/s²    max |Y| kN (raw)  max |Y| kN (10ms)  flange reg
 """
 from __future__ import annotations
 
+import csv
 import dataclasses
 import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from multiprocessing import get_context
 from pathlib import Path
 
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings
@@ -86,8 +89,6 @@ def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, run:
     ``fig7_max_carbody_acceleration.png`` (and each case's outputs under ``cases/`` if ``write_cases``).  ``run``:
     default the case's run with ``duration_s="auto"`` (each case covers its whole passage); ``contact``: the case's
     default."""
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    from multiprocessing import get_context
     spans_m = [float(s) for s in spans_m]
     speeds_km_h = [float(v) for v in speeds_km_h]
     if not spans_m or not speeds_km_h:
@@ -126,7 +127,6 @@ def run_sweep(spans_m, speeds_km_h, out_dir, *, workers: int | None = None, run:
         row["run_max_abs_carbody_lateral_acceleration_rear_m_s2"] = s.get("peaks", {}).get(
             "max_abs_carbody_lateral_acceleration_rear_m_s2")
         rows.append(row)
-    import csv
     with open(out / "sweep.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(SWEEP_COLUMNS))
         w.writeheader()

@@ -53,8 +53,9 @@ import itertools
 import json
 import math
 import os
-from concurrent.futures import Executor, Future, as_completed
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
+from multiprocessing import get_context
 from pathlib import Path
 
 from .outputs import jsonable
@@ -137,8 +138,6 @@ def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
 def resolve_executor(executor, workers, n_cases):
     """(executor, own): the executor to use and whether this function created it (and must shut it down)."""
     if executor is None:
-        from concurrent.futures import ProcessPoolExecutor
-        from multiprocessing import get_context
         if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
             raise ValueError(f"workers = {workers!r}: expected a positive integer")
         w = max(1, min(int(workers or os.cpu_count() or 1), n_cases))
