@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from exudyn_wheelrail.multibody import connector as C
+from exudyn_wheelrail.scenarios import build as scenario_build
 from exudyn_wheelrail.scenarios.rtri import RtriCase, run_rtri
 
 STEPS = 450
@@ -51,7 +52,7 @@ def test_separation_bound_skips_no_contact(online, monkeypatch):
         kw["global_search"] = True
         return original(*args, **kw)
 
-    monkeypatch.setattr(C, "add_wheel_rail_contact", scanning)
+    monkeypatch.setattr(scenario_build, "add_wheel_rail_contact", scanning)      # where the scenario build calls it
     full = _run()
     sk = online.summary["skipped"]["flange_search_far_from_flange"]
     assert sk["fraction"] > 0.9                     # the skip is real in this scene ...
