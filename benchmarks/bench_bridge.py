@@ -91,7 +91,7 @@ def run_once(track: str, solver: str, steps: int, modes) -> dict:
             bridge.add_support_motion(mbs, SmoothHarmonicSupportMotion(1.5, 1.5, ramp_cycles=1.0,
                                                                        plateau_cycles=10.0))
     contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s_start,
-                                       bridge=bridge, track=irregular, **CREEP)
+                                       structure=bridge, track=irregular, **CREEP)
     mbs.Assemble()
     contact.warm_up(mbs)
     ss = simulation_settings(steps * DT_S, DT_S)

@@ -164,7 +164,7 @@ def _flexible_run(vehicle_name: str, length_m: str, duration_s: float, dt_s: flo
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     handle = add_flexible_track(mbs, modes)
     contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track, s_start_m=s_start,
-                                     bridge=handle)
+                                     structure=handle)
     place_on_rails(mbs, model, pair)
     start_on_track(mbs, model, track)
     start_on_flexible_track(mbs, model, handle)

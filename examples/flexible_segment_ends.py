@@ -59,7 +59,7 @@ def main(argv=None) -> dict:
     modes = FlexibleTrackModel(params, 0.0, a.segment_m).modes()
     mbs = exu.SystemContainer().AddSystem()
     handle = add_flexible_track(mbs, modes)
-    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, bridge=handle)
+    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, structure=handle)
     x1 = float(x[0])
 
     class Rail:

@@ -88,7 +88,7 @@ def flexible_run(scn: dict, duration_s: float, dt_s: float) -> dict:
     contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=RigidStraightTrack(),
                                      s_start_m=s_start, creep_law=scn["contact"]["creep_law"],
                                      mu=scn["contact"]["friction"], fastsim_grid=tuple(scn["contact"]["fastsim_grid"]),
-                                     bridge=handle)
+                                     structure=handle)
     place_on_rails(mbs, model, pair)
     start_on_flexible_track(mbs, model, handle, contact=contact)
     s_mid = st["start_m"] + 0.5 * st["spans_m"][0]

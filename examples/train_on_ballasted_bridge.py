@@ -282,7 +282,7 @@ def _build_train(mbs, a, case, bridge):
     from exudyn_wheelrail.scenarios.build import train_probes
     consist, V = a.consist, case.speed_m_s
     s_start = case.deck_start_m - float(consist.wheelset_x_m()[0])
-    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, bridge=bridge)
+    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, structure=bridge)
     return train, train_probes(train, train.contact, track, V, case.deck_start_m, [])
 
 

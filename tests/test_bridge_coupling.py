@@ -1,4 +1,4 @@
-"""Wheel–rail connector on a flexible bridge (``add_wheel_rail_contact(..., bridge=...)``).
+"""Wheel–rail connector on a flexible bridge (``add_wheel_rail_contact(..., structure=...)``).
 
 References (independent of the coupling code):
 * static mid-span deflection of a simply supported Euler–Bernoulli span under a central point force
@@ -68,7 +68,7 @@ def _wheelset_on_bridge(modes, *, speed, s_start, mass_kg=None, track=None):
     C.place_on_rails(mbs, model, pair)
     bridge = add_bridge(mbs, modes) if modes is not None else None
     contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=speed, s_start_m=s_start,
-                                       bridge=bridge, track=track, **CREEP)
+                                       structure=bridge, track=track, **CREEP)
     sensor = bridge.add_sensor(mbs) if bridge is not None else None
     return SC, mbs, model, bridge, contact, sensor
 
@@ -157,7 +157,7 @@ def _vehicle_on_deck(deck_start_m, s_start_m=0.0, speed=30.0, track=None, with_b
     model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=speed, s_start_m=s_start_m)
     bridge = add_bridge(mbs, modes) if with_bridge else None
     contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=speed, s_start_m=s_start_m,
-                                       bridge=bridge, track=track, **CREEP)
+                                       structure=bridge, track=track, **CREEP)
     n_m = modes.n_modes
     rng = np.random.default_rng(5)
     q = np.zeros(24 + n_m)
@@ -360,9 +360,9 @@ def test_bad_bridge_input_raises():
     mbs = SC.AddSystem()
     model = build_vehicle(mbs, "single_wheelset", speed_m_s=30.0)
     with pytest.raises(TypeError, match="ExudynBridge"):
-        C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0, bridge=_modes(0.02), **CREEP)
+        C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0, structure=_modes(0.02), **CREEP)
     bridge = add_bridge(mbs, _modes(0.02, f_max_Hz=30.0))
-    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0, bridge=bridge, **CREEP)
+    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=30.0, structure=bridge, **CREEP)
     n = 6 + bridge.modes.n_modes
     with pytest.raises(ValueError, match=f"expected \\({n},\\)"):
         contact.forces(np.zeros(6), np.zeros(6), 0.0)

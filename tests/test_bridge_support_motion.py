@@ -192,7 +192,7 @@ def test_ground_and_wheelsets_moved_together_change_no_contact_force():
     model = build_vehicle(mbs, "manchester_vehicle1", speed_m_s=speed, s_start_m=8.0)
     bridge = add_bridge(mbs, modes)
     contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, _pair(), speed_m_s=speed, s_start_m=8.0,
-                                       bridge=bridge, **CREEP)
+                                       structure=bridge, **CREEP)
     n_m = modes.n_modes
     rng = np.random.default_rng(3)
     q = np.zeros(24 + n_m)
@@ -277,7 +277,7 @@ def test_slow_support_motion_carries_a_standing_wheelset_with_the_rails():
     C.place_on_rails(mbs, model, pair)
     bridge = add_bridge(mbs, modes)
     bridge.add_support_motion(mbs, motion)
-    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s0, bridge=bridge,
+    contact = C.add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s0, structure=bridge,
                                        **CREEP)
     from exudyn.itemInterface import SensorNode
     s_ws = mbs.AddSensor(SensorNode(nodeNumber=model.wheelsets[0].node, storeInternal=True,

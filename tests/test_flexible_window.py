@@ -183,7 +183,7 @@ def _wheelset_run(params, length_m, duration_s, dt_s=2.5e-4):
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     handle = add_flexible_track(mbs, modes)
     contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V_M_S, track=track,
-                                     s_start_m=s_start, bridge=handle)
+                                     s_start_m=s_start, structure=handle)
     place_on_rails(mbs, model, pair)
     start_on_track(mbs, model, track)
     start_on_flexible_track(mbs, model, handle)
@@ -314,7 +314,7 @@ def test_window_object_checks(params):
         start = window_start_m(params, 0.0)
         handle = add_flexible_track(mbs, FlexibleTrackModel(params, start, length_m).modes(f_max_Hz=200.0))
         contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V_M_S, s_start_m=0.0,
-                                         bridge=handle, frame=frame)
+                                         structure=handle, frame=frame)
         return handle, contact, sc
 
     handle, contact, _ = build(2.0 * m)
@@ -349,7 +349,7 @@ def test_shift_moves_the_connector_and_drops_its_kept_evaluation(params):
     model = build_vehicle(mbs, vehicle, speed_m_s=V_M_S, s_start_m=0.0, wheel_rail="none")
     modes = FlexibleTrackModel(params, window_start_m(params, 0.0), window_length_m(params, [0.0], 2)).modes()
     handle = add_flexible_track(mbs, modes)
-    contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V_M_S, s_start_m=0.0, bridge=handle)
+    contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V_M_S, s_start_m=0.0, structure=handle)
     place_on_rails(mbs, model, pair)
     start_on_flexible_track(mbs, model, handle)
     mbs.Assemble()

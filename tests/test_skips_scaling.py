@@ -100,7 +100,7 @@ def _connector(x_nodes, geometry, modes):
                                  nodeType=exu.NodeType.RotationRotationVector)["nodeNumber"] for xj in x_nodes]
     bridge = add_bridge(mbs, modes) if modes is not None else None
     c = add_wheel_rail_contact(mbs, nodes, PAIR, speed_m_s=V_M_S, track=TRACK, geometry=geometry,
-                               **({"bridge": bridge} if bridge is not None else {}))
+                               **({"structure": bridge} if bridge is not None else {}))
     return sc, c
 
 

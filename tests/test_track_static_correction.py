@@ -261,7 +261,7 @@ def test_runner_refuses_an_explicit_step_the_rail_cannot_carry():
         mbs = exu.SystemContainer().AddSystem()
         handle = add_flexible_track(mbs, modes)
         train, _ = build_train_on_straight_track(mbs, load_consist("manchester_x2"), speed_m_s=50.0,
-                                                 s_start_m=-10.0, bridge=handle)
+                                                 s_start_m=-10.0, structure=handle)
         start_on_flexible_track(mbs, train, handle, contact=train.contact)
         mbs.Assemble()
         settings = RunSettings(solver="rk44", dt_s=dt, duration_s=0.004)
@@ -303,7 +303,7 @@ def test_monitor_estimate_sees_the_rail_modal_mass():
             modes = FlexibleTrackModel(TrackParameters.from_file(), -70.0, 100.0).modes(f_max_Hz=600.0)
             handle = add_flexible_track(mbs, modes)
         train, _ = build_train_on_straight_track(mbs, load_consist("manchester_x2"), speed_m_s=50.0,
-                                                 s_start_m=-10.0, bridge=handle)
+                                                 s_start_m=-10.0, structure=handle)
         if flexible:
             start_on_flexible_track(mbs, train, handle, contact=train.contact)
         mbs.Assemble()

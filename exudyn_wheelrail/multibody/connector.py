@@ -38,9 +38,11 @@ velocity perturbations; rotations perturbed by body-frame increments, the Lie-gr
 state saved and restored; block diagonal per wheelset, so 12 calls whatever the number of wheelsets (plus 6 with a
 bridge, below).
 
-Flexible bridge (``bridge=``)
------------------------------
-With an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` the object also spans the bridge's modal node:
+A structure under the rails (``structure=``)
+--------------------------------------------
+What moves the rails — a bridge deck or a flexible track, both an
+:class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` — makes the object also span the structure's modal
+node:
 coordinates ``[6 per wheelset..., n_m modal]``, forces ``[force, torque per wheelset..., Q]``, still one compiled
 call per evaluation.  The deck under each wheelset moves its rails (displacement, roll and material velocity), and
 minus the wheel forces are projected on the modes, ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)`` — the kinematics, frames and
@@ -148,10 +150,11 @@ class WheelRailContact:
     global_search : run the kernel's global scan at every evaluation (slower; follows jumps without warm start).
     jacobian : ``"numerical"`` — the connector's own Jacobian user function for implicit solvers (default; how it
         differentiates: :attr:`jacobian_method`); ``None`` — none (Exudyn's own handling).
-    bridge : an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge`
-        (:func:`~exudyn_wheelrail.structures.bridge_exudyn.add_bridge` in the same ``mbs``) or ``None`` (rigid
-        track).  The object then also spans the bridge's modal node: wheels on the deck see the deck's rail displacement
-        and velocity, and the forces on the rails go to the modal coordinates (module docstring, "Flexible bridge").
+    structure : what moves the rails, an :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` in the
+        same ``mbs`` — a bridge deck (:func:`~exudyn_wheelrail.structures.bridge_exudyn.add_bridge`) or a flexible
+        track (:func:`~exudyn_wheelrail.track.flexible.add_flexible_track`) — or ``None`` (rigid track).  The object
+        then also spans its modal node: wheels on the deck see the deck's rail displacement and velocity, and the
+        forces on the rails go to the modal coordinates (module docstring, "A structure under the rails").
         The deck's track distances are those of the track (``BridgeModel.start_m``), the same s as the irregularity.  A
         support motion of the bridge (``bridge.add_support_motion``, before or after this call) moves the rails of every
         wheelset laterally by the ground displacement and velocity as well.
@@ -168,7 +171,7 @@ class WheelRailContact:
                  nu_wheel: float = 0.28, E_rail_Pa: float = 2.1e11, nu_rail: float = 0.28,
                  fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
-                 v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", bridge=None,
+                 v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", structure=None,
                  geometry: str = DEFAULT.GEOMETRY, geometry_grid=None, layout=None):
         import exudyn as exu
         from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
@@ -176,8 +179,9 @@ class WheelRailContact:
         from ..contact.wheelset import WheelsetContact
         from ..structures.bridge_exudyn import ExudynBridge
 
-        if bridge is not None and not isinstance(bridge, ExudynBridge):
-            raise TypeError(f"bridge={bridge!r}: expected an ExudynBridge (structures.add_bridge) or None")
+        if structure is not None and not isinstance(structure, ExudynBridge):
+            raise TypeError(f"structure={structure!r}: expected an ExudynBridge, what moves the rails (a deck: "
+                            "structures.add_bridge; a flexible track: track.add_flexible_track), or None")
         if frame not in ("moving", "track"):
             raise ValueError(f"frame={frame!r}: expected 'moving' or 'track'")
         if layout is not None:
@@ -272,8 +276,8 @@ class WheelRailContact:
         irr = (np.ascontiguousarray(packed.rows, dtype=float), np.ascontiguousarray(packed.knots, dtype=float),
                np.ascontiguousarray(packed.coefs, dtype=float))
         # the bridge: its shape table (empty arrays, no modal coordinates, without a bridge)
-        self.bridge = bridge
-        self._deck, self.n_modes = deck_arrays(bridge, n_ws)
+        self.structure = structure
+        self._deck, self.n_modes = deck_arrays(structure, n_ws)
         self._rail_delta = np.zeros((n_ws, 6))
         self._phi_ws = np.zeros((n_ws, 3, self.n_modes))
         self._rail_f = np.zeros((n_ws, 3))
@@ -298,7 +302,7 @@ class WheelRailContact:
         self.n_calls = 0
         self.n_reused = 0
         self._held = None               # the evaluation kept by evaluate_state() for the next forces() call
-        node_numbers = self.nodes_exu + ([bridge.modal_node] if bridge is not None else [])
+        node_numbers = self.nodes_exu + ([structure.modal_node] if structure is not None else [])
         kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=np.zeros((n, n)),
                       forceUserFunction=self._force_uf, visualization=VObjectGenericODE2(show=False))
         if jacobian == "numerical":
@@ -328,7 +332,7 @@ class WheelRailContact:
     def _set_ground(self, t: float) -> None:
         """Ground (support) motion of the bridge at t into the deck parameters of the compiled call (zero without
         one)."""
-        motion = self.bridge.support_motion if self.bridge is not None else None
+        motion = self.structure.support_motion if self.structure is not None else None
         par, _, _, _, _, _, _ = self._deck         # deck_arrays: par, the shape table, residual, prediction
         if motion is None:
             par[DECK_GROUND_Y] = par[DECK_GROUND_VY] = 0.0
@@ -342,7 +346,7 @@ class WheelRailContact:
 
     def ground_state(self, t: float) -> tuple[float, float]:
         """``(y_g, ẏ_g)`` added to the rails at t (the bridge's support motion; zeros without one)."""
-        motion = self.bridge.support_motion if self.bridge is not None else None
+        motion = self.structure.support_motion if self.structure is not None else None
         if motion is None:
             return 0.0, 0.0
         y, v, _ = motion.state(float(t))
@@ -367,7 +371,7 @@ class WheelRailContact:
         t = float(t)
         if self._held is not None and self._reuse_held(q, q_t, t):
             return self._f
-        if self.bridge is not None:
+        if self.structure is not None:
             self._set_ground(t)
         f = self._f
         bad = self._forces_core(q, q_t, t, self._data, f, self.results)
@@ -480,7 +484,7 @@ class WheelRailContact:
         """Current (q, q_t) of the object's nodes from the Exudyn system: the wheelset nodes, then the bridge's
         modal node (if any)."""
         exu = self._exu
-        nodes = self.nodes_exu + ([self.bridge.modal_node] if self.bridge is not None else [])
+        nodes = self.nodes_exu + ([self.structure.modal_node] if self.structure is not None else [])
         q = np.concatenate([np.atleast_1d(mbs.GetNodeOutput(n, exu.OutputVariableType.Coordinates)) for n in nodes])
         v = np.concatenate([np.atleast_1d(mbs.GetNodeOutput(n, exu.OutputVariableType.Coordinates_t)) for n in nodes])
         return q, v
@@ -637,10 +641,10 @@ class WheelRailContact:
                 "what": "the concave (discretised) search runs only where the convex one fails or lands on a "
                         "conformal point"},
             "bridge_coupling": {
-                "skipped": int(st[STAT_OFF_DECK]) if self.bridge is not None else None,
+                "skipped": int(st[STAT_OFF_DECK]) if self.structure is not None else None,
                 "of_wheelset_evaluations": int(st[STAT_ON_DECK] + st[STAT_OFF_DECK]),
                 "what": "deck state and modal projection only for wheelsets on the deck"
-                        + ("" if self.bridge is not None else "; no bridge in this model")},
+                        + ("" if self.structure is not None else "; no bridge in this model")},
             "spin_terms": {"skipped": 0, "what": "not skipped: the creep laws always include spin"},
         }
 
@@ -661,7 +665,7 @@ def add_train_contact(mbs, train, pair: WheelRailPair, *, track=None, place: boo
     """Couple every wheelset of a train (:func:`exudyn_wheelrail.rolling_stock.train.build_train` with
     ``wheel_rail="none"``), car after car, front first, to the rails by **one** connector (the run monitor and the
     recorder watch one connector), before ``mbs.Assemble()``.  ``track``: default a perfect straight track;
-    ``options`` as :class:`WheelRailContact` (``creep_law``, ``mu``, ``bridge``, ...); the train's speed and start
+    ``options`` as :class:`WheelRailContact` (``creep_law``, ``mu``, ``structure``, ...); the train's speed and start
     are its own.  ``place``: every car in static equilibrium on the rails and on the displaced track
     (:func:`~exudyn_wheelrail.rolling_stock.train.place_train_on_track`).  Returns the connector, also kept as
     ``train.contact``."""

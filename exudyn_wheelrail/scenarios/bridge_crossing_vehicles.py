@@ -4,7 +4,7 @@ r"""The ``vehicles`` load model of ``bridge-crossing``: the full vehicle–bridg
 (:mod:`exudyn_wheelrail.rolling_stock.train`) is built in the crossing's Exudyn system
 (:func:`~exudyn_wheelrail.rolling_stock.train.build_train`: one :class:`~exudyn_wheelrail.rolling_stock.vehicle_builder.
 VehicleModel` per car, its couplers), and all its wheelsets are coupled to the rails and the deck by **one**
-wheel–rail connector (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact` with ``bridge=`` the deck of the
+wheel–rail connector (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact` with ``structure=`` the deck of the
 crossing, as :func:`exudyn_wheelrail.scenarios.build.build_scenario` couples a vehicle to a deck: the deck under a
 wheel moves its rails, the wheel forces drive the modes).  The rails are otherwise perfect (no irregularity); the
 contact settings are the defaults of :class:`~exudyn_wheelrail.simulation.settings.ContactSettings`.
@@ -90,10 +90,10 @@ def _check(case: BridgeCrossing) -> None:
     _consist(case)
 
 
-def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: float, bridge=None):
+def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: float, structure=None):
     """``(train, track)``: the consist built in ``mbs`` with one wheel–rail connector (the first car's profiles,
-    the default contact settings) on the straight rigid track, coupled to ``bridge`` (an
-    :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge`, e.g. a deck or a flexible track) if given."""
+    the default contact settings) on the straight rigid track, coupled to ``structure`` (what moves the rails, an
+    :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge`: a deck or a flexible track) if given."""
     geo = consist.cars[0].vehicle.geometry
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
@@ -101,7 +101,7 @@ def build_train_on_straight_track(mbs, consist, *, speed_m_s: float, s_start_m: 
     track = RigidStraightTrack()
     train = build_train(mbs, consist, speed_m_s=speed_m_s, s_start_m=s_start_m)
     add_train_contact(mbs, train, pair, track=track, creep_law=cs.creep_law, mu=cs.friction,
-                      fastsim_grid=cs.fastsim_grid, geometry=cs.geometry, bridge=bridge)
+                      fastsim_grid=cs.fastsim_grid, geometry=cs.geometry, structure=structure)
     return train, track
 
 
@@ -110,7 +110,7 @@ def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
     V = case.speed_m_s
     x_ws = consist.wheelset_x_m()
     s_start = case.deck_start_m - float(x_ws[0])               # the leading wheelset at the deck start at t = 0
-    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, bridge=bridge)
+    train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, structure=bridge)
     cs = ContactSettings()                                    # the settings build_train_on_straight_track uses
     contact = train.contact
     points = [{"name": name, "x_m": x, "y_m": 0.0, "height_m": DEFAULT_FLOOR_HEIGHT_M}

@@ -4,7 +4,7 @@ r"""The builder: a scenario's normal form (:mod:`.spec`) -> the assembled Exudyn
 moving with the running speed V), the wheel–rail connector (:func:`~exudyn_wheelrail.multibody.
 add_wheel_rail_contact`) on a rigid straight track (:func:`build_track`) displaced by the listed irregularities,
 optionally a modally reduced bridge deck (:func:`build_bridge_modes`, coupled through the connector's
-``bridge=``) with its support motion (:func:`.deck.support_motion`, for the resolved duration), puts the vehicle in
+``structure=``) with its support motion (:func:`.deck.support_motion`, for the resolved duration), puts the vehicle in
 static equilibrium on the rails at t = 0 and on the displaced track (:func:`~exudyn_wheelrail.rolling_stock.placement.start_on_track`; the starting state of
 :mod:`exudyn_wheelrail.scenarios.scenario`), and the recorder (the recorder's probes and the deck's,
 :func:`.deck.deck_probes`); it returns handles, not strings.  A train (``vehicle.consist``) is built by
@@ -209,8 +209,8 @@ def build_scenario(scenario) -> ScenarioModel:
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
                                              s_start_m=s_start, creep_law=cs.creep_law, mu=cs.friction,
                                              fastsim_grid=cs.fastsim_grid, geometry=cs.geometry,
-                                             **({"bridge": bridge} if bridge is not None else {}),
-                                             **({"bridge": flex} if flex is not None else {}))
+                                             **({"structure": bridge} if bridge is not None else {}),
+                                             **({"structure": flex} if flex is not None else {}))
         except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
             raise RuntimeError(f"contact.creep_law = {cs.creep_law!r}: {exc}") from None
         if train:

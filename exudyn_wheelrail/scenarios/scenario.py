@@ -10,7 +10,7 @@ The normalised scenario is the **spec** of the simulation pipeline (:mod:`exudyn
 (:func:`~exudyn_wheelrail.multibody.build_vehicle`, frame moving with the running speed V), the wheel–rail connector
 (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact`) on a rigid straight track
 (:class:`~exudyn_wheelrail.multibody.RigidStraightTrack`) displaced by the listed irregularities, optionally a
-modally reduced bridge deck (:mod:`exudyn_wheelrail.structures.bridge`, coupled through the connector's ``bridge=``)
+modally reduced bridge deck (:mod:`exudyn_wheelrail.structures.bridge`, coupled through the connector's ``structure=``)
 with an optional lateral support motion, the vehicle in static equilibrium on the rails at t = 0
 (:func:`~exudyn_wheelrail.multibody.place_on_rails`) — and the recorder; :func:`run_scenario` runs it through the
 one solve wrapper (:func:`exudyn_wheelrail.simulation.runner.run`: watched by the run monitor, a status of

@@ -371,7 +371,7 @@ def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()
     during the run); and an RK44 step against the creep damping on
     the rails (``creep_rate_1_s``: the monitor's decay rates at the initial state, the rails' modal mass included),
     an :class:`~exudyn_wheelrail.validation.InputWarning` naming ``run.dt_s`` and the stable step."""
-    bridge = getattr(contact, "bridge", None)
+    bridge = getattr(contact, "structure", None)
     if bridge is None or not hasattr(bridge.modes, "residual_table"):
         return
     s = [float(x) for x in contact.results[:, 0, RES_S_TRACK]]      # the wheelsets' track distance now

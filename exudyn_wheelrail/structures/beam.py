@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .numbers import checked_number
+from .checks import checked_number
 
 __all__ = ["DOF_NAMES", "N_DOF_NODE", "DOF_GROUPS", "DeckSection", "hermite", "LAT_IDX", "LAT_SIGN", "VER_IDX",
            "VER_SIGN", "AX_IDX", "TOR_IDX", "element_matrices", "bending_element"]

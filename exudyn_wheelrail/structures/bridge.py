@@ -60,7 +60,7 @@ from scipy.sparse.linalg import eigsh
 
 from .beam import DOF_GROUPS, N_DOF_NODE, DeckSection, element_matrices
 from .modal_shapes import NS_DV, NS_DW, NS_TH, NS_V, NS_W, ShapeTable, modal_shapes_many
-from .numbers import checked_number
+from .checks import checked_number
 
 __all__ = ["BridgeModel", "BridgeModes"]
 

@@ -67,7 +67,7 @@ from ..jit import compiled
 from .bridge import BridgeModes
 from .item_names import unique_name
 from .modal_shapes import add_projected_force
-from .numbers import checked_number
+from .checks import checked_number
 from .support_motion import SupportMotionLoad
 
 __all__ = ["FORMULATIONS", "ExudynBridge", "MovingForces", "add_bridge"]

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .numbers import checked_number
+from .checks import checked_number
 
 __all__ = ["fryba_moving_force"]
 

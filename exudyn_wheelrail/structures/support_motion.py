@@ -65,7 +65,7 @@ import numpy as np
 from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 
 from .item_names import unique_name
-from .numbers import checked_number
+from .checks import checked_number
 
 __all__ = ["SupportMotion", "SmoothHarmonicSupportMotion", "SupportMotionLoad", "smoothstep5"]
 

@@ -6,7 +6,7 @@ deck interface of :mod:`exudyn_wheelrail.structures.deck_kinematics`.
 >>> model = FlexibleTrackModel(params, start_m=-30.0, length_m=120.0)                       # doctest: +SKIP
 >>> modes = model.modes()                                      # up to params.modes_up_to_Hz  # doctest: +SKIP
 >>> track = add_flexible_track(mbs, modes)                     # an ExudynBridge handle       # doctest: +SKIP
->>> contact = add_wheel_rail_contact(mbs, nodes, pair, ..., bridge=track)                    # doctest: +SKIP
+>>> contact = add_wheel_rail_contact(mbs, nodes, pair, ..., structure=track)                    # doctest: +SKIP
 
 Model
 -----

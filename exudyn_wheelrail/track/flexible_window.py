@@ -5,7 +5,7 @@ that the cost per step does not grow with the length of the run.
 >>> start = window_start_m(params, s_start_m + min(vehicle.wheelset_x_m()))                # doctest: +SKIP
 >>> modes = FlexibleTrackModel(params, start, L).modes()                                   # doctest: +SKIP
 >>> track = add_flexible_track(mbs, modes)                                                 # doctest: +SKIP
->>> contact = add_wheel_rail_contact(mbs, ..., bridge=track)                               # doctest: +SKIP
+>>> contact = add_wheel_rail_contact(mbs, ..., structure=track)                               # doctest: +SKIP
 >>> window = FlexibleTrackWindow(track, contact)            # after mbs.Assemble()         # doctest: +SKIP
 >>> run(mbs, settings, contact, speed_m_s=V, user_function=window)                         # doctest: +SKIP
 
@@ -205,8 +205,8 @@ class FlexibleTrackWindow:
                  t_start_s: float = 0.0, then=None):
         modes = handle.modes
         _check_modes(modes)
-        if getattr(contact, "bridge", None) is not handle:
-            raise ValueError("contact: not coupled to this flexible track (add_wheel_rail_contact(..., bridge=handle))")
+        if getattr(contact, "structure", None) is not handle:
+            raise ValueError("contact: not coupled to this flexible track (add_wheel_rail_contact(..., structure=handle))")
         if not contact.moving_frame:
             raise ValueError("contact: the moving window needs frame='moving' (wheelsets at s = s_start + V t + x)")
         if then is not None and not callable(then):
