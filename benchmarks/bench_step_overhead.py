@@ -295,7 +295,7 @@ def at_rest(calls: int) -> dict:
     h = build(record=True, duration_s=0.01)
     c, mbs = h.contact, h.mbs
     monitor = RunMonitor(c, keep_history=False)
-    monitor.attach(mbs, t_start_s=0.0, rk44_step_s=float(h.run.dt_s))
+    monitor.attach(mbs, t_start_s=0.0, rk44_dt_s=float(h.run.dt_s))
     guidance = FlangeClimbCheck(len(c.nodes_exu), h.speed_m_s, monitor.nadal_limit)
     rec = h.recorder
     q, v = c.coordinates(mbs)

@@ -114,7 +114,7 @@ def at_rest(solver: str, n: int) -> dict:
 
     def monitor(stability: bool):
         m = RunMonitor(c)
-        m.attach(mbs, t_start_s=0.0, rk44_step_s=dt if stability else None)
+        m.attach(mbs, t_start_s=0.0, rk44_dt_s=dt if stability else None)
         return m
 
     m_on, m_off = monitor(rk44), monitor(False)

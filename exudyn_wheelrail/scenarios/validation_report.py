@@ -163,7 +163,7 @@ def zero_crossing_wavelengths(t, y, speed):
     return speed * 2 * np.diff(zc)
 
 
-def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, step_s=1e-3, y0_m=None):
+def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, dt_s=1e-3, y0_m=None):
     """The free coned wheelset (no primary springs) released with a lateral offset ``y0_m`` (default
     :data:`Y0_C`): wavelengths from the zero crossings of the lateral displacement, and Klingel's
     λ = 2π √(r0 e / γ) of the centred pair.  Returns (t [s], y [m], wavelengths [m], λ_Klingel [m], r0 [m],
@@ -193,7 +193,7 @@ def klingel_run(conicity=0.05, speed=5.0, end_time_s=8.0, step_s=1e-3, y0_m=None
 
     mbs.SetPreStepUserFunction(pre_step)
     mbs.Assemble()
-    sim = simulation_settings(end_time_s, step_s)
+    sim = simulation_settings(end_time_s, dt_s)
     sim.timeIntegration.newton.useModifiedNewton = True
     mbs.SolveDynamic(sim, solverType=exu.DynamicSolverType.GeneralizedAlpha)
     rec.append((float(mbs.systemData.GetTime()), mbs.GetNodeOutput(ws.node, exu.OutputVariableType.Position)[1]))

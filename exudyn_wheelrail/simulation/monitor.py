@@ -212,7 +212,7 @@ class RunMonitor(StabilityEstimate):
         self._wall0 = None
         self._user = None
         self._reported: set = set()
-        self.rk44_step_s = None
+        self.rk44_dt_s = None
         self._inertia = None
         self._R = np.empty((3, 3))
         self._Mh = np.zeros((6, 6))
@@ -329,18 +329,18 @@ class RunMonitor(StabilityEstimate):
         self.profile_end_lateral_m = self.derail_lateral_m - self.flange_width_m
 
     # -- Exudyn hook ----------------------------------------------------------------------------------------------
-    def attach(self, mbs, user_function=None, t_start_s: float = 0.0, rk44_step_s: float | None = None):
+    def attach(self, mbs, user_function=None, t_start_s: float = 0.0, rk44_dt_s: float | None = None):
         """Install :meth:`pre_step` as the pre-step user function of ``mbs``, followed by ``user_function(mbs, t)``
         if given (Exudyn's arguments; it must return a bool; the contact's results are then those of the checked
         state); ``t_start_s`` is the time of the initial state.  Starts the wall clock of ``time_limit_s``.
-        ``rk44_step_s``: the step of an RK44 solve — enables the stability estimate (module docstring;
+        ``rk44_dt_s``: the step of an RK44 solve — enables the stability estimate (module docstring;
         :func:`~.runner.run_monitored` sets it)."""
         self._user = user_function
         self._t_prev = float(t_start_s)
         self._wall0 = time.perf_counter()
-        self.rk44_step_s = None if rk44_step_s is None else float(rk44_step_s)
-        self._inertia = wheelset_inertia(mbs, self.contact.nodes_exu) if self.rk44_step_s else None
-        self._par[MC.PAR_STEP] = self.rk44_step_s or 0.0
+        self.rk44_dt_s = None if rk44_dt_s is None else float(rk44_dt_s)
+        self._inertia = wheelset_inertia(mbs, self.contact.nodes_exu) if self.rk44_dt_s else None
+        self._par[MC.PAR_STEP] = self.rk44_dt_s or 0.0
         self._ws_par[:, MC.WSP_HAS_INERTIA] = 0.0
         for k, inertia in enumerate(self._inertia or ()):
             if inertia is not None:

@@ -2,7 +2,7 @@
 linearised contact stiffness against RK44's imaginary-axis limit (LAPACK's eigenvalue where the compiled screening
 value came close), and the fastest decay rate of its creep damping against the real-axis limit (the module
 docstring of :mod:`.monitor`, "Invalid states").  :class:`StabilityEstimate` holds these checks for
-:class:`~.monitor.RunMonitor`, which provides the records they read (``contact``, ``rk44_step_s``, the wheelsets'
+:class:`~.monitor.RunMonitor`, which provides the records they read (``contact``, ``rk44_dt_s``, the wheelsets'
 inertia, the compiled records ``_wss``, ``_G``, ``_par`` and ``_phi_ws``) and ``_stop``."""
 from __future__ import annotations
 
@@ -117,7 +117,7 @@ class StabilityEstimate:
         """At the first checked state of an RK44 run: the creep damping's decay rates against the step
         (:meth:`creep_decay_rate_1_s`; the speed is constant, the rates change with the patch size only, as
         N^(2/3)); beyond RK44's real-axis limit a ``step_size`` event stops the run."""
-        h = self.rk44_step_s
+        h = self.rk44_dt_s
         self.creep_rate_1_s = [self.creep_decay_rate_1_s(k, q) for k in range(self.n_wheelsets)]
         k = int(np.argmax(self.creep_rate_1_s))
         sh = self.creep_rate_1_s[k] * h
@@ -132,7 +132,7 @@ class StabilityEstimate:
     def _stability_exact(self, t, k, q):
         """The stability estimate of wheelset k with LAPACK's eigenvalue (the compiled screening value came close
         to or above RK44's limit): the highest frequency on its linearised contact stiffness (module docstring)."""
-        h = self.rk44_step_s
+        h = self.rk44_dt_s
         n_rows = int(self._wss[k, MC.WS_ROWS])
         G = self._G[k, :n_rows, :6].copy()
         Mh = self._mass_scaling(k, q)

@@ -178,7 +178,7 @@ def _initial_estimates(mbs, contact, t_s: float = 0.0) -> tuple[list[float], lis
     """:func:`contact_omega_rad_s` and, from the same evaluation, per wheelset the fastest decay rate of the creep
     damping [1/s] (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.creep_decay_rate_1_s`)."""
     probe = RunMonitor(contact, stop_on=(), keep_history=False)
-    probe.attach(mbs, t_start_s=t_s, rk44_step_s=1.0)
+    probe.attach(mbs, t_start_s=t_s, rk44_dt_s=1.0)
     probe.check(mbs, t_s)
     return [float(w) for w in probe.max_omega_h], [float(r) for r in probe.creep_rate_1_s]
 
@@ -269,7 +269,7 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
     t0 = float(ti.startTime)
     t_goal = float(ti.endTime)
     if monitor is not None and attach_monitor:
-        monitor.attach(mbs, t_start_s=t0, rk44_step_s=dt_s if solver == "rk44" else None)
+        monitor.attach(mbs, t_start_s=t0, rk44_dt_s=dt_s if solver == "rk44" else None)
     hook = _Hook(monitor, guidance, recorder, record_every, progress, dt_s, t0, grid_check, user_function)
     mbs.SetPreStepUserFunction(hook)
     out = RunOutcome(stop=None, t_end_s=t0, t_goal_s=t_goal, dt_s=float(dt_s), solver=solver, solve_seconds=0.0,

@@ -49,7 +49,7 @@ def test_flange_impact_from_a_lateral_force_pulse():
             convex_excess.append(float(np.max(r[convex, C.RES_GAMMA])) - (bound0 + roll))
         return True
 
-    m.monitor.attach(m.mbs, user_function=after_check, rk44_step_s=2.5e-4)
+    m.monitor.attach(m.mbs, user_function=after_check, rk44_dt_s=2.5e-4)
     status, t_end = run(m, 0.3, 2.5e-4)
     assert status.kind == "completed", str(status)
     assert finite_history(m.monitor)

@@ -58,7 +58,7 @@ def test_speeds_give_finite_bounded_results_or_hunting(vehicle, speed_km_h):
         standstill.append(bool(np.all(rows[:, C.RES_CREEP_STATUS].astype(int) & CREEP_STANDSTILL)))
         return True
 
-    m.monitor.attach(m.mbs, user_function=after_check, rk44_step_s=DT)
+    m.monitor.attach(m.mbs, user_function=after_check, rk44_dt_s=DT)
     status, t_end = run_monitored(m.mbs, settings(T_END, DT), "rk44", m.monitor)
     assert status.kind in ("completed", "hunting"), str(status)
     assert t_end == pytest.approx(T_END)
