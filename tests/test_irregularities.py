@@ -1,4 +1,4 @@
-"""Per-rail irregularities (exudyn_wheelrail.track.irregularities, the compiled channels of multibody.track) and
+"""Per-rail irregularities (exudyn_wheelrail.track.irregularities, the compiled channels of track.rigid) and
 what the contact makes of them.
 
 Independent references: a wheel–rail pair built with the wider gauge (``WheelRailPair(gauge_m=...)``) for a gauge

@@ -50,7 +50,7 @@ MODES_CUTOFF_MARGIN = 1.01
 
 
 def build_track(scn: dict):
-    """The :class:`~..multibody.track.RigidStraightTrack` of the scenario's ``track`` components."""
+    """The :class:`~..track.rigid.RigidStraightTrack` of the scenario's ``track`` components."""
     parts = []
     for comp in scn["track"]:
         if comp["type"] == "span_deflection":
@@ -92,7 +92,7 @@ def build_bridge_modes(structure: dict):
 
 
 def vehicle_data(scn: dict):
-    """The scenario's :class:`~..multibody.vehicle_data.VehicleData`, or its :class:`~..multibody.train.Consist` for
+    """The scenario's :class:`~..rolling_stock.vehicle_data.VehicleData`, or its :class:`~..rolling_stock.train.Consist` for
     a train (``vehicle.consist``; both have ``name`` and ``wheelset_x_m()``, the leading wheelset's x the largest)."""
     v = scn["vehicle"]
     if "consist" in v:
@@ -253,7 +253,7 @@ def build_scenario(scenario) -> ScenarioModel:
 
 def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, carbody_points, bridge=None,
                  modes=None, structure=None, mbs=None) -> list:
-    """The recorder's probes of a train (:class:`~..multibody.train.TrainModel`): the wheels, wheelsets and track of
+    """The recorder's probes of a train (:class:`~..rolling_stock.train.TrainModel`): the wheels, wheelsets and track of
     :func:`~..simulation.recorder.vehicle_probes` for all wheelsets (train order: ``w<j>`` numbers the wheelsets of
     the whole train, car after car), the deck's with a bridge, and every car's car-body points (``outputs.
     carbody_points``, x from that car's centre), named ``<point>_c<k>`` (k = 1 the leading car); ``mbs`` (not yet

@@ -7,9 +7,9 @@ What is simulated
 -----------------
 Manchester benchmark vehicle 1 (``vehicles/manchester_vehicle1.toml``: car body, two bogies, four wheelsets) with
 S1002 wheels on UIC60 rails inclined 1:40, gauge and back-to-back from the vehicle file, on a rigid straight track
-whose centre line is displaced laterally by one span's deflection (:class:`~..multibody.track.SpanDeflection`:
+whose centre line is displaced laterally by one span's deflection (:class:`~..track.rigid.SpanDeflection`:
 δ sin(π x/L) with C2 end transitions of length l_t), at the constant running speed V imposed by the model frame
-(:mod:`..multibody.vehicle_builder`: the frame translates with V, the wheelsets spin, the car body is held
+(:mod:`..rolling_stock.vehicle_builder`: the frame translates with V, the wheelsets spin, the car body is held
 longitudinally by a soft spring — the roller rig's holding link).  The contact is the project's connector
 (:func:`~..multibody.connector.add_wheel_rail_contact`), the vehicle starts in static equilibrium on the rails
 (:func:`~..multibody.connector.place_on_rails`).
@@ -296,7 +296,7 @@ class RtriCase:
                      else self.transition_length_m)
 
     def vehicle(self):
-        """The run's :class:`~..multibody.vehicle_data.VehicleData`: the assumptions' vehicle with
+        """The run's :class:`~..rolling_stock.vehicle_data.VehicleData`: the assumptions' vehicle with
         ``vehicle_overrides`` applied."""
         return load_vehicle_with_overrides(self.vehicle_name, self.vehicle_overrides)
 
@@ -350,7 +350,7 @@ class RtriCase:
 
 
 def vehicle_extent_m(vehicle) -> float:
-    """Distance e from the leading to the trailing wheelset of ``vehicle`` (a :class:`~..multibody.vehicle_data.
+    """Distance e from the leading to the trailing wheelset of ``vehicle`` (a :class:`~..rolling_stock.vehicle_data.
     VehicleData`) [m]."""
     x = vehicle.wheelset_x_m()
     return float(max(x) - min(x))

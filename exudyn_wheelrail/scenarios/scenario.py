@@ -44,7 +44,7 @@ dotted overrides with the old keys are moved the same way.
     and ``speed_km_h`` (required, 0 < V ≤ 600), ``start_s_m`` (track distance of the **leading** wheelset — of
     the train's first car for a consist — at t = 0, default 0), ``overrides`` (optional table, not for a
     consist: numeric values of the vehicle file replaced for this run, by ``"table.key"``, e.g.
-    ``"primary.ky_N_per_m" = 7.8e6``; :func:`~..multibody.vehicle_data.load_vehicle_with_overrides`).  The wheel
+    ``"primary.ky_N_per_m" = 7.8e6``; :func:`~..rolling_stock.vehicle_data.load_vehicle_with_overrides`).  The wheel
     and rail profiles, gauge, inclination and back-to-back distance come from the vehicle file (the first car's
     for a train).  A train's wheel columns number its wheelsets front to back over the whole train (``w1`` …),
     its car-body points are named ``<point>_c<k>`` (car k from the front), and the criteria are given for the
@@ -56,12 +56,12 @@ dotted overrides with the old keys are moved the same way.
     ``type = "span_deflection"``: ``span_length_m``, ``amplitude_m``, ``start_m`` (s of the span start),
     optional ``transition_length_m`` (0; C2 end transitions centred on the span ends), ``direction``
     ("lateral" | "vertical" | "cross_level" | "gauge", default "lateral") —
-    :class:`~..multibody.track.SpanDeflection`.
+    :class:`~..track.rigid.SpanDeflection`.
     ``type = "harmonic"``: ``amplitude_m``, ``wavelength_m``, optional ``phase_rad`` (0), ``direction``
     ("lateral") — ``amplitude sin(2π s/wavelength + phase)`` along the whole track.
     ``type = "sampled"``: ``file`` — a CSV file with the columns ``s_m, y_m, z_m`` (``#`` comments allowed),
     cubic-spline interpolated, held constant outside the table
-    (:meth:`~..multibody.track.SampledIrregularity.from_csv`).
+    (:meth:`~..track.rigid.SampledIrregularity.from_csv`).
     ``type = "measured"``: ``file`` — a CSV file of ``s_m`` and the four channels or the rails' ``y_right``,
     ``y_left``, ``z_right``, ``z_left``, each with its unit ``_m`` or ``_mm`` (:mod:`exudyn_wheelrail.track.measured`).
     ``type = "spectrum"``: generated from a standard PSD (:mod:`exudyn_wheelrail.track.spectra`: ``spectrum`` =
@@ -98,8 +98,8 @@ entered with :func:`~..structures.bridge_exudyn.add_bridge`):
     V × ramp_cycles / frequency_Hz) to see the deck's own response to the ground first.
 
 ``[flexible_track]`` (optional, not with ``[structure]``) — rails on pads, sleepers and ballast instead of rigid
-    rails (:mod:`exudyn_wheelrail.track.flexible`, coupled like a deck, :mod:`exudyn_wheelrail.track.
-    flexible_scenario`): ``file`` (a track file, default ``exudyn_wheelrail/data/track_60E1_ballasted.toml``),
+    rails (:mod:`exudyn_wheelrail.track.flexible`, coupled like a deck, :mod:`exudyn_wheelrail.scenarios.
+    flexible_track`): ``file`` (a track file, default ``exudyn_wheelrail/data/track_60E1_ballasted.toml``),
     ``start_m`` and ``length_m`` of the modelled segment (both numbers or both ``"auto"`` (default): the segment the
     run needs; ``length_m = "window"``: a window travelling with the vehicle, whose cost does not grow with the
     run, ``shift_bays`` the sleeper bays per move, default 1), ``modes_up_to_Hz`` (the modal reduction's cut-off;

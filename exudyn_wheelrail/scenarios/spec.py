@@ -227,7 +227,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     contact = c.settings(ContactSettings, data.get("contact", {}), "contact")
     run = c.settings(RunSettings, data.get("run", {}), "run")
     if "flexible_track" in out and "dt_s" not in data.get("run", {}):
-        # an explicit solver on the flexible track: the step its stability needs at this speed (flexible_scenario)
+        # an explicit solver on the flexible track: the step its stability needs at this speed (flexible_track)
         if METHODS[run.solver].imaginary_axis_limit:
             run = c.settings(RunSettings, {**data.get("run", {}), "dt_s": default_step_s(
                 out["vehicle"]["speed_km_h"] / 3.6, out["flexible_track"]["modes_up_to_Hz"])}, "run")

@@ -90,7 +90,7 @@ class MovingForces:
     """Constant forces travelling along the track at a constant speed, applied to the deck: one zero-mass
     ``ObjectGenericODE2`` on the bridge's modal node whose force user function returns ``Σ Φ(s_j(t))^T F_j`` with
     ``s_j(t) = s_start_m + V t + x_j`` (``x_j`` the force's place in the frame moving with V, ahead > 0, like a
-    wheel of :mod:`..multibody.vehicle_builder`), and a zero Jacobian (the forces do not depend on the state).
+    wheel of :mod:`..rolling_stock.vehicle_builder`), and a zero Jacobian (the forces do not depend on the state).
 
     forces_N : (n, 3) rows ``(Fy, Fz, Mx)`` [N, N, N m] on the rails' centre line at rail-top level (z down:
     a vertical wheel load is ``Fz > 0``)."""
