@@ -90,6 +90,8 @@ from exudyn.itemInterface import (
 )
 from exudyn.rigidBodyUtilities import RigidBodyInertia
 
+from ..contact.normal import E_STEEL, G_STEEL, NU_STEEL, effective_modulus, hertz_from_force
+from ..creep.linear import kalker_coefficients
 from .body_handle import BodyHandle
 from .flexible_body import add_vehicle_car_body
 from .vehicle_data import BumpStopData, VehicleData, load_vehicle
@@ -145,8 +147,6 @@ class RailSprings:
                    wheel_lateral_curvature_1_m: float = -2.576, rail_crown_radius_m: float = 0.300,
                    damping_ratio: float = 0.05, wheel_mass_kg: float = 906.5) -> "RailSprings":
         """Springs from the project's Hertz and linear-creep implementations (see the class docstring)."""
-        from ..contact.normal import E_STEEL, G_STEEL, NU_STEEL, effective_modulus, hertz_from_force
-        from ..creep import kalker_coefficients
 
         A = 0.5 / r0_m
         B = 0.5 * (wheel_lateral_curvature_1_m + 1.0 / rail_crown_radius_m)
