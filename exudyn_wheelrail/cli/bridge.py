@@ -36,7 +36,7 @@ BRIDGE_CROSSING_OPTIONS = {"span_m": "--span-m", "mass_kg_m": "--bridge-mass-kg-
 
 def _bridge_crossing_spans(args):
     """The chain of spans of ``--n-spans`` / ``--spans-m`` (None: the single span ``--span-m``), checked."""
-    from ..scenarios.bridge_crossing import MAX_SPANS, SPAN_M
+    from ..scenarios.bridge_crossing_case import MAX_SPANS, SPAN_M
     k = args.n_spans
     if k is not None and k > MAX_SPANS:
         raise ValueError(f"--n-spans: {k} spans, more than {MAX_SPANS}")
@@ -56,8 +56,9 @@ def _bridge_crossing_spans(args):
 def _check_bridge_crossing(args) -> None:
     """Every option of ``bridge-crossing`` (the axle file read, the load model resolved) before any work; the
     :class:`~exudyn_wheelrail.scenarios.bridge_crossing.BridgeCrossing` goes to ``args.crossing``."""
-    from ..scenarios.bridge_crossing import (AXLE_LOAD_MODELS, F1_HZ, FREE_VIBRATION_S, MASS_KG_M, SPAN_M,
-                                             BridgeCrossing, resolve_load_model, resolve_train_axles)
+    from ..scenarios.bridge_crossing_case import F1_HZ, FREE_VIBRATION_S, MASS_KG_M, SPAN_M, BridgeCrossing
+    from ..scenarios.bridge_crossing_loads import resolve_load_model, resolve_train_axles
+    from ..scenarios.defaults import AXLE_LOAD_MODELS
     from ..structures.load_models import hslm_a, read_axle_file
     output_dir("--out", args.out)
     if args.command == "bridge-crossing-sweep":

@@ -23,8 +23,9 @@ wheel** in the contact frame, ``a`` along rolling, small-creepage limit ``Fx = -
 * Coulomb: a law with ``coulomb_bound`` has its resultant ``√(Fx² + Fy²)`` held on ``μN`` (the table's cubic
   interpolation overshoots it by up to ~0.2 % near full sliding, FASTSIM's discrete pressure by ~0.05 %).
 
-Adding a law: its compiled core in its own module of :mod:`exudyn_wheelrail.creep`, then here one entry of
-:data:`LAWS` (the next code) and one branch of :func:`_law_forces`.
+Adding a law: its compiled core in its own module of :mod:`exudyn_wheelrail.creep`, its name at the end of
+:data:`exudyn_wheelrail.contact_defaults.CREEP_LAW_NAMES` (what the options offer before any numerical code is
+loaded), then here one entry of :data:`LAWS` (the next code) and one branch of :func:`_law_forces`.
 
 References: J. J. Kalker, *Three-dimensional elastic bodies in rolling contact*, Kluwer 1990 (linear theory,
 Table E.3, FASTSIM, the exact theory behind the table); Shen, Hedrick & Elkins, VSD 12 (1983) 79–83; O. Polach,
@@ -37,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..contact_defaults import LAWS, CreepLaw  # noqa: F401  (the laws by name, importable from here)
+from ..contact_defaults import CREEP_LAW_NAMES
 from ..contact.layout import CP_AB_MAX, CP_AB_MIN, CP_G, CP_MU, CP_NU, CP_NX, CP_NY, CP_V_MIN, N_CP
 from ..jit import compiled
 from . import linear as _linear
@@ -52,6 +53,27 @@ __all__ = ["CreepLaw", "LAWS", "CREEP_LAWS", "CREEP_AB_CLAMPED", "CreepModel", "
 #: law's range
 CREEP_AB_CLAMPED = 64
 
+
+class CreepLaw(NamedTuple):
+    """One creep law of :data:`LAWS`."""
+
+    code: int                  #: the value :func:`creep_forces` switches on
+    summary: str               #: what it is (for listings)
+    needs_table: bool          #: evaluates the USETAB-style table of the exact theory (:mod:`.table`), loaded once
+    uses_fastsim_grid: bool    #: evaluates FASTSIM on the ``(n_x, n_y)`` grid of ``cp[CP_NX]``, ``cp[CP_NY]``
+    coulomb_bound: bool        #: the resultant is held on μN
+
+
+#: the creep laws by name (the connector's ``creep_law=``; the names declared in
+#: :data:`exudyn_wheelrail.contact_defaults.CREEP_LAW_NAMES`, in the order of their codes, the dispatch's switch values)
+LAWS = dict(zip(CREEP_LAW_NAMES, (
+    CreepLaw(0, "Kalker's simplified theory FASTSIM", False, True, True),
+    CreepLaw(1, "Kalker's linear theory, unsaturated (small-creepage studies)", False, False, False),
+    CreepLaw(2, "no creep forces (normal forces only)", False, False, True),
+    CreepLaw(3, "USETAB-style table of Kalker's exact theory", True, False, True),
+    CreepLaw(4, "Shen-Hedrick-Elkins saturation of the linear theory", False, False, True),
+    CreepLaw(5, "Polach's law, k_A = k_S = 1", False, False, True),
+), strict=True))
 
 #: name -> code of the compiled dispatch (derived from :data:`LAWS`)
 CREEP_LAWS = {name: law.code for name, law in LAWS.items()}

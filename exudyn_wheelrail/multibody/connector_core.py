@@ -57,12 +57,9 @@ from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, 
                         W_FRAME, W_INDEX, W_LAYOUT, W_RESIDUAL, W_ROT, W_SERIES, W_VEC, W_WHEELSET, WS_COS_ROLL,
                         WS_COS_TH, WS_COS_YAW, WS_HALF_GAUGE, WS_ROLL, WS_S, WS_SIN_ROLL, WS_SIN_TH, WS_SIN_YAW,
                         WS_Y_RAIL, WS_YAW, WS_Z_RAIL)
-from .core_data import ContactData, compiled_for, contact_data, work_arrays  # noqa: F401  (importable from here)
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
 
-__all__ = ["contact_forces_core", "contact_jacobian_core", "contact_data", "ContactData", "work_arrays", "compiled_for",
-           "wheelset_poses", "wheel_forces", "FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED",
-           "FRAME_PITCH", "N_FRAME"]
+__all__ = ["contact_forces_core", "contact_jacobian_core", "wheelset_poses", "wheel_forces"]
 
 
 @compiled

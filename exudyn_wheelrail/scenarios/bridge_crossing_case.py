@@ -8,8 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..simulation.runner import RESOLUTION_LIMIT
-from ..simulation.solvers import SOLVERS
+from ..simulation.solvers import RESOLUTION_LIMIT, SOLVERS
 from ..structures.load_models import AxleTrain, flexural_rigidity_Nm2
 from ..validation import Quantity
 from .deck import TRACK_FORMS

@@ -16,7 +16,7 @@ wheelset is at ``deck_start_m`` and the whole train behind it, every car in stat
 
 Time step: the crossing's default step, at most :data:`CONTACT_DT_S` and at most half the step at which the
 stiffest wheelset bouncing on its linearised Hertz contact reaches the resolution bound ``ω h = 2√2``
-(:data:`~exudyn_wheelrail.simulation.runner.RESOLUTION_LIMIT`; ``ω = √(2 k_H / m_wheelset)``, ``k_H = 1.5 Q/δ``
+(:data:`~exudyn_wheelrail.simulation.solvers.RESOLUTION_LIMIT`; ``ω = √(2 k_H / m_wheelset)``, ``k_H = 1.5 Q/δ``
 at the static wheel load Q, :meth:`~exudyn_wheelrail.rolling_stock.vehicle_builder.RailSprings.from_hertz`).
 
 Outputs beside the deck's: the wheels' ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` columns (``w<j>``: the
@@ -36,7 +36,7 @@ from ..contact.pair import WheelRailPair
 from ..multibody.connector import add_train_contact
 from ..rolling_stock.train import ConsistError, build_train, load_consist
 from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
-from ..simulation.runner import RESOLUTION_LIMIT
+from ..simulation.solvers import RESOLUTION_LIMIT
 from ..simulation.settings import ContactSettings
 from ..structures.load_models import AxleTrain
 from ..track.rigid import RigidStraightTrack

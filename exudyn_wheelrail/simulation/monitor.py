@@ -352,6 +352,15 @@ class RunMonitor(StabilityEstimate):
         self._attached_to = mbs
         return self
 
+    def attached_to(self, mbs) -> bool:
+        """This monitor's pre-step function is attached to ``mbs`` (:meth:`attach`)."""
+        return getattr(self, "_attached_to", None) is mbs
+
+    @property
+    def user_function(self):
+        """The user function :meth:`attach` chained after the checks (None: none)."""
+        return self._user
+
     def pre_step(self, mbs, t):
         """Exudyn pre-step user function: checks the state (at the previous call's time) and returns False to stop."""
         t_state = self._t_prev

@@ -34,7 +34,7 @@ every state (the monitor's ``step_size`` event: ω h > 2√2, RK44's imaginary-a
 it the trapezoidal rule has fewer than about 3.3 steps per period of it (its discrete frequency
 ``2 atan(ω h/2)/h`` is 32 % low at ω h = 2√2) and a wheel lift or flange impact is integrated as nothing like the
 contact's dynamics — a derailment found then is reported ``diverged``, not ``derailed``, with the step that
-resolves it (:data:`RESOLUTION_LIMIT`).  Rows of a diverged RK44 run after its first ``step_size`` event are
+resolves it (:data:`~.solvers.RESOLUTION_LIMIT`).  Rows of a diverged RK44 run after its first ``step_size`` event are
 dropped (the integration is unstable from that state on).  On a flexible track the same evaluation gives the creep
 damping's decay rates with the rails' modal mass (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.
 creep_decay_rate_1_s`): an RK44 step beyond σ h <= 2.785 is warned before the solve (an
@@ -57,14 +57,11 @@ from .guidance import FlangeClimbCheck
 from .monitor import RunMonitor
 from .monitor_records import Status, contact_state_error, status_from_state_error
 from .settings import RunSettings
-from .solvers import METHODS, RK44
+from .solvers import METHODS, RESOLUTION_LIMIT, RK44
 from .step_checks import check_explicit_step
 
-__all__ = ["RunOutcome", "solve", "run", "run_monitored", "contact_omega_rad_s", "RESOLUTION_LIMIT"]
+__all__ = ["RunOutcome", "solve", "run", "run_monitored", "contact_omega_rad_s"]
 
-#: largest ω h (ω the stiffest wheel–rail contact frequency) a time step of a solver other than RK44 may have for a
-#: lift-off or flange impact to be integrated as the contact's dynamics (module docstring)
-RESOLUTION_LIMIT = RK44.imaginary_axis_limit
 _SERIOUS = ("invalid_state", "derailment")
 
 
@@ -97,7 +94,7 @@ class RunOutcome:
 
     @property
     def resolved(self) -> bool:
-        """The time step resolves the contact frequency (:data:`RESOLUTION_LIMIT`; True when unknown)."""
+        """The time step resolves the contact frequency (:data:`~.solvers.RESOLUTION_LIMIT`; True when unknown)."""
         return not (self.omega_rad_s * self.dt_s > RESOLUTION_LIMIT)
 
     @property
@@ -438,7 +435,7 @@ def run_monitored(mbs, sim, solver=None, monitor: RunMonitor | None = None) -> t
     name = next((k for k, m in METHODS.items() if getattr(exu.DynamicSolverType, m.exudyn_type) == solver), "newmark")
     n_steps = max(1, int(sim.timeIntegration.numberOfSteps))
     dt = (float(sim.timeIntegration.endTime) - float(sim.timeIntegration.startTime)) / n_steps
-    attached = getattr(monitor, "_attached_to", None) is mbs          # keep the caller's attachment and function
+    attached = monitor.attached_to(mbs)                                # keep the caller's attachment and function
     outcome = solve(mbs, sim, solver, monitor, dt_s=dt, solver=name, attach_monitor=not attached,
-                    user_function=monitor._user if attached else None)
+                    user_function=monitor.user_function if attached else None)
     return outcome.stop, outcome.t_end_s

@@ -181,7 +181,7 @@ class ContactSettings:
     wheel_rail: str = WHEEL_RAIL_MODES[0]
 
     def __post_init__(self):
-        _choice("creep_law", self.creep_law, tuple(sorted(DEFAULT.LAWS)))
+        _choice("creep_law", self.creep_law, tuple(sorted(DEFAULT.CREEP_LAW_NAMES)))
         _number("friction", self.friction, lo=0.0, hi=2.0, lo_open=False, hi_open=True)
         try:
             grid = tuple(self.fastsim_grid)
