@@ -71,7 +71,9 @@ from __future__ import annotations
 
 import math
 
+import exudyn as exu
 import numpy as np
+from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
 
 from .. import contact_defaults as DEFAULT
 from ..contact import geometry_table as GT
@@ -83,9 +85,11 @@ from ..contact.layout import (  # noqa: F401  (the result and creep-parameter fi
     RES_P_X, RES_P_Y, RES_P_Z, RES_PHI, RES_S_TRACK, RES_STATUS, RES_V, RES_XI, STAT_CONCAVE, STAT_FALLBACK,
     STAT_FLANGE_SKIPPED, STAT_OFF_DECK, STAT_ON_DECK, STAT_TABLE, STAT_TREAD_SKIPPED)
 from ..contact.pair import WheelRailPair
+from ..contact.wheelset import WheelsetContact
 from ..creep.fastsim import DEFAULT_NX, DEFAULT_NY
 from ..creep.registry import CREEP_AB_CLAMPED, CREEP_LAWS, combined_elastic_constants, creep_model  # noqa: F401
 from ..creep.registry import creep_forces as _creep  # noqa: F401  (the compiled creep dispatch, importable here)
+from ..structures.bridge_exudyn import ExudynBridge
 from ..structures.deck_kinematics import DECK_GROUND_VY, DECK_GROUND_Y, N_DECK_STATE, deck_arrays
 from ..validation import finite, poisson_ratio, youngs_modulus
 from .connector_core import contact_forces_core, contact_jacobian_core
@@ -97,6 +101,7 @@ from ..rolling_stock.placement import place_on_rails, static_axle_offset_m  # no
 from ..rolling_stock.train import place_train_on_track
 from .rotations import rotation_from_vector  # noqa: F401  (importable from here)
 from .rotations import rotation_vector_from_matrix as _rotation_vector_from_matrix  # noqa: F401
+from ..track.layout import TrackLayout
 from ..track.rigid import RigidStraightTrack
 
 __all__ = ["WheelRailContact", "add_wheel_rail_contact", "add_train_contact", "contact_forces_core", "contact_jacobian_core",
@@ -173,19 +178,12 @@ class WheelRailContact:
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
                  v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", structure=None,
                  geometry: str = DEFAULT.GEOMETRY, geometry_grid=None, layout=None):
-        import exudyn as exu
-        from exudyn.itemInterface import ObjectGenericODE2, VObjectGenericODE2
-
-        from ..contact.wheelset import WheelsetContact
-        from ..structures.bridge_exudyn import ExudynBridge
-
         if structure is not None and not isinstance(structure, ExudynBridge):
             raise TypeError(f"structure={structure!r}: expected an ExudynBridge, what moves the rails (a deck: "
                             "structures.add_bridge; a flexible track: track.add_flexible_track), or None")
         if frame not in ("moving", "track"):
             raise ValueError(f"frame={frame!r}: expected 'moving' or 'track'")
         if layout is not None:
-            from ..track.layout import TrackLayout
             if not isinstance(layout, TrackLayout):
                 raise TypeError(f"layout={layout!r}: expected a TrackLayout (exudyn_wheelrail.track.layout) or None")
             if frame != "moving":

@@ -44,6 +44,7 @@ import numpy as np
 
 from ..contact.layout import N_SLOTS, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_N, RES_STATUS, SLOT_FLANGE
 from ..jit import compiled
+from ..rolling_stock.flexible_body import BodyPointKinematics
 from ..track.rigid import irregularity_at
 
 __all__ = ["GROUPS", "SIDES", "Recorder", "ProgressBar", "PROGRESS_MIN_STEPS", "vehicle_probes"]
@@ -268,7 +269,6 @@ class _CarBodyPoints:
         self.flexible = None
         self.sensors = None
         if getattr(cb, "flexible", None) is not None:     # flexible car body: frame + modal motion at the points
-            from ..rolling_stock.flexible_body import BodyPointKinematics
             self.flexible = BodyPointKinematics(cb, self.local)
             self.fill = self._fill_flexible
         elif mbs is not None:

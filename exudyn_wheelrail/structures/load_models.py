@@ -99,6 +99,7 @@ import numpy as np
 
 from ..standards import (HSLM_A, HSLM_END_COACH_TO_BOGIE_M, HSLM_NAMES, HSLM_POWER_CAR_AXLES_M,
                          HSLM_POWER_CAR_TO_END_COACH_M)
+from ..validation import InputWarning
 
 __all__ = ["AxleTrain", "HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_POWER_CAR_TO_END_COACH_M",
            "HSLM_END_COACH_TO_BOGIE_M", "AXLE_FILE_COLUMNS", "MIN_AXLE_SPACING_M", "hslm_a", "hslm_name",
@@ -249,7 +250,6 @@ def read_axle_file(path) -> AxleTrain:
     if sum(ps) <= 0.0:
         import warnings
 
-        from ..validation import InputWarning
         warnings.warn(f"{path}: the axle loads sum to {sum(ps):g} N, not a downward weight (load_N is positive "
                       "downwards); going on with them", InputWarning, stacklevel=2)
     return AxleTrain(np.array(xs), np.array(ps), name=path.stem, source=str(path))
