@@ -19,7 +19,7 @@ SUBCOMMANDS = _subcommands()
 
 
 def test_the_subcommand_list_is_the_documented_one():
-    # the module docstring of cli.py is the user's list of commands: every parser is in it and vice versa
+    # the docstring of the cli package is the user's list of commands: every parser is in it and vice versa
     import exudyn_wheelrail.cli as cli
     documented = {line.split()[0] for line in cli.__doc__.split("Commands\n--------\n")[1].split("\n\n")[0].splitlines()
                   if line.strip()}

@@ -14,7 +14,7 @@ wheel,
 1. takes the wheelset pose from the node coordinates (position, rotation vector → rotation matrix; roll and yaw
    from the axle direction) and subtracts the rail's lateral/vertical displacement (the track irregularity) at
    the wheel's track distance ``s = s_start + V t + x`` (the model frame translates with the running speed V —
-   see :mod:`.vehicle_builder`; ``frame="track"`` for a model whose wheelsets move along x themselves);
+   see :mod:`exudyn_wheelrail.rolling_stock.vehicle_builder`; ``frame="track"`` for a model whose wheelsets move along x themselves);
 2. solves the contact geometry and Hertz for the tread and flange regions (:mod:`exudyn_wheelrail.contact.kernel`,
    warm-started from the previous call);
 3. places each contact point in 3-D (the yaw lead of
@@ -138,9 +138,9 @@ class WheelRailContact:
         rotation zero, i.e. the wheelset axes parallel to the track axes at the reference configuration).
     pair : the wheel and rail profiles in place (:class:`~exudyn_wheelrail.contact.WheelRailPair`).
     speed_m_s : running speed V [m/s] (rail material velocity ``-V`` in the moving frame).
-    track : :class:`~.track.RigidStraightTrack` (irregularities); default a perfect track.
+    track : :class:`~exudyn_wheelrail.track.rigid.RigidStraightTrack` (irregularities); default a perfect track.
     s_start_m : track distance of the model frame's origin at t = 0.
-    frame : ``"moving"`` (the model frame translates with V; default, as :func:`.vehicle_builder.build_vehicle`)
+    frame : ``"moving"`` (the model frame translates with V; default, as :func:`exudyn_wheelrail.rolling_stock.vehicle_builder.build_vehicle`)
         or ``"track"`` (the frame is fixed to the track; wheelsets carry their forward speed themselves).
     creep_law : a name of :data:`exudyn_wheelrail.creep.registry.LAWS` (:data:`CREEP_LAWS`); default ``"table"``,
         the USETAB-style table of Kalker's exact theory, as in the paper.  The rules every law follows (semi-axis

@@ -49,7 +49,7 @@ track-frame components, set before every step):
 
 (b) **Creepages**: the rails seen from the wheelset's frame move with ``−V e_x − Ω × r`` at the contact point
 ``r`` and turn with ``−Ω``: the outer/inner longitudinal creepage ``∓ b κ`` and the spin ``κ cos γ`` of the turning
-frame.  They belong to the contact connector (:mod:`.connector_core`), which evaluates them from the layout's
+frame.  They belong to the contact connector (:mod:`exudyn_wheelrail.multibody.connector_core`), which evaluates them from the layout's
 packed arrays.
 
 (c) **Geometric coupling between bodies at different s**.  A suspension element joins a point of body A (frame at

@@ -63,7 +63,7 @@ Wheel–rail coupling
 ``wheel_rail="none"`` (default): nothing — the place of the contact connector, which gets the wheelset nodes,
 bodies, markers and nominal positions from :class:`WheelsetHandle`.  What a contact connector needs to know about
 the frame: the rail *material* moves with ``(-V, 0, 0)``; the rail *geometry* under a wheel whose axle is at
-simulation-frame x is the track displaced by the irregularity (:mod:`.track`) at ``s = track_distance_m(x, t)``,
+simulation-frame x is the track displaced by the irregularity (:mod:`exudyn_wheelrail.track.rigid`) at ``s = track_distance_m(x, t)``,
 so a fixed point of the frame sees the rail move laterally with ``V·dy/ds`` and the rail axis has the direction
 ``(1, dy/ds, dz/ds)``.  Forces go on the wheelset node (``WheelsetHandle.marker_node``: LoadForceVector and
 LoadTorqueVector, or a connector between ``VehicleModel.ground_marker`` and it).

@@ -69,7 +69,7 @@ part of the installation the command stops before any work with ``error: --model
 ``"sprung-masses"``: every axle a mass on a spring and a damper riding on the deck
 (``exudyn_wheelrail.scenarios.bridge_crossing_sprung``, its docstring: the equations and the assumed default
 suspension :data:`SPRUNG_FREQUENCY_HZ`, :data:`SPRUNG_DAMPING_RATIO`). A consist file (``train_file``) gives the
-axle-load models (:data:`AXLE_LOAD_MODELS`) their axles through :data:`TRAIN_AXLES` (``train_axles(path)`` of the
+axle-load models (:data:`AXLE_LOAD_MODELS`) their axles through :data:`~.bridge_crossing_loads.TRAIN_AXLES` (``train_axles(path)`` of the
 vehicles module; without it: ``error: --train: ...``).
 
 The run

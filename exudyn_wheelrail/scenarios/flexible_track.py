@@ -3,22 +3,22 @@ state and the recorded columns.
 
 Keys (all optional; the table's presence switches the flexible track on)
 -------------------------------------------------------------------------
-* ``file`` — a track file (TOML, :class:`~.flexible.TrackParameters`; relative to the scenario file); default the
-  ballasted 60E1 track :data:`~.flexible.DEFAULT_TRACK_FILE`;
+* ``file`` — a track file (TOML, :class:`~exudyn_wheelrail.track.flexible.TrackParameters`; relative to the scenario file); default the
+  ballasted 60E1 track :data:`~exudyn_wheelrail.track.flexible_parameters.DEFAULT_TRACK_FILE`;
 * ``start_m``, ``length_m`` — the segment (first sleeper, length in m), or ``"auto"`` (default): from the rearmost
   wheelset at t = 0 to the leading wheelset at the end of the run, plus five decay lengths at both ends
-  (:func:`~.flexible.segment_for_run`).  A given segment must carry every wheelset from start to end (else an
+  (:func:`~exudyn_wheelrail.track.flexible_segment.segment_for_run`).  A given segment must carry every wheelset from start to end (else an
   error naming the key: a wheel leaving the segment would meet a rigid rail).  ``length_m = "window"``: a moving
-  window (:mod:`.flexible_window`) of :func:`~.flexible_window.window_length_m` that travels with the vehicle —
+  window (:mod:`exudyn_wheelrail.track.flexible_window`) of :func:`~exudyn_wheelrail.track.flexible_window.window_length_m` that travels with the vehicle —
   the modes and the cost per step do not depend on the run's length; ``start_m`` is then ``"auto"`` (or absent):
   the window starts five decay lengths behind the rearmost wheelset; explicit solvers only;
 * ``shift_bays`` — with ``length_m = "window"``: the sleeper bays the window moves at a time (an integer >= 1,
-  default :data:`~.flexible_window.DEFAULT_SHIFT_BAYS`; the window is that many bays longer than the vehicle and
+  default :data:`~exudyn_wheelrail.track.flexible_window.DEFAULT_SHIFT_BAYS`; the window is that many bays longer than the vehicle and
   its margins need);
 * ``modes_up_to_Hz`` — the modal truncation, default the track file's ``model.modes_up_to_Hz``.
 
 The flexible track takes the contact's structure slot: it cannot be combined with a ``[structure]`` (the track on
-a deck, :mod:`.flexible_deck`, is used from Python; the deck's columns and summary of a scenario read the bridge's
+a deck, :mod:`exudyn_wheelrail.track.flexible_deck`, is used from Python; the deck's columns and summary of a scenario read the bridge's
 own modes).
 
 Starting state (:func:`start_on_flexible_track`): the reduced track in static equilibrium under the static wheel
@@ -73,7 +73,7 @@ FLEXIBLE_TRACK_KEYS = ("file", "start_m", "length_m", "modes_up_to_Hz", "shift_b
 #: the recorder group of the flexible track's columns
 FLEXIBLE_TRACK_GROUP = "flexible_track"
 AUTO = "auto"
-#: ``length_m = "window"``: the moving window (:mod:`.flexible_window`)
+#: ``length_m = "window"``: the moving window (:mod:`exudyn_wheelrail.track.flexible_window`)
 WINDOW = "window"
 
 # ---- the default explicit step of a flexible-track scenario (default_step_s): declared here only -----------------
@@ -162,7 +162,7 @@ def normalise_flexible_track(ft, error, base_dir: Path | None) -> dict:
 
 def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s: float, end_time_s: float,
                          solver: str, dt_s: float, moving_window: bool = False):
-    """The :class:`~.flexible.FlexibleTrackModes` of a normalised ``[flexible_track]`` for a run: the segment
+    """The :class:`~exudyn_wheelrail.track.flexible.FlexibleTrackModes` of a normalised ``[flexible_track]`` for a run: the segment
     (given or ``auto``) checked to carry every wheelset from t = 0 to ``end_time_s``, or the moving window
     (``length_m = "window"``: its length for these wheelsets, placed behind the rearmost; the caller declares with
     ``moving_window=True`` that it attaches :func:`flexible_track_window` to the run, else an error: without it
@@ -207,7 +207,7 @@ def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s:
 
 
 def flexible_track_window(ft: dict, *, contact, handle, t_start_s: float = 0.0, then=None):
-    """The :class:`~.flexible_window.FlexibleTrackWindow` of a normalised ``[flexible_track]`` with
+    """The :class:`~exudyn_wheelrail.track.flexible_window.FlexibleTrackWindow` of a normalised ``[flexible_track]`` with
     ``length_m = "window"`` (None for a fixed segment): create after the contact, pass as the runner's
     ``user_function`` (``then``: a further one called after it) and to :func:`flexible_track_probes`."""
     if ft["length_m"] != WINDOW:

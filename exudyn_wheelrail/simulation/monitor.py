@@ -1,4 +1,4 @@
-"""Run monitor for a model with a :class:`~.connector.WheelRailContact`: flange climb, wheel lift-off, deep
+"""Run monitor for a model with a :class:`~exudyn_wheelrail.multibody.connector.WheelRailContact`: flange climb, wheel lift-off, deep
 penetration, hunting, **derailment** and invalid states, with a clear :class:`Status` instead of garbage or NaN.
 
 >>> monitor = RunMonitor(contact)                                              # doctest: +SKIP
@@ -12,14 +12,14 @@ How it runs
 function already given).  Exudyn calls it before every step with the time at the *end* of the coming step while
 the coordinates are still those at its start, so the monitor evaluates the contact at the time *of the state*: the
 previous call's time (the start time at the first call) — one contact call as
-:meth:`.connector.WheelRailContact.evaluate_state` (the warm start is kept), with the coordinates taken from the
+:meth:`exudyn_wheelrail.multibody.connector.WheelRailContact.evaluate_state` (the warm start is kept), with the coordinates taken from the
 system vectors.  An explicit step's first stage evaluates the contact at that same state: the connector hands it
 the monitor's evaluation instead of computing it again (bit-identical; ``tests/test_watching.py``), so watching
 costs no contact call of its own with an explicit solver.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
 checked in ``tests/stress``) then still completes the step it was about to take and stops, so the solve ends one
 step after the detected state, at ``mbs.systemData.GetTime()``.
 :func:`~.runner.run_monitored` wraps ``SolveDynamic``: it
-catches :class:`~.connector.ContactStateError` (non-finite coordinates; Exudyn re-raises a user function's exception
+catches :class:`~exudyn_wheelrail.multibody.connector.ContactStateError` (non-finite coordinates; Exudyn re-raises a user function's exception
 with it as the ``__cause__``) and any other solver failure, checks the final state and returns ``(status, t_end)``.
 
 Cost: the checks of a state are one compiled call over the arrays of that contact evaluation
@@ -89,7 +89,7 @@ Invalid states (stop the run)
 -----------------------------
 ``invalid_state``:
 
-* non-finite coordinates (:class:`~.connector.ContactStateError`, with its time and wheelset), or non-finite
+* non-finite coordinates (:class:`~exudyn_wheelrail.multibody.connector.ContactStateError`, with its time and wheelset), or non-finite
   contact results for a finite state;
 * a penetration above ``invalid_penetration_m`` (default 5 mm, 2.5 x the kernel's deep-penetration threshold: a
   Hertz force of tens of MN);
@@ -148,7 +148,7 @@ _INTERVALS = ((MC.IV_FLANGE, "flange_climb", "flange_climbs"), (MC.IV_LIFT, "lif
 
 
 class RunMonitor(StabilityEstimate):
-    """Per-step checks of a model with a :class:`~.connector.WheelRailContact` (module docstring).
+    """Per-step checks of a model with a :class:`~exudyn_wheelrail.multibody.connector.WheelRailContact` (module docstring).
 
     Parameters
     ----------
@@ -398,7 +398,7 @@ class RunMonitor(StabilityEstimate):
 
     def _evaluate(self, mbs, t: float):
         """The contact at the model's current state, time ``t`` of that state (as
-        :meth:`~.connector.WheelRailContact.evaluate_state`: the warm start is kept, and an explicit step's first stage,
+        :meth:`~exudyn_wheelrail.multibody.connector.WheelRailContact.evaluate_state`: the warm start is kept, and an explicit step's first stage,
         at this same state, reuses the evaluation); returns the connector's coordinates and velocities.  The coordinates come from the system vectors (two Exudyn calls for any number of nodes)."""
         c = self.contact
         if self._system is None or self._system[0] is not mbs:

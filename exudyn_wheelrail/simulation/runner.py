@@ -426,7 +426,7 @@ def run_monitored(mbs, sim, solver=None, monitor: RunMonitor | None = None) -> t
     """``mbs.SolveDynamic(sim, solverType=solver)`` under ``monitor`` (attached here unless the caller attached it
     to ``mbs``, whose chained function is then kept; ``mbs`` assembled) through
     the one solve wrapper, :func:`solve`.  Returns ``(status, t_end)``: the
-    monitor's stopping status, an ``invalid_state`` from a :class:`~.connector.ContactStateError` (its time and
+    monitor's stopping status, an ``invalid_state`` from a :class:`~exudyn_wheelrail.multibody.connector.ContactStateError` (its time and
     wheelset), a ``solver_failure``, or — after a check of the final state — ``completed`` / ``hunting``; ``t_end``
     is the time the solver reached."""
     if monitor is None:

@@ -84,7 +84,7 @@ N_DECK_PAR = 4
 
 def deck_arrays(bridge, n_wheelsets: int = 0) -> tuple[tuple, int]:
     """``(deck, n_modes)``: the deck arrays of the compiled call for an
-    :class:`~.bridge_exudyn.ExudynBridge` (module docstring), or for none (``bridge=None``: no modes); the ground entries
+    :class:`~.bridge_exudyn.ExudynBridge` (module docstring), or for none (``structure=None``: no modes); the ground entries
     of ``par`` start at zero."""
     if bridge is None:
         return (np.zeros(N_DECK_PAR), np.zeros(0), np.zeros(0), np.zeros((0, 2), dtype=np.int64), None, None,

@@ -75,7 +75,7 @@ Simply supported span ``L``, bending stiffness ``EI``, mass ``m`` per length, mo
 
 the acceleration ``q̈ = f(τ) − 2ζω q̇ − ω² q`` from the closed-form ``q`` and ``q̇`` (exact), all superposed over
 the loads and the modes.  This is the derivation of Frýba (1999, Ch. 1; written here with modal damping and in
-complex form) and an independent implementation of :func:`~.bridge.fryba_moving_force`.
+complex form) and an independent implementation of :func:`~.fryba.fryba_moving_force`.
 
 Quasi-static reference (:func:`quasi_static_midspan_deflection_m`): the mid-span influence line of a simply
 supported span, ``P a (3L² − 4a²)/(48 EI)`` for a load at ``a ≤ L/2`` from the nearer support, summed over the
