@@ -11,7 +11,7 @@ from pathlib import Path
 from ..scenarios.defaults import CAR_BODY_MODELS
 from ..simulation.presets import PRESETS, apply_preset
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError
-from ..simulation.solvers import SOLVERS
+from ..simulation.solvers import DEFAULT_STEP_S, SOLVERS
 from ..simulation.status import exit_code
 from ..validation import Quantity, output_dir
 from .common import (SPEED_KM_H, add_progress_argument, check_figure, key_value_dict, key_values, positive_int,
@@ -328,7 +328,7 @@ def add_explore_parser(sub) -> None:
                          "primary_kx_factor, primary_ky_factor, secondary_ky_factor, secondary_cy_factor")
     ex.add_argument("--solver", default="rk44", help="integrator of the explorer's runs (default rk44; "
                                                      "newmark, generalized_alpha, rk33, rk67, explicit_midpoint)")
-    ex.add_argument("--dt", type=float, default=1e-3, help="time step [s] (default 0.001)")
+    ex.add_argument("--dt", type=float, default=DEFAULT_STEP_S, help=f"time step [s] (default {DEFAULT_STEP_S:g})")
     ex.add_argument("--geometry", default="online", choices=("online", "table"),
                     help="contact geometry: online search (default, as the full run) or the precomputed table "
                          "(about 2x faster updates, larger differences in raw force peaks)")

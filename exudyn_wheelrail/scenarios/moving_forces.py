@@ -1,6 +1,6 @@
 """The bridge deck alone under constant moving forces (no vehicle) in Exudyn: :func:`simulate_moving_forces`
 (its modal coordinates at every step, e.g. the reference of a coupled crossing or of the moving-load model) and
-:func:`benchmark_formulations` (the modal and the FFRF formulation of :mod:`exudyn_wheelrail.structures.bridge`
+:func:`benchmark_formulations` (the modal and the FFRF formulation of :mod:`exudyn_wheelrail.structures.bridge_exudyn`
 against Frýba's closed form)."""
 from __future__ import annotations
 

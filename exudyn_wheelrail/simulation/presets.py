@@ -21,6 +21,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from .settings import ContactSettings, RunSettings
+from .solvers import DEFAULT_STEP_S
 
 __all__ = ["Preset", "PRESETS", "TARGETS", "SPRINGS_RATIO_MAX", "apply_preset"]
 
@@ -49,11 +50,11 @@ PRESETS = {
                        contact=dict(geometry="online", creep_law="table"),
                        purpose="reference-quality runs: RK44 at 0.25 ms, online contact search, Kalker's exact "
                                "theory (table); peak lateral force converged to about 0.1 %"),
-    "default": Preset("default", run=dict(solver="rk44", dt_s=1.0e-3),
+    "default": Preset("default", run=dict(solver="rk44", dt_s=DEFAULT_STEP_S),
                       contact=dict(geometry="online", creep_law="table"),
                       purpose="everyday runs: RK44 at 1 ms (the paper's step), online contact search, Kalker's "
                               "exact theory (table); peak lateral force within 1 % of the converged reference"),
-    "fast": Preset("fast", run=dict(solver="rk44", dt_s=1.0e-3), contact=dict(geometry="table", creep_law="table"),
+    "fast": Preset("fast", run=dict(solver="rk44", dt_s=DEFAULT_STEP_S), contact=dict(geometry="table", creep_law="table"),
                    purpose="parameter studies and interactive use: RK44 at 1 ms with the precomputed contact "
                            "geometry (rigid rail profile) and Kalker's exact theory (table); peak lateral force "
                            "within 5 % of the converged reference"),
