@@ -56,7 +56,7 @@ from pathlib import Path
 import numpy as np
 
 from ..simulation.solvers import METHODS
-from ..simulation.step_checks import check_explicit_step
+from ..simulation.step_checks import check_explicit_step, flexible_track_limit
 from ..structures.modal_shapes import modal_shape_and_slope_at
 from ..track.flexible import FlexibleTrackModel
 from ..track.flexible_parameters import DEFAULT_TRACK_FILE, TrackFileError, TrackParameters
@@ -191,10 +191,7 @@ def flexible_track_modes(ft: dict, *, s_start_m: float, wheelset_x_m, speed_m_s:
             raise TrackFileError(f"flexible_track.length_m = {length:g} m (start_m = {start:g} m): the segment "
                                  f"[{start:g}, {start + length:g}] m does not carry the run, whose wheelsets span "
                                  f"[{s_rear0:.6g}, {s_front1:.6g}] m (the track is shorter than the vehicle's path)")
-    limit = METHODS[solver].imaginary_axis_limit
-    if limit == 0.0:
-        raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
-                             "(or 'newmark') with a flexible track")
+    limit = flexible_track_limit(solver)                         # before the modes are computed
     if limit is not None:
         f_lim = limit / (2.0 * math.pi * dt_s)
         if ft["modes_up_to_Hz"] >= f_lim:

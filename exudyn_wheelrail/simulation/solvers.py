@@ -128,4 +128,4 @@ def undamped_step_problem(solver: str, dt_s: float, omega_rad_s: float, what: st
     if omega_rad_s * dt_s <= m.imaginary_axis_limit:
         return None
     return (f"{dt_s:g} s is beyond the stability limit of {solver} for {what}: dt must be <= "
-            f"{m.imaginary_axis_limit / omega_rad_s:.3g} s (ω dt <= {m.imaginary_axis_limit:.3g}); {remedy}")
+            f"{stable_step_s(solver, omega_rad_s):.3g} s (ω dt <= {m.imaginary_axis_limit:.3g}); {remedy}")

@@ -6,9 +6,21 @@ import math
 
 from ..track.flexible_parameters import TrackFileError
 from ..track.flexible_contact import CONTACT_STIFFNESS_N_M, contact_mode_Hz
-from .solvers import METHODS
+from .solvers import METHODS, stable_step_s
 
-__all__ = ["check_explicit_step"]
+__all__ = ["flexible_track_limit", "check_explicit_step"]
+
+
+def flexible_track_limit(solver: str) -> float | None:
+    """The largest ω h at which ``solver`` carries the nearly undamped oscillations of a flexible track (the
+    imaginary-axis limit of :data:`~.solvers.METHODS`; None for an implicit solver); a
+    :class:`~exudyn_wheelrail.track.flexible_parameters.TrackFileError` naming ``run.solver`` for a solver that
+    amplifies them at any step."""
+    limit = METHODS[solver].imaginary_axis_limit
+    if limit == 0.0:
+        raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
+                             "(or 'newmark') with a flexible track")
+    return limit
 
 
 def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None = None,
@@ -19,12 +31,9 @@ def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None 
     table :data:`~.solvers.METHODS`); nothing for an implicit solver.  The scenario build and the runner call it before
     the solve, over the track the wheelsets will cross; the run monitor checks the same stiffness on the rail's modal
     mass where the wheelsets are during the run."""
-    limit = METHODS[solver].imaginary_axis_limit
+    limit = flexible_track_limit(solver)
     if limit is None:
         return
-    if limit == 0.0:
-        raise TrackFileError(f"run.solver = {solver!r}: amplifies the undamped track modes at any step; use 'rk44' "
-                             "(or 'newmark') with a flexible track")
     f_c = contact_mode_Hz(modes, s_from_m, s_to_m)
     f_lim = limit / (2.0 * math.pi * dt_s)
     if f_c >= f_lim:
@@ -32,4 +41,4 @@ def check_explicit_step(modes, solver: str, dt_s: float, s_from_m: float | None 
                              f"{CONTACT_STIFFNESS_N_M:.0e} N/m, in series with the residual flexibility, on the "
                              f"rail's kept modal mass) vibrates at up to {f_c:.4g} Hz, beyond explicit {solver}'s "
                              f"stability ({f_lim:.4g} Hz at this step): use run.dt_s <= "
-                             f"{limit / (2.0 * math.pi * f_c):.3g} s")
+                             f"{stable_step_s(solver, 2.0 * math.pi * f_c):.3g} s")
