@@ -43,7 +43,8 @@ from exudyn_wheelrail.simulation.recorder import PROGRESS_MIN_STEPS
 from exudyn_wheelrail.simulation.runner import _Hook
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "scenarios"
-SHIPPED = ("rtri_20m", "bridge_20m", "bridge_40m", "bridge_20m_support_motion", "harmonic_track")
+SHIPPED = ("rtri_20m", "bridge_20m", "bridge_40m", "bridge_20m_support_motion", "harmonic_track", "curve_r1000",
+           "curve_over_bridge")
 
 BASE_TOML = """\
 schema_version = 2

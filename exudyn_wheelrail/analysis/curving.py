@@ -36,9 +36,11 @@ import numpy as np
 from ..conventions import outward_sign
 from ..profiles.profiles import resolve_wheel
 
-__all__ = ["STEADY_TOLERANCE", "STEADY_A_MIN_M_S2", "SIDES_IN_CURVE", "minimum_radius_m", "flange_play_m", "curving_columns",
-           "averaging_window", "steady_state", "pure_rolling_shift_m"]
+__all__ = ["CURVING_GROUP", "STEADY_TOLERANCE", "STEADY_A_MIN_M_S2", "SIDES_IN_CURVE", "minimum_radius_m", "flange_play_m", "curving_columns",
+           "carried_mass_kg", "averaging_window", "steady_state", "pure_rolling_shift_m"]
 
+#: the recorder's column group of :func:`curving_columns` (a scenario's output group with a ``[layout]``)
+CURVING_GROUP = "curving"
 #: the run is steady when the means of ΣY over the two halves of the steady part differ, summed over the wheelsets,
 #: by less than this fraction of the force balance's scale ``m max(|a_nc|, STEADY_A_MIN_M_S2)`` (m the mass the wheels
 #: carry: the static wheel loads over g, the vehicle's mass for a car): half of the 2 %
@@ -107,9 +109,9 @@ class _WheelsetYaw:
         self._force = exu.OutputVariableType.Force
         self.guidance = list(model.connectors.get("guidance", []))
         n = len(self.nodes)
-        self.columns = ([("curving", f"yaw_w{j + 1}_rad") for j in range(n)]
-                        + [("curving", f"curvature_w{j + 1}_1_m") for j in range(n)]
-                        + ([("curving", "guidance_lateral_N")] if self.guidance else []))
+        self.columns = ([(CURVING_GROUP, f"yaw_w{j + 1}_rad") for j in range(n)]
+                        + [(CURVING_GROUP, f"curvature_w{j + 1}_1_m") for j in range(n)]
+                        + ([(CURVING_GROUP, "guidance_lateral_N")] if self.guidance else []))
 
     def fill(self, mbs, t, out):
         n = len(self.nodes)
@@ -125,6 +127,13 @@ class _WheelsetYaw:
 def curving_columns(model, layout) -> list:
     """The recorder probes of a curving run besides :func:`~exudyn_wheelrail.simulation.recorder.vehicle_probes`."""
     return [_WheelsetYaw(model, layout)]
+
+
+def carried_mass_kg(model, gravity_m_s2: float) -> float:
+    """The mass the wheels carry [kg]: the static wheel loads over g (with the dead loads of the bogie and wheelset
+    layouts), the vehicle's mass for a model without a load path; its ΣΣY balances it times a_nc."""
+    return (float(model.load_path.wheel.sum()) / gravity_m_s2 if model.load_path is not None
+            else float(model.vehicle.total_mass_kg))
 
 
 def averaging_window(t, signal, t_from_s: float, smoothing_s: float = 0.05) -> np.ndarray:
@@ -193,10 +202,7 @@ def steady_state(ts: dict, model, layout, *, t_from_s: float, speed_m_s: float, 
         res["flange_contact"].append(fl)
         res["lateral_shift_m"].append(float(np.mean(out_s * ts[f"y_rel_w{j + 1}_m"][sel])))
         res["angle_of_attack_rad"].append(float(np.mean(out_s * ts[f"yaw_w{j + 1}_rad"][sel])))
-    # the mass the wheels carry: the vehicle's, or with the dead loads of the bogie and wheelset layouts
-    carried_kg = (float(model.load_path.wheel.sum()) / gravity_m_s2 if model.load_path is not None
-                  else float(model.vehicle.total_mass_kg))
-    scale = carried_kg * max(abs(float(a_nc_m_s2)), STEADY_A_MIN_M_S2)
+    scale = carried_mass_kg(model, gravity_m_s2) * max(abs(float(a_nc_m_s2)), STEADY_A_MIN_M_S2)
     res["steady"] = bool(sum(drift) <= STEADY_TOLERANCE * scale)
     res["steady_drift_N"] = drift
     res["steady_tolerance_N"] = STEADY_TOLERANCE * scale

@@ -19,9 +19,11 @@ from dataclasses import dataclass
 
 import exudyn as exu
 
+from ..analysis.curving import curving_columns
 from ..contact.pair import WheelRailPair
 from ..multibody.connector import add_wheel_rail_contact, place_on_rails
 from ..rolling_stock.placement import start_on_track
+from ..rolling_stock.track_following import TrackFollowingFrame
 from ..rolling_stock.train import build_train, car_suffix, load_consist, place_train_on_track
 from ..rolling_stock.vehicle_builder import build_vehicle
 from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
@@ -36,13 +38,15 @@ from ..track.irregularities import IsolatedDefect
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
 from ..track.spectra import SpectralIrregularity
+from .curve_setup import LAYOUT_MARGIN_M, CurvingInputError, check_start_undisplaced, entry_layout
 from .deck import deck_probes, en1990_cutoff_Hz, support_motion
 from .flexible_track import (flexible_track_modes, flexible_track_probes, flexible_track_window,
                              start_on_flexible_track)
 from .spec import ScenarioError, as_scenario, features_end_m
+from .spec_layout import warn_creep_step
 
-__all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "vehicle_data", "scenario_run_settings",
-           "build_scenario", "train_probes", "MODES_CUTOFF_MARGIN"]
+__all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "build_layout", "vehicle_data",
+           "scenario_run_settings", "build_scenario", "train_probes", "MODES_CUTOFF_MARGIN"]
 
 #: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
 #: Euler–Bernoulli values the cut-off is computed from)
@@ -89,6 +93,21 @@ def build_bridge_modes(structure: dict):
     else:
         f_max = float(cut)
     return model, model.modes(f_max_Hz=f_max), float(cut)
+
+
+def build_layout(scn: dict, run: RunSettings):
+    """The :class:`~..track.layout.TrackLayout` of the scenario's ``[layout]`` (None without one): straight track up
+    to ``layout.start_m``, the transition, the circular curve to ``LAYOUT_MARGIN_M`` beyond the leading wheelset's
+    track distance at the end of the run (the construction of the ``curving`` command,
+    :func:`~.curve_setup.entry_layout`)."""
+    lay = scn.get("layout")
+    if lay is None:
+        return None
+    V = scn["vehicle"]["speed_km_h"] / 3.6
+    curve_start = lay["start_m"] + lay["transition_m"]
+    reach = scn["vehicle"]["start_s_m"] + V * run.end_time_s
+    return entry_layout(lay["radius_m"], lay["cant_m"], lay["transition_m"], lay["direction"], lay["start_m"],
+                        max(reach - curve_start, 0.0) + LAYOUT_MARGIN_M)
 
 
 def vehicle_data(scn: dict):
@@ -151,6 +170,15 @@ class ScenarioModel:
     support_motion: object = None           #: the ground motion of the supports and the track (None: none)
     flexible_track: object = None           #: the flexible track's handle (track.flexible; None: rigid track)
     flexible_window: object = None          #: its moving window (track.flexible_window; None: a fixed segment)
+    layout: object = None                   #: the curve's TrackLayout (track.layout; None: straight track)
+    frame: object = None                    #: its TrackFollowingFrame (rolling_stock.track_following), updated
+    #: before every step
+
+    @property
+    def user_function(self):
+        """What the runner calls before every step (None: nothing): the curve's track-following frames or the
+        flexible track's moving window (a scenario has at most one of the two)."""
+        return self.frame.update if self.frame is not None else self.flexible_window
 
     @property
     def speed_m_s(self) -> float:
@@ -193,7 +221,15 @@ def build_scenario(scenario) -> ScenarioModel:
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
     track = build_track(scn)
-    bridge = contact = shift = motion = None
+    layout = build_layout(scn, run)
+    if layout is not None:
+        warn_creep_step(run, vehicle, V)
+    if layout is not None and scn["track"]:        # the vehicle starts in equilibrium on the undisplaced straight
+        try:
+            check_start_undisplaced(track.irregularity, vehicle, s_lead0)
+        except CurvingInputError as exc:
+            raise ScenarioError(f"track: {exc.problem}") from None
+    bridge = contact = shift = motion = frame = None
     if modes is not None:
         bridge = add_bridge(mbs, modes, formulation=scn["structure"]["formulation"])
         if "support_motion" in scn["structure"]:
@@ -209,6 +245,7 @@ def build_scenario(scenario) -> ScenarioModel:
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
                                              s_start_m=s_start, creep_law=cs.creep_law, mu=cs.friction,
                                              fastsim_grid=cs.fastsim_grid, geometry=cs.geometry,
+                                             **({"layout": layout} if layout is not None else {}),
                                              **({"structure": bridge} if bridge is not None else {}),
                                              **({"structure": flex} if flex is not None else {}))
         except FileNotFoundError as exc:      # e.g. the creep table of creep_law="table" has not been built
@@ -216,6 +253,9 @@ def build_scenario(scenario) -> ScenarioModel:
         if train:
             model.contact = contact
             shift = place_train_on_track(mbs, model, pair, track)
+        elif layout is not None:                      # the curving command's start (curve_setup: no track shift)
+            place_on_rails(mbs, model, pair)
+            frame = TrackFollowingFrame(mbs, model, layout)
         else:
             place_on_rails(mbs, model, pair)
             shift = start_on_track(mbs, model, track)
@@ -227,6 +267,7 @@ def build_scenario(scenario) -> ScenarioModel:
                       contact_settings=cs, coverage=coverage, start_shift=shift, support_motion=motion)
     h.flexible_track = flex
     h.flexible_window = window
+    h.layout, h.frame = layout, frame
     if run.record and contact is not None:
         st = scn.get("structure", {})
         if train:
@@ -243,8 +284,12 @@ def build_scenario(scenario) -> ScenarioModel:
                                   start_m=st["start_m"], n_wheelsets=len(model.wheelsets))
         if flex is not None:
             probes += flexible_track_probes(contact=contact, handle=flex, model=model, window=window)
+        if frame is not None:
+            probes += curving_columns(model, layout)
         h.recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
     mbs.Assemble()
+    if frame is not None:                          # the curve's terms at t = 0, after Assemble (as the curving run)
+        frame.update(mbs, 0.0)
     h.settings, h.solver_type = run_solver_settings(run)
     if flex is not None:        # hundreds of modal coordinates: Exudyn's sparse solver (measured: the dense one 3-30x slower)
         h.settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse

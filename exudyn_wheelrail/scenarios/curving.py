@@ -45,10 +45,9 @@ import numpy as np
 from .. import contact_defaults
 from ..analysis.curving import curving_columns, minimum_radius_m, steady_state
 from ..contact.pair import WheelRailPair
-from ..conventions import RAIL_CENTRE_DISTANCE_M
 from ..multibody.connector import add_wheel_rail_contact, place_on_rails
 from ..rolling_stock.track_following import TrackFollowingFrame
-from ..rolling_stock.vehicle_builder import RailSprings, build_vehicle, static_load_path
+from ..rolling_stock.vehicle_builder import build_vehicle
 from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
 from ..simulation import status as S
 from ..simulation.exudyn_settings import run_solver_settings
@@ -56,11 +55,13 @@ from ..simulation.presets import PRESETS
 from ..simulation.recorder import Recorder, vehicle_probes
 from ..simulation.runner import run as run_model
 from ..simulation.settings import RunSettings
-from ..track.irregularities import CHANNELS, ChannelTable, channel_values
-from ..track.layout import MAX_CANT_M, TrackLayout
-from ..track.rigid import Irregularity, RigidStraightTrack
+from ..track.irregularities import ChannelTable
+from ..track.layout import MAX_CANT_M, MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
+from ..track.rigid import RigidStraightTrack
 from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
-from .defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
+from .curve_setup import (CREEP_STEP_FACTOR, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
+                          check_start_undisplaced, creep_limited_step_s, creep_step_limit_s, entry_layout)
+from .defaults import DEFAULT_RAMP, LEAD_IN_M, default_transition_m
 from .run import run_events
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
@@ -70,7 +71,10 @@ __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_c
            "irregularity_fade_m", "MIN_FADE_M", "START_TOLERANCE_M"]
 
 # LEAD_IN_M (straight track ahead of the leading wheelset at t = 0) and the default transition (the cant ramp
-# 1 : DEFAULT_RAMP, at least DEFAULT_MIN_TRANSITION_M) are declared in .defaults (the command line shows them).
+# 1 : DEFAULT_RAMP, at least DEFAULT_MIN_TRANSITION_M) are declared in .defaults (the command line shows them); the
+# plausible radius, cant and transition in track.layout (MAX_RADIUS_M, MAX_CANT_M, MAX_TRANSITION_M); the creep
+# step (CREEP_STEP_FACTOR), the layout's margin (LAYOUT_MARGIN_M), the undisplaced start (START_TOLERANCE_M) and
+# CurvingInputError in .curve_setup, which a scenario's [layout] shares.
 
 #: settling distance after the trailing wheelset enters the circular curve: at least this [m] and this [s] of run
 SETTLE_M = 60.0
@@ -78,30 +82,11 @@ SETTLE_S = 3.0
 #: averaging window of the steady state: at least this [m] and this [s] of run
 WINDOW_M = 40.0
 WINDOW_S = 2.5
-#: RK44 step = this / the fastest creep decay rate (RK44's real-axis stability limit is 2.785)
-CREEP_STEP_FACTOR = 2.0
-#: plausible ranges (values outside name the unit they were evidently given in)
-MAX_TRANSITION_M = 1000.0
+#: plausible speeds (values outside name the unit they were evidently given in)
 MAX_SPEED_KM_H = 500.0
 MIN_SPEED_KM_H = 10.0
-MAX_RADIUS_M = 1.0e5
 #: shortest fade-in of a generated irregularity [m] (its slope is at most π/2 · amplitude / fade length)
 MIN_FADE_M = 20.0
-#: the layout's circular curve (and a generated irregularity) reaches this far beyond the run's distance [m]
-LAYOUT_MARGIN_M = 10.0
-#: the track under the wheelsets at t = 0 counts as undisplaced when every channel is within this [m] (and every
-#: slope within this per metre)
-START_TOLERANCE_M = 1e-12
-
-
-class CurvingInputError(ValueError):
-    """Bad curving input: ``option`` names the argument (``radius_m``…), ``str()`` is ``"<option>: <problem>"``."""
-
-    def __init__(self, option: str, problem: str):
-        super().__init__(f"{option}: {problem}")
-        self.option = option
-        self.problem = problem
-
 
 @dataclass(frozen=True)
 class CurvingCase:
@@ -129,7 +114,7 @@ class CurvingCase:
     def transition_length_m(self) -> float:
         if self.transition_m is not None:
             return float(self.transition_m)
-        return max(DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP * self.cant_m)
+        return default_transition_m(self.cant_m)
 
 
 @dataclass
@@ -195,35 +180,8 @@ def check_curving_case(case: CurvingCase, vehicle=None):
         raise CurvingInputError("radius_m", f"{R:g} m is below the smallest radius this vehicle can follow, "
                                             f"{r_min:.0f} m ({why}){hint}")
     if case.irregularity is not None:
-        _check_start_undisplaced(case.irregularity, vehicle)
+        check_start_undisplaced(case.irregularity, vehicle)
     return vehicle
-
-
-def _start_s_m(vehicle) -> np.ndarray:
-    """Track distances of the wheelsets at t = 0 (the leading one at s = 0)."""
-    x = np.asarray(vehicle.wheelset_x_m(), dtype=float)
-    return x - np.max(x)
-
-
-def _check_start_undisplaced(irregularity, vehicle) -> None:
-    if not isinstance(irregularity, Irregularity):
-        raise CurvingInputError("irregularity", f"{irregularity!r}: expected an Irregularity "
-                                                "(exudyn_wheelrail.track.rigid, track.irregularities, "
-                                                "track.spectra) or None")
-    s0 = _start_s_m(vehicle)
-    v = channel_values(irregularity, s0)
-    for name in CHANNELS:
-        for prefix, unit in (("", "m"), ("d_", "m/m")):
-            key = f"{prefix}{name}" if prefix else f"{name}_m"
-            vals = np.asarray(getattr(v, key))
-            if np.any(np.abs(vals) > START_TOLERANCE_M):
-                j = int(np.argmax(np.abs(vals)))
-                what = "slope of the " if prefix else ""
-                raise CurvingInputError(
-                    "irregularity", f"{irregularity!r}: the {what}{name} is {vals[j]:.3g} {unit} under a wheelset "
-                                    f"at t = 0 (s = {s0[j]:g} m); the vehicle starts on the undisplaced straight "
-                                    "(s <= 0 m): start the irregularity ahead of the leading wheelset or fade it "
-                                    "in (FadedIn, spectral_irregularity)")
 
 
 class FadedIn(ChannelTable):
@@ -287,37 +245,17 @@ def curving_distances(case: CurvingCase, vehicle) -> dict:
                 total_m=total, duration_s=total / V, window_start_s=(total - window) / V)
 
 
-def creep_step_limit_s(vehicle, speed_m_s: float, gravity_m_s2: float = 9.81) -> float:
-    """The largest RK44 step [s] for the creep damping of a wheelset, :data:`CREEP_STEP_FACTOR` / λ_max: at low
-    speed the creep forces act on a rolling wheelset like dampers ``f11/V``, ``f22/V`` (Kalker's coefficients at the
-    static wheel load, :meth:`~exudyn_wheelrail.rolling_stock.vehicle_builder.RailSprings.from_hertz`), whose decay rates
-    ``2 f11 r0²/(V I_yy)`` (spin), ``2 f22/(V m)`` (lateral) and ``2 f11 b²/(V I_zz)`` (yaw) grow as 1/V; an explicit
-    step beyond RK44's real-axis limit h λ = 2.785 integrates a limit cycle instead of rolling (e.g. 36 km/h,
-    single wheelset: λ ≈ 4500 1/s, unstable at 1 ms).  The run monitor's step check watches the vertical contact
-    frequency only."""
-    q = float(np.max(static_load_path(vehicle, gravity_m_s2).wheel))
-    rs = RailSprings.from_hertz(wheel_load_N=q, speed_m_s=speed_m_s, r0_m=vehicle.geometry.r0_m)
-    ws = vehicle.wheelset
-    b = vehicle.tape_circle_semi_spacing_m()
-    lam = max(2.0 * rs.c_longitudinal_N_s_per_m * vehicle.geometry.r0_m ** 2 / ws.Iyy_kg_m2,
-              2.0 * rs.c_lateral_N_s_per_m / ws.mass_kg,
-              2.0 * rs.c_longitudinal_N_s_per_m * b ** 2 / ws.Izz_kg_m2)
-    return CREEP_STEP_FACTOR / lam
-
-
 def build_curving(case: CurvingCase, vehicle=None):
     """The assembled model of a curving run: a dict of handles (``mbs``, ``model``, ``contact``, ``frame``,
     ``layout``, ``recorder``, ``run``, ``settings``, ``solver_type``, ``distances``)."""
     vehicle = check_curving_case(case, vehicle)
     dist = curving_distances(case, vehicle)
     V = case.speed_m_s
-    layout = TrackLayout.curve_entry(case.radius_m, case.cant_m, dist["transition_m"], direction=case.direction,
-                                     lead_in_m=LEAD_IN_M, curve_m=dist["total_m"] + LAYOUT_MARGIN_M)
+    layout = entry_layout(case.radius_m, case.cant_m, dist["transition_m"], case.direction, LEAD_IN_M,
+                          dist["total_m"] + LAYOUT_MARGIN_M)
     preset = PRESETS[case.preset]
     run = RunSettings(**preset.run)
-    dt = min(float(run.dt_s), creep_step_limit_s(vehicle, V))
-    if dt < float(run.dt_s):                         # a whole fraction of the preset's step
-        dt = float(run.dt_s) / math.ceil(float(run.dt_s) / dt)
+    dt = creep_limited_step_s(vehicle, V, run.dt_s)       # a whole fraction of the preset's step
     run = dataclasses.replace(run, dt_s=dt).with_duration(dist["duration_s"])
     geo = vehicle.geometry
     s_start = -max(vehicle.wheelset_x_m())              # leading wheelset at s = 0 at t = 0
@@ -367,17 +305,17 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
     g = model.gravity_m_s2
     V = case.speed_m_s
     s_curve = LEAD_IN_M + dist["transition_m"] + 1.0
-    a_nc = float(layout.unbalanced_lateral_acceleration([s_curve], V, g)[0])
+    curve = curve_quantities(layout, case.radius_m, case.cant_m, s_curve, V, g)
+    a_nc = curve["unbalanced_lateral_acceleration_m_s2"]
     mass = float(vehicle.total_mass_kg)
-    phi = math.asin(case.cant_m / RAIL_CENTRE_DISTANCE_M)
     summary = {"status": status.kind, "status_detail": status.as_dict(), "exit_code": status.exit_code,
                "status_text": str(status), "events": run_events(outcome), "n_events": len(outcome.events or []),
                "vehicle": vehicle.name, "vehicle_mass_kg": mass, "n_wheelsets": len(model.wheelsets),
                "radius_m": case.radius_m, "cant_m": case.cant_m, "direction": case.direction,
                "speed_km_h": case.speed_km_h, "transition_m": dist["transition_m"],
-               "cant_angle_rad": phi,
+               "cant_angle_rad": curve["cant_angle_rad"],
                "unbalanced_lateral_acceleration_m_s2": a_nc,
-               "balance_speed_km_h": math.sqrt(g * math.tan(phi) * case.radius_m) * 3.6,
+               "balance_speed_km_h": curve["balance_speed_km_h"],
                "distances_m": dist, "solver": h["run"].solver, "dt_s": h["run"].dt_s,
                "solve_seconds": outcome.solve_seconds, "t_end_s": outcome.t_end_s}
     if case.irregularity is not None:

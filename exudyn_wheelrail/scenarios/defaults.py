@@ -1,7 +1,7 @@
 """The choices and defaults of the scenarios' inputs that a front end shows before any work, declared once: the RTRI
 case's car-body models (:mod:`.rtri_case`), the bridge crossing's load models, integrator and modal resolution
-(:mod:`.bridge_crossing`) and the curving run's transition and lead-in (:mod:`.curving`).  Those modules import
-them from here; their meaning is documented there.
+(:mod:`.bridge_crossing`) and the curving run's transition and lead-in (:mod:`.curving`, a scenario's ``[layout]``).
+Those modules import them from here; their meaning is documented there.
 
 This module imports nothing, so that the command line can build its options and ``--help`` without loading the
 numerical code.
@@ -9,7 +9,7 @@ numerical code.
 
 __all__ = ["CAR_BODY_MODELS", "LOAD_MODELS", "MODEL_NAMES", "AXLE_LOAD_MODELS", "SPRUNG_FREQUENCY_HZ",
            "SPRUNG_DAMPING_RATIO", "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "MAX_MODES", "LATERAL_EI_RATIO",
-           "LEAD_IN_M", "DEFAULT_RAMP", "DEFAULT_MIN_TRANSITION_M"]
+           "LEAD_IN_M", "DEFAULT_RAMP", "DEFAULT_MIN_TRANSITION_M", "default_transition_m"]
 
 # ------------------------------------------------------------------------------------------------- RTRI case
 #: the car-body models of the case (``RtriCase.car_body``, ``rtri --car-body``): the vehicle file's rigid car body
@@ -45,3 +45,9 @@ LEAD_IN_M = 5.0
 #: DEFAULT_MIN_TRANSITION_M [m]
 DEFAULT_RAMP = 400.0
 DEFAULT_MIN_TRANSITION_M = 20.0
+
+
+def default_transition_m(cant_m: float) -> float:
+    """The default transition length [m] for a cant ``cant_m`` [m]: the ramp 1 : :data:`DEFAULT_RAMP`, at least
+    :data:`DEFAULT_MIN_TRANSITION_M` (the curving run's and a scenario's ``[layout]``)."""
+    return max(DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP * cant_m)

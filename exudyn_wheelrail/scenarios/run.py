@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..analysis.curving import carried_mass_kg
 from ..analysis.safety import running_criteria_summary
 from ..rolling_stock.train import car_suffix
 from ..simulation import status as S
 from ..simulation.recorder import PROGRESS_MIN_STEPS, SIDES, ProgressBar
 from ..simulation.runner import run
+from ..track.layout import curve_quantities
 from ..validation import output_dir
 from .build import ScenarioModel, build_scenario
 from .deck import deck_scalars, deck_summary
@@ -21,7 +23,7 @@ from .result import ScenarioResult
 from .spec import TIMESERIES_GROUPS, UNLOADING_GROUP, as_scenario
 
 __all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary",
-           "train_criteria", "run_events"]
+           "train_criteria", "run_events", "layout_summary"]
 
 # ScenarioResult is declared in .result (below the writer and the figures, which read it).
 
@@ -181,7 +183,7 @@ def run_model(h, *, progress=None, view=None, label: str = ""):
         bar = ProgressBar(h.run.end_time_s, stream=show, label=label)
     try:
         outcome = run(h.mbs, h.run, h.contact, speed_m_s=h.speed_m_s, recorder=h.recorder, progress=bar,
-                      exu_settings=(h.settings, h.solver_type), user_function=h.flexible_window)
+                      exu_settings=(h.settings, h.solver_type), user_function=h.user_function)
     finally:
         if view is not None:
             view.close()
@@ -310,7 +312,28 @@ def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> Sc
         },
         "scenario": scn,
     }
+    if h.layout is not None:
+        summary["layout"] = layout_summary(h)
+        summary["sign_conventions"]["curving"] = (
+            "yaw_w<j>_rad: yaw of wheelset j relative to its local track frame (z down: + turns it to the right); "
+            "curvature_w<j>_1_m: the layout's curvature under wheelset j (+ right-hand curve); guidance_lateral_N "
+            "(bogie and wheelset layouts): track-frame y force of the guidance elements on the bodies")
     return ScenarioResult(timeseries=ts, summary=summary, outcome=outcome)
+
+
+def layout_summary(h: ScenarioModel) -> dict:
+    """The curve of a scenario with a ``[layout]``: its input (normal form), where the circular curve starts, and at
+    the run's speed its cant angle, balance speed and unbalanced lateral acceleration a_nc (track plane, positive
+    outwards; :func:`~exudyn_wheelrail.track.layout.curve_quantities`, read 1 m into the circular curve as the
+    ``curving`` command does) with the mass the wheels carry times a_nc — the steady-curving balance of ΣY
+    (:mod:`exudyn_wheelrail.analysis.curving`)."""
+    lay = h.scenario["layout"]
+    curve_start = lay["start_m"] + lay["transition_m"]
+    g = h.model.gravity_m_s2
+    q = curve_quantities(h.layout, lay["radius_m"], lay["cant_m"], curve_start + 1.0, h.speed_m_s, g)
+    carried = carried_mass_kg(h.model, g)
+    return {**lay, "curve_start_m": curve_start, "speed_km_h": h.scenario["vehicle"]["speed_km_h"], **q,
+            "carried_mass_kg": carried, "m_a_nc_N": carried * q["unbalanced_lateral_acceleration_m_s2"]}
 
 
 def _model_info(h: ScenarioModel) -> dict:

@@ -9,16 +9,17 @@ The normalised scenario is the **spec** of the simulation pipeline (:mod:`exudyn
 :func:`build_scenario` turns it into the Exudyn model — the vehicle of a data file
 (:func:`~exudyn_wheelrail.multibody.build_vehicle`, frame moving with the running speed V), the wheel–rail connector
 (:func:`~exudyn_wheelrail.multibody.add_wheel_rail_contact`) on a rigid straight track
-(:class:`~exudyn_wheelrail.multibody.RigidStraightTrack`) displaced by the listed irregularities, optionally a
-modally reduced bridge deck (:mod:`exudyn_wheelrail.structures.bridge`, coupled through the connector's ``structure=``)
+(:class:`~exudyn_wheelrail.multibody.RigidStraightTrack`) displaced by the listed irregularities, optionally laid
+out as a curve (a ``[layout]``: the connector's ``layout=`` and the track-following frames of
+:mod:`exudyn_wheelrail.rolling_stock.track_following`), optionally a modally reduced bridge deck (:mod:`exudyn_wheelrail.structures.bridge`, coupled through the connector's ``structure=``)
 with an optional lateral support motion, the vehicle in static equilibrium on the rails at t = 0
 (:func:`~exudyn_wheelrail.multibody.place_on_rails`) — and the recorder; :func:`run_scenario` runs it through the
 one solve wrapper (:func:`exudyn_wheelrail.simulation.runner.run`: watched by the run monitor, a status of
 :mod:`exudyn_wheelrail.simulation.status`) and evaluates it.  The RTRI case (:mod:`.rtri`) is such a spec.
 
 The modules, one job each (this module is the public import path: it re-exports their public names):
-:mod:`.spec` — the schema's constants, the loader and the validation; :mod:`.overrides` — the dotted-key
-overrides; :mod:`.build` — spec → Exudyn model; :mod:`.deck` — the flexible deck's support motion, recorded
+:mod:`.spec` — the schema's constants, the loader and the validation (``[layout]``: :mod:`.spec_layout`);
+:mod:`.overrides` — the dotted-key overrides; :mod:`.build` — spec → Exudyn model; :mod:`.deck` — the flexible deck's support motion, recorded
 columns and summary; :mod:`.run` — the run and its summary (peaks, scalars, criteria, notes); :mod:`.result` —
 the result of a run (:class:`ScenarioResult`); :mod:`.outputs` and :mod:`.plots` — the files and the figures.
 
@@ -71,6 +72,30 @@ dotted overrides with the old keys are moved the same way.
     ``shape`` ("bump" | "cusp" | "dipped_joint"), ``position_m``, ``length_m``, ``depth_m``, optional ``rail``
     ("right" | "left" | "both"), ``direction`` ("vertical" | "lateral").  Full example:
     ``examples/scenarios/README.md``.
+
+``[layout]`` (optional; none = straight track) — the track's horizontal alignment and cant: straight track up to
+    ``start_m``, a clothoid transition of ``transition_m`` with a linear cant ramp, then a circular curve of
+    ``radius_m`` and ``cant_m`` to the end of the run (:meth:`~..track.layout.TrackLayout.curve_entry`, the curve
+    of the ``curving`` command, :mod:`.curving`).  ``radius_m`` (required; at most
+    :data:`~..track.layout.MAX_RADIUS_M` and not below the smallest radius the vehicle can follow,
+    :func:`~..analysis.curving.minimum_radius_m`), ``cant_m`` (required, 0 ≤ h ≤
+    :data:`~..track.layout.MAX_CANT_M`, raises the outer rail), ``transition_m`` (default: the cant ramp
+    1 : :data:`~.defaults.DEFAULT_RAMP`, at least :data:`~.defaults.DEFAULT_MIN_TRANSITION_M`; at most
+    :data:`~..track.layout.MAX_TRANSITION_M`; 0 only without cant), ``direction`` ("right" (default) | "left"),
+    ``start_m`` (s where the transition starts, default :data:`~.defaults.LEAD_IN_M`; not behind the leading
+    wheelset: the vehicle starts in equilibrium on the straight).  Every body then moves in its own track-following
+    frame (:class:`~..rolling_stock.track_following.TrackFollowingFrame`, updated before every step) and the
+    contact sees the rails of the layout at each wheelset's s; the ``[[track]]`` irregularities displace them
+    relative to the local track frame and must vanish, with their slopes, under every wheelset at t = 0 (the build
+    refuses others, naming ``track``).  An explicit ``run.solver`` without ``run.dt_s`` takes the ``curving``
+    command's step: 1 ms, or the largest whole fraction of it within the creep damping's limit at this speed
+    (:func:`~.curve_setup.creep_step_limit_s`; a given ``run.dt_s`` above that limit is a warning).  With a
+    ``[structure]`` the curve runs over the deck (the deck's modes along s, under the local track frame); not with
+    a ``[flexible_track]`` or a train (``vehicle.consist``: the track-following frames follow one vehicle's
+    bodies), nor with ``contact.wheel_rail = "springs"``.  Output group ``"curving"``; ``summary.json`` gains a
+    ``layout`` block (:func:`layout_summary`: radius, cant, cant angle, balance speed, the unbalanced lateral
+    acceleration a_nc at the run's speed and m a_nc, the steady ΣY balance of :mod:`exudyn_wheelrail.analysis.
+    curving`).
 
 ``[structure]`` (optional) — a flexible bridge deck under the track (:class:`~..structures.bridge.BridgeModel`,
 entered with :func:`~..structures.bridge_exudyn.add_bridge`):
@@ -132,7 +157,9 @@ entered with :func:`~..structures.bridge_exudyn.add_bridge`):
     ``timeseries`` — the column groups written (default: every group the model has;
     :mod:`exudyn_wheelrail.simulation.recorder` defines them): ``"Y"``, ``"Q"``, ``"YQ"``, ``"flange"``,
     ``"contact_angle"``, ``"wheelset_lateral"``, ``"track"``, ``"carbody"`` (a vehicle with a car body),
-    ``"deck"`` (with a structure); ``"unloading"`` — the wheel unloading ``dQQ_w<j>_<side>`` = (Q₀ − Q)/Q₀ (Q₀
+    ``"deck"`` (with a structure); ``"curving"`` (with a ``[layout]``: ``yaw_w<j>_rad`` the wheelset's yaw relative
+    to its local track frame, ``curvature_w<j>_1_m`` the curvature under it, ``guidance_lateral_N`` for the bogie
+    and wheelset layouts; :func:`~exudyn_wheelrail.analysis.curving.curving_columns`); ``"unloading"`` — the wheel unloading ``dQQ_w<j>_<side>`` = (Q₀ − Q)/Q₀ (Q₀
     the static wheel load of the vehicle's load path); with a structure (:mod:`.deck`) ``"deck_acceleration"``
     (vertical deck acceleration at L/10 … 9L/10 of every span: the EN 1990 check points), ``"deck_wheelsets"``
     (deck deflection under each wheelset), ``"deck_lateral"`` (lateral mid-span displacement relative to the
@@ -172,8 +199,8 @@ timings, the model — vehicle, static wheel loads, bridge modes —, ``peaks`` 
 diverged run), ``scalars`` — the flat dict of scalar results a sweep tabulates —, ``criteria``, ``deck`` (with a
 structure, :func:`~.deck.deck_summary`: per span the mid-span deflection against the quasi-static influence line
 and the deck alone under the moving static axle loads, the accelerations, the lateral response and its reference
-with a support motion; the EN 1990 deck-acceleration check; the deflection under each wheelset), ``notes``, sign
-conventions) and the plots.
+with a support motion; the EN 1990 deck-acceleration check; the deflection under each wheelset), ``layout`` (with
+a ``[layout]``, :func:`layout_summary`), ``notes``, sign conventions) and the plots.
 
 Loader and normal form
 ----------------------
@@ -189,6 +216,7 @@ from .build import (
     MODES_CUTOFF_MARGIN,
     ScenarioModel,
     build_bridge_modes,
+    build_layout,
     build_scenario,
     build_track,
     scenario_run_settings,
@@ -199,7 +227,7 @@ from .outputs import jsonable, write_csv, write_json, write_scenario_outputs
 from .overrides import apply_overrides, parse_value, set_dotted
 from .plots import group_figure
 from .result import ScenarioResult
-from .run import peaks, run_model, run_scenario, scenario_summary, static_wheel_loads
+from .run import layout_summary, peaks, run_model, run_scenario, scenario_summary, static_wheel_loads
 from .spec import (
     CRITERIA_VEHICLES,
     DEFAULT_FLOOR_HEIGHT_M,
@@ -242,6 +270,7 @@ __all__ = [
     "parse_value",
     "build_track",
     "build_bridge_modes",
+    "build_layout",
     "vehicle_data",
     "scenario_run_settings",
     "build_scenario",
@@ -249,6 +278,7 @@ __all__ = [
     "run_model",
     "run_scenario",
     "scenario_summary",
+    "layout_summary",
     "static_wheel_loads",
     "write_scenario_outputs",
     "write_csv",

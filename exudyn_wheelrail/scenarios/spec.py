@@ -14,6 +14,7 @@ import math
 import re
 from pathlib import Path
 
+from ..analysis.curving import CURVING_GROUP
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
 from ..simulation.solvers import METHODS
@@ -25,6 +26,7 @@ from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrr
 from ..validation import Quantity, read_toml
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
 from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
+from .spec_layout import layout_combination_error, layout_run_settings, normalise_layout
 
 __all__ = ["SCHEMA_VERSION", "V1_MOVED", "TRACK_TYPES", "DIRECTIONS", "UNLOADING_GROUP", "STRUCTURE_GROUPS",
            "TIMESERIES_GROUPS", "FORMATS", "NAMED_X", "CRITERIA_VEHICLES", "DEFAULT_FLOOR_HEIGHT_M", "QUANTITIES",
@@ -44,8 +46,9 @@ UNLOADING_GROUP = "unloading"
 #: the groups that need a ``[structure]``: the recorder's mid-span group and the deck's own (:mod:`.deck`)
 STRUCTURE_GROUPS = ("deck",) + DECK_GROUPS
 #: column groups of the time series, in the order they are written: the recorder's
-#: (:mod:`exudyn_wheelrail.simulation.recorder`), the wheel unloading, the deck's
-TIMESERIES_GROUPS = GROUPS + (UNLOADING_GROUP,) + DECK_GROUPS + (FLEXIBLE_TRACK_GROUP,)
+#: (:mod:`exudyn_wheelrail.simulation.recorder`), the wheel unloading, the deck's, the flexible track's, the curve's
+#: (with a ``[layout]``: :func:`~exudyn_wheelrail.analysis.curving.curving_columns`)
+TIMESERIES_GROUPS = GROUPS + (UNLOADING_GROUP,) + DECK_GROUPS + (FLEXIBLE_TRACK_GROUP, CURVING_GROUP)
 FORMATS = ("csv", "npz")
 NAMED_X = ("front_bogie", "rear_bogie", "centre")
 CRITERIA_VEHICLES = ("passenger", "locomotive", "freight")
@@ -197,7 +200,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     filled in, file paths absolute (relative ones against ``base_dir``), plain Python values only."""
     c = _Check(source, Path(base_dir) if base_dir is not None else None)
     c.table(data, "", required=("schema_version", "vehicle"),
-            optional=("scenario", "track", "structure", "flexible_track", "contact", "run", "outputs"))
+            optional=("scenario", "track", "layout", "structure", "flexible_track", "contact", "run", "outputs"))
     version = c.integer(data["schema_version"], "schema_version")
     if version == 1:
         data = _from_v1(data)
@@ -214,6 +217,12 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     # ------------------------------------------------------------------------------------------- [track]
     track = c.array(data.get("track", []), "track")
     out["track"] = [_track_component(c, comp, f"track.{i}") for i, comp in enumerate(track)]
+    # ------------------------------------------------------------------------------------------ [layout]
+    if "layout" in data:                          # a curve: straight, transition, circular curve (spec_layout)
+        wrong = layout_combination_error(c, data)
+        if wrong is not None:
+            raise wrong
+        out["layout"] = normalise_layout(c, data["layout"], out["vehicle"]["start_s_m"], vehicle)
     # --------------------------------------------------------------------------------------- [structure]
     if "structure" in data:
         out["structure"] = _structure(c, data["structure"])
@@ -231,6 +240,9 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
         if METHODS[run.solver].imaginary_axis_limit:
             run = c.settings(RunSettings, {**data.get("run", {}), "dt_s": default_step_s(
                 out["vehicle"]["speed_km_h"] / 3.6, out["flexible_track"]["modes_up_to_Hz"])}, "run")
+    if "layout" in out:
+        # an explicit solver on a curve: the curving run's step for the creep damping at this speed (spec_layout)
+        run = layout_run_settings(c, data.get("run", {}), run, vehicle, out["vehicle"]["speed_km_h"] / 3.6)
     out["contact"] = contact.as_dict()
     out["run"] = run.as_dict()
     if out.get("structure", {}).get("formulation") == "ffrf" and run.solver != "newmark":
@@ -243,7 +255,8 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     if contact.wheel_rail == "springs" and run.record:
         raise c.error("contact.wheel_rail", "'springs' (the cost baseline) records nothing: set run.record = false")
     # ----------------------------------------------------------------------------------------- [outputs]
-    out["outputs"] = _outputs(c, data.get("outputs", {}), vehicle, "structure" in out, "flexible_track" in out)
+    out["outputs"] = _outputs(c, data.get("outputs", {}), vehicle, "structure" in out, "flexible_track" in out,
+                              "layout" in out)
     return out
 
 
@@ -450,12 +463,13 @@ def _support_motion(c: _Check, sm) -> dict:
                                 lo_open=False)}
 
 
-def _outputs(c: _Check, o, vehicle, has_structure: bool, has_flexible_track: bool = False) -> dict:
+def _outputs(c: _Check, o, vehicle, has_structure: bool, has_flexible_track: bool = False,
+             has_layout: bool = False) -> dict:
     c.table(o, "outputs", optional=("timeseries", "carbody_points", "formats", "plots", "criteria"))
     has_car = vehicle.car_body is not None
     available = [g for g in TIMESERIES_GROUPS
                  if (g != "carbody" or has_car) and (g not in STRUCTURE_GROUPS or has_structure)
-                 and (g != FLEXIBLE_TRACK_GROUP or has_flexible_track)]
+                 and (g != FLEXIBLE_TRACK_GROUP or has_flexible_track) and (g != CURVING_GROUP or has_layout)]
     if "timeseries" in o:
         groups = c.array(o["timeseries"], "outputs.timeseries")
         for i, g in enumerate(groups):
@@ -467,6 +481,8 @@ def _outputs(c: _Check, o, vehicle, has_structure: bool, has_flexible_track: boo
                 raise c.error(f"outputs.timeseries.{i}", f"{g!r} needs a [structure]")
             if g == FLEXIBLE_TRACK_GROUP and not has_flexible_track:
                 raise c.error(f"outputs.timeseries.{i}", f"{g!r} needs a [flexible_track]")
+            if g == CURVING_GROUP and not has_layout:
+                raise c.error(f"outputs.timeseries.{i}", f"{g!r} needs a [layout]")
         if len(set(groups)) != len(groups):
             raise c.error("outputs.timeseries", f"{groups!r}: a group is listed twice")
         groups = [g for g in TIMESERIES_GROUPS if g in groups]          # canonical order

@@ -59,10 +59,14 @@ from ..validation import finite
 
 __all__ = ["Straight", "Curve", "Transition", "TrackLayout", "PackedLayout", "layout_at", "layout_many", "heading_many",
            "LAYOUT_KAPPA", "LAYOUT_DKAPPA", "LAYOUT_PHI", "LAYOUT_DPHI", "N_LAYOUT", "MAX_CANT_M",
-           "QUADRATURE_STEP_M", "LayoutError"]
+           "MAX_RADIUS_M", "MAX_TRANSITION_M", "QUADRATURE_STEP_M", "LayoutError", "curve_quantities"]
 
 #: largest cant [m] a layout accepts (EN 13803: 160-180 mm in normal, up to 200 mm in exceptional cases)
 MAX_CANT_M = 0.200
+#: plausible ranges of a curve's input (the curving run's and a scenario's ``[layout]``; a value outside was evidently
+#: given in another unit): the largest radius [m] and the longest transition [m]
+MAX_RADIUS_M = 1.0e5
+MAX_TRANSITION_M = 1000.0
 #: longest sub-interval of the position quadrature [m]
 QUADRATURE_STEP_M = 2.0
 
@@ -470,3 +474,16 @@ class TrackLayout:
         sign = np.where(k > 0.0, 1.0, np.where(k < 0.0, -1.0, np.sign(phi)))
         c_th = math.cos(self.theta_rad)
         return sign * (speed_m_s ** 2 * k * c_th * np.cos(phi) - g_m_s2 * c_th * np.sin(phi))
+
+
+def curve_quantities(layout: TrackLayout, radius_m: float, cant_m: float, s_m: float, speed_m_s: float,
+                     g_m_s2: float) -> dict:
+    """What a vehicle engineer reads off a curve of ``radius_m`` and ``cant_m`` (>= 0) run at ``speed_m_s``:
+    ``cant_angle_rad`` (``sin φ = h / 1.5 m``), ``unbalanced_lateral_acceleration_m_s2`` (a_nc of the layout at
+    ``s_m``, a point of the circular curve: :meth:`TrackLayout.unbalanced_lateral_acceleration`, positive outwards)
+    and ``balance_speed_km_h`` (the speed at which a_nc = 0 on the level, ``√(g tan φ R)``)."""
+    phi = math.asin(cant_m / RAIL_CENTRE_DISTANCE_M)
+    return {"cant_angle_rad": phi,
+            "unbalanced_lateral_acceleration_m_s2": float(layout.unbalanced_lateral_acceleration([s_m], speed_m_s,
+                                                                                                  g_m_s2)[0]),
+            "balance_speed_km_h": math.sqrt(g_m_s2 * math.tan(phi) * radius_m) * 3.6}
