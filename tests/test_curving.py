@@ -4,6 +4,7 @@ deficiency and excess and ΣΣY ≈ 0 at the balance speed (Manchester vehicle, 
 coned wheelset settles at the pure-rolling shift y = r0 b/(R λ); left curves mirror right ones; the chord geometry
 between bodies is the circle's; bad input is refused before any work."""
 import dataclasses
+import json
 import math
 import subprocess
 import sys
@@ -17,7 +18,7 @@ from exudyn_wheelrail.contact.pair import WheelRailPair
 from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M
 from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle, load_vehicle_with_overrides
 from exudyn_wheelrail.profiles.profiles import WheelProfile
-from exudyn_wheelrail.scenarios.curving import CurvingCase, build_curving, run_curving
+from exudyn_wheelrail.scenarios.curving import CurvingCase, CurvingResult, build_curving, run_curving, write_outputs
 
 R, H, G = 600.0, 0.150, 9.81
 PHI = math.asin(H / RAIL_CENTRE_DISTANCE_M)
@@ -143,7 +144,7 @@ def test_chord_geometry_between_bodies_in_a_circular_curve():
     ahead of its bogie likewise."""
     case = CurvingCase("manchester_vehicle1", radius_m=R, cant_m=H, speed_km_h=100.0, transition_m=20.0)
     h = build_curving(case)
-    frame = h["frame"]
+    frame = h.frame
     t = 60.0 / (100 / 3.6)                   # every body in the circular curve
     delta, theta = frame.offsets(t)
     phi = PHI
@@ -169,9 +170,9 @@ def test_chord_geometry_between_bodies_in_a_circular_curve():
     np.testing.assert_allclose(F[:, 1], m * (G * math.sin(phi) - a * math.cos(phi)), rtol=1e-9)
     # a wheelset precessing steadily with the frame: its angular momentum H = I (omega_s e_y + Omega) turns with
     # Omega = V/R (0, sin(phi), cos(phi)), dH/dt = Omega x H, which the rails must supply (-dH/dt is the load)
-    ws = h["model"].wheelsets[0]
+    ws = h.model.wheelsets[0]
     k = frame.bodies.index(ws)
-    wd = h["vehicle"].wheelset
+    wd = h.vehicle.wheelset
     inertia = np.diag([wd.Ixx_kg_m2, wd.Iyy_kg_m2, wd.Izz_kg_m2])
     omega = V / R * np.array([0.0, math.sin(phi), math.cos(phi)])
     H_ws = inertia @ (np.array([0.0, -V / ws.r0_m, 0.0]) + omega)
@@ -204,6 +205,23 @@ def test_cli_bad_input_one_line_exit_2(tmp_path, capsys, args, option):
     assert not (tmp_path / "o" / "summary.json").exists()
 
 
+def test_outputs_by_the_scenarios_writer(tmp_path):
+    """write_outputs: summary.json is strict JSON (a non-finite number is null, also in arrays and NumPy scalars);
+    timeseries.csv holds every column in the result's order, 10 significant digits, NaN as nan."""
+    ts = {"time_s": np.array([0.0, 1e-3]), "s_leading_m": np.array([0.0, 1.0 / 36.0]),
+          "Y_w1_right_N": np.array([np.nan, 1234.56789012345])}
+    summary = {"sum_Y_N": [1.0, float("nan")], "a": np.float64(np.inf), "b": np.array([1.5, -np.inf]), "n": 3}
+    write_outputs(CurvingResult(summary=summary, timeseries=ts), tmp_path)
+
+    def refuse(constant):
+        raise AssertionError(f"{constant} in summary.json")
+
+    s = json.loads((tmp_path / "summary.json").read_text(), parse_constant=refuse)
+    assert s == {"sum_Y_N": [1.0, None], "a": None, "b": [1.5, None], "n": 3}
+    rows = (tmp_path / "timeseries.csv").read_text().splitlines()
+    assert rows == ["time_s,s_leading_m,Y_w1_right_N", "0,0,nan", "0.001,0.02777777778,1234.56789"]
+
+
 def test_cli_contract_subprocess(tmp_path):
     # the exact command line of the contract, refused before any work (one process: the import cost)
     p = subprocess.run([sys.executable, "-m", "exudyn_wheelrail", "curving", "--vehicle", "manchester_vehicle1",
@@ -218,7 +236,7 @@ def test_body_torques_in_the_transition_follow_the_turning_frame():
     layout's Omega (itself checked against differences of the frame's rotation in test_track_layout.py)."""
     case = CurvingCase("manchester_vehicle1", radius_m=R, cant_m=H, speed_km_h=100.0, transition_m=60.0)
     h = build_curving(case)
-    frame, layout, model = h["frame"], h["layout"], h["model"]
+    frame, layout, model = h.frame, h.layout, h.model
     V = 100 / 3.6
     car = model.car_body
     k = frame.bodies.index(car)
@@ -229,7 +247,7 @@ def test_body_torques_in_the_transition_follow_the_turning_frame():
     om = layout.frame_angular_velocity([s], V)[0]
     dom = (layout.frame_angular_velocity([s + V * dt], V)[0] - layout.frame_angular_velocity([s - V * dt], V)[0]) / (
         2 * dt)
-    cb = h["vehicle"].car_body
+    cb = h.vehicle.car_body
     inertia = np.diag([cb.Ixx_kg_m2, cb.Iyy_kg_m2, cb.Izz_kg_m2])
     _, T = frame.body_terms(t)
     np.testing.assert_allclose(T[k], -(inertia @ dom + np.cross(om, inertia @ om)), rtol=1e-6, atol=1e-6)

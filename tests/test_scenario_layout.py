@@ -3,8 +3,9 @@ summary block (scenarios/run.py).
 
 References, independent of the scenario path:
 
-* the ``curving`` command's model (scenarios/curving.py ``build_curving``, run as ``run_curving`` runs it) for the
-  same vehicle, curve, speed, step, contact settings and start: the same recorded wheel forces, bit for bit;
+* the hand-written scenario of a curve (examples/scenarios/curve_r1000.toml): the ``curving`` command's front end
+  (scenarios/curving.py ``curving_scenario``) fills the same vehicle, start, curve, contact settings and step for
+  the same case, so the command is that scenario run longer;
 * the quasi-static balance of steady curving, ΣΣY = m a_nc (analysis/curving.py ``steady_state``, the curving
   command's check), with a_nc from the closed form V²/R cos φ − g sin φ;
 * the default transition, the plausible ranges and the creep step of the curving command (scenarios/defaults.py,
@@ -18,18 +19,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from exudyn_wheelrail import contact_defaults
 from exudyn_wheelrail.analysis.curving import STEADY_A_MIN_M_S2, STEADY_TOLERANCE, carried_mass_kg, steady_state
+from exudyn_wheelrail.contact.pair import WheelRailPair
 from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M
-from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle
+from exudyn_wheelrail.profiles.profiles import WheelProfile
+from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle, load_vehicle_with_overrides
 from exudyn_wheelrail.scenarios.curve_setup import creep_step_limit_s
-from exudyn_wheelrail.scenarios.curving import CurvingCase, build_curving, curving_distances
+from exudyn_wheelrail.scenarios.curving import CurvingCase, build_curving, curving_distances, curving_scenario
 from exudyn_wheelrail.scenarios.defaults import LEAD_IN_M
 from exudyn_wheelrail.scenarios.scenario import (ScenarioError, apply_overrides, build_scenario, load_scenario,
                                                  run_model, scenario_summary, validate_scenario)
-from exudyn_wheelrail.simulation.exudyn_settings import run_solver_settings
 from exudyn_wheelrail.simulation.presets import PRESETS
-from exudyn_wheelrail.simulation.runner import run as run_runner
+from exudyn_wheelrail.track.rigid import Harmonic, IrregularitySum
 from exudyn_wheelrail.validation import InputWarning
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "scenarios"
@@ -124,36 +125,66 @@ def test_irregularity_under_the_vehicle_at_the_start_is_refused():
         build_scenario(scn)
 
 
-# ------------------------------------------------------------------------------ (b) the curving command's model
-def test_same_curve_as_the_curving_command_bit_for_bit():
-    """The scenario and build_curving build the same model in the same order (vehicle, connector with the
-    layout, place_on_rails, track-following frame, recorder, Assemble, frame.update(0)); run_model's warm-up
-    restores the contact's warm start, so the recorded Y and Q agree bit for bit."""
+# ------------------------------------------------------------------------------ (b) the curving command's spec
+def _tables(scn, *names):
+    return {k: scn[k] for k in names}
+
+
+def test_curving_front_end_fills_the_hand_written_curve():
+    """The spec the curving command fills for R = 1000 m, 100 mm, 100 km/h (validated) has the vehicle, start,
+    track, curve and contact of curve_r1000.toml, written by hand for that case, and its step; the run is longer
+    (until the whole vehicle is steady: curving_distances) and records no car-body points."""
     case = CurvingCase(VEHICLE, radius_m=1000.0, cant_m=0.1, speed_km_h=100.0)
-    duration = 0.5                                                     # leading wheelset 8.9 m into the transition
-    h = build_curving(case)
-    run = dataclasses.replace(h["run"]).with_duration(duration)
-    out = run_runner(h["mbs"], run, h["contact"], speed_m_s=case.speed_m_s, recorder=h["recorder"],
-                     exu_settings=run_solver_settings(run), user_function=h["frame"].update)
-    assert out.status.kind == "ok"
-    ref = h["recorder"].table()
-    preset = PRESETS[case.preset]
-    scn = _scn({"radius_m": case.radius_m, "cant_m": case.cant_m, "direction": case.direction},
-               vehicle={"name": VEHICLE, "speed_km_h": case.speed_km_h, "start_s_m": 0.0},
-               contact={**preset.contact, "friction": contact_defaults.FRICTION},
-               run={**preset.run, "duration_s": duration},
-               outputs={"carbody_points": [], "criteria": False, "plots": False})
-    sm = build_scenario(scn)
-    assert sm.run.dt_s == run.dt_s and sm.run.steps == run.steps
-    outcome = run_model(sm)
-    assert outcome.status.kind == "ok"
-    ts = sm.recorder.table()
-    cols = [c for c in ref if c.startswith(("Y_", "Q_"))]
-    assert len(cols) == 16
-    for c in cols:
-        assert np.array_equal(ts[c], ref[c]), c
-    assert np.array_equal(ts["yaw_w1_rad"], ref["yaw_w1_rad"])
-    assert np.max(np.abs(ts["curvature_w1_1_m"])) > 0.0                 # the leading wheelset is in the transition
+    ref = load_scenario(EXAMPLES / "curve_r1000.toml")
+    out = validate_scenario(curving_scenario(case))
+    assert _tables(out, "vehicle", "track", "layout", "contact") == _tables(ref, "vehicle", "track", "layout",
+                                                                             "contact")
+    assert {k: v for k, v in out["run"].items() if k != "duration_s"} == {
+        k: v for k, v in ref["run"].items() if k != "duration_s"}
+    dist = curving_distances(case, load_vehicle(VEHICLE))
+    assert out["run"]["duration_s"] == dist["duration_s"] > ref["run"]["duration_s"]
+    assert out["outputs"]["carbody_points"] == [] and not out["outputs"]["criteria"]["enabled"]
+    assert validate_scenario(out) == out
+
+
+@pytest.mark.parametrize("v_kmh, preset", [(12.0, "fast"), (100.0, "accurate")])
+def test_curving_front_end_step_is_the_preset_step_within_the_creep_limit(v_kmh, preset):
+    """The step the front end fills is the preset's, shortened to its largest whole fraction within the creep
+    limit: at 12 km/h the 1 ms of 'fast' the spec's own rule gives a curve without run.dt_s; 'accurate' keeps its
+    0.25 ms.  Contact settings and friction are the preset's and the case's."""
+    case = CurvingCase(VEHICLE, radius_m=1000.0, cant_m=0.1, speed_km_h=v_kmh, preset=preset, friction=0.3)
+    out = validate_scenario(curving_scenario(case))
+    dt = PRESETS[preset].run["dt_s"]
+    limit = creep_step_limit_s(load_vehicle(VEHICLE), v_kmh / 3.6)
+    assert out["run"]["dt_s"] == dt / math.ceil(dt / min(dt, limit)) <= limit
+    assert out["run"]["solver"] == PRESETS[preset].run["solver"]
+    assert {k: out["contact"][k] for k in PRESETS[preset].contact} == PRESETS[preset].contact
+    assert out["contact"]["friction"] == 0.3
+    if preset == "fast":
+        assert out["run"]["dt_s"] < dt
+        own = validate_scenario(_scn(vehicle={"name": VEHICLE, "speed_km_h": v_kmh},
+                                     run={"duration_s": 0.1, "solver": "rk44"}))
+        assert out["run"]["dt_s"] == own["run"]["dt_s"]
+
+
+def test_python_only_inputs_of_the_build():
+    """What the spec cannot hold goes to build_scenario by keyword: a pair object is the model's pair, an
+    irregularity is added after the spec's track components and is checked against the undisplaced start, a vehicle
+    object is built in place of the named one (its changed value in the model)."""
+    case = CurvingCase(VEHICLE, radius_m=1000.0, cant_m=0.1, speed_km_h=100.0)
+    scn = _scn(run={"duration_s": 0.01}, outputs={"carbody_points": [], "criteria": False, "plots": False})
+    pair = WheelRailPair(WheelProfile.cone(0.05), "UIC60", inclination="1/40")
+    late = Harmonic(amplitude_m=0.0, wavelength_m=25.0)               # zero everywhere: allowed at the start
+    h = build_scenario(scn, pair=pair, irregularity=late)
+    assert h.pair is pair and h.track.irregularity is late
+    two = build_scenario(_scn(track=[{"type": "harmonic", "amplitude_m": 0.0, "wavelength_m": 30.0}],
+                              run={"duration_s": 0.01}), irregularity=late)
+    assert isinstance(two.track.irregularity, IrregularitySum) and two.track.irregularity.components[-1] is late
+    with pytest.raises(ScenarioError, match=r"track: .*under a wheelset at t = 0"):
+        build_scenario(scn, irregularity=Harmonic(amplitude_m=0.002, wavelength_m=25.0))
+    heavy = load_vehicle_with_overrides(VEHICLE, {"car_body.mass_kg": 40000.0})
+    assert build_scenario(scn, vehicle=heavy).model.car_body.mass_kg == 40000.0
+    assert build_curving(dataclasses.replace(case, vehicle=heavy)).model.car_body.mass_kg == 40000.0
 
 
 # ------------------------------------------------------------------------------------- (c) a steady curve

@@ -79,22 +79,15 @@ def _check_curving(args) -> None:
 
 
 def cmd_curving(args):
-    from ..scenarios.curving import curving_distances, run_curving
-    from ..simulation.recorder import ProgressBar
+    from ..scenarios.curving import run_curving
     case = args.curving
     v = args.curving_vehicle
     print(f"curving: {v.name}, R = {case.radius_m:g} m {case.direction}, cant {case.cant_m * 1000:g} mm, "
           f"{case.speed_km_h:g} km/h, transition {case.transition_length_m:g} m")
     if case.irregularity is not None:
         print(f"irregularity: {case.irregularity!r}")
-    progress = None
-    stream = progress_bar(args)
-    if stream:
-        progress = ProgressBar(curving_distances(case, v)["duration_s"], stream=stream, label="curving: ")
-    result = run_curving(case, out_dir=args.out, progress=progress)
+    result = run_curving(case, out_dir=args.out, progress=progress_bar(args))
     s = result.summary
-    if progress is not None:
-        progress.close(s["status"])
     print(f"status: {s['status_text']}")
     print(f"a_nc = {s['unbalanced_lateral_acceleration_m_s2']:.3f} m/s^2, m a_nc = "
           f"{s['vehicle_mass_kg'] * s['unbalanced_lateral_acceleration_m_s2']:.0f} N")

@@ -11,6 +11,14 @@ static equilibrium on the rails at t = 0 and on the displaced track (:func:`~exu
 :func:`~exudyn_wheelrail.rolling_stock.train.build_train` (every car at its place in the model frame, the couplers), its
 wheelsets in the one connector, every car put on the rails and the track, the recorder's wheel columns numbering
 the train's wheelsets car after car and every car's car-body points suffixed ``_c<k>`` (:func:`train_probes`).
+
+Python-only inputs: the normal form holds plain values only, so what a Python caller has as an object goes to
+:func:`build_scenario` as a keyword argument — ``vehicle`` (a :class:`~exudyn_wheelrail.rolling_stock.vehicle_data.
+VehicleData` built in Python, e.g. with changed values, in place of the one the spec names, which is then a label
+only: :func:`~.spec.validate_scenario`), ``pair`` (a
+:class:`~exudyn_wheelrail.contact.WheelRailPair` in place of the vehicle's profiles) and ``irregularity`` (an
+:class:`~exudyn_wheelrail.track.rigid.Irregularity` of any kind, added to the spec's ``track`` components).  The
+``curving`` command's front end (:mod:`.curving`) passes them from its ``CurvingCase``.
 """
 from __future__ import annotations
 
@@ -53,8 +61,9 @@ __all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "build_layout",
 MODES_CUTOFF_MARGIN = 1.01
 
 
-def build_track(scn: dict):
-    """The :class:`~..track.rigid.RigidStraightTrack` of the scenario's ``track`` components."""
+def build_track(scn: dict, irregularity=None):
+    """The :class:`~..track.rigid.RigidStraightTrack` of the scenario's ``track`` components and, last, the
+    Python-only ``irregularity`` (an :class:`~..track.rigid.Irregularity`; None: none)."""
     parts = []
     for comp in scn["track"]:
         if comp["type"] == "span_deflection":
@@ -75,6 +84,8 @@ def build_track(scn: dict):
                                         rail=comp["rail"], direction=comp["direction"]))
         else:
             parts.append(SampledIrregularity.from_csv(comp["file"]))
+    if irregularity is not None:
+        parts.append(irregularity)
     if not parts:
         return RigidStraightTrack()
     return RigidStraightTrack(parts[0] if len(parts) == 1 else IrregularitySum(parts))
@@ -195,11 +206,13 @@ def _carbody_x(x, vehicle) -> float:
     return float(x)
 
 
-def build_scenario(scenario) -> ScenarioModel:
+def build_scenario(scenario, *, vehicle=None, pair=None, irregularity=None) -> ScenarioModel:
     """Build and assemble the Exudyn model of a scenario (path or dict): vehicle, track, bridge, contact,
-    recorder; not solved."""
-    scn, _ = as_scenario(scenario)
-    vehicle = vehicle_data(scn)
+    recorder; not solved.  The Python-only inputs (module docstring): ``vehicle`` — a VehicleData built in place of
+    the spec's vehicle (not with a train); ``pair`` — a WheelRailPair in place of the vehicle's profiles;
+    ``irregularity`` — an Irregularity added to the spec's track components."""
+    scn, _ = as_scenario(scenario, vehicle)
+    vehicle = vehicle_data(scn) if vehicle is None else vehicle
     run, coverage = scenario_run_settings(scn, vehicle)
     cs = ContactSettings(**{**scn["contact"], "fastsim_grid": tuple(scn["contact"]["fastsim_grid"])})
     V = scn["vehicle"]["speed_km_h"] / 3.6
@@ -218,13 +231,14 @@ def build_scenario(scenario) -> ScenarioModel:
     else:
         model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start,
                               wheel_rail="springs" if springs else "none")
-    pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
-                         inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
-    track = build_track(scn)
+    if pair is None:
+        pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
+                             inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
+    track = build_track(scn, irregularity)
     layout = build_layout(scn, run)
     if layout is not None:
         warn_creep_step(run, vehicle, V)
-    if layout is not None and scn["track"]:        # the vehicle starts in equilibrium on the undisplaced straight
+    if layout is not None and (scn["track"] or irregularity is not None):   # starts on the undisplaced straight
         try:
             check_start_undisplaced(track.irregularity, vehicle, s_lead0)
         except CurvingInputError as exc:

@@ -6,13 +6,27 @@ curving`.
 >>> result = run_curving(case, out_dir="out/curving")                                          # doctest: +SKIP
 >>> result.summary["sum_Y_N"], result.summary["status"]                                        # doctest: +SKIP
 
-The model: the vehicle of :func:`~exudyn_wheelrail.multibody.build_vehicle` (frame moving with V), the wheel–rail
-connector on the rails of the layout (:mod:`exudyn_wheelrail.track.layout`), the curve's terms on the bodies and
-the suspension elements (:class:`~exudyn_wheelrail.rolling_stock.track_following.TrackFollowingFrame`, updated before
-every step through the runner's ``user_function``), started in static equilibrium on the straight, solved by the
-one runner (:func:`~exudyn_wheelrail.simulation.runner.solve`, watched by the run monitor and the flange-climb
-check) with the ``fast`` preset's integrator (RK44, 1 ms, shortened where the creep damping of a slowly rolling
-wheelset needs it: :func:`creep_step_limit_s`) and contact geometry.
+The ``curving`` command is a front end of the scenario pipeline (:mod:`exudyn_wheelrail.scenarios.scenario`):
+:func:`curving_scenario` fills a scenario spec from the :class:`CurvingCase` — ``[vehicle]`` (leading wheelset at
+s = 0), ``[layout]`` (the curve, its transition starting :data:`LEAD_IN_M` ahead), ``[contact]`` and ``[run]`` from
+the case's preset (:data:`~exudyn_wheelrail.simulation.presets.PRESETS`: integrator, contact geometry, creep law;
+the preset's step, shortened where the creep damping of a slowly rolling wheelset needs it,
+:func:`creep_step_limit_s`; the duration of :func:`curving_distances`) and the friction, ``[outputs]`` (no car-body
+points, no criteria, no plots) — and :func:`build_curving` builds it with :func:`~.build.build_scenario` (the model
+of a scenario's ``[layout]``: the wheel–rail connector on the rails of the layout, the track-following frames
+updated before every step, started in static equilibrium on the straight); :func:`run_curving` runs it through the
+scenario pipeline's solve wrapper (:func:`~.run.run_model`), evaluates it with :func:`curving_summary` (this
+command's own evaluation: steady state and force balance, :mod:`exudyn_wheelrail.analysis.curving`) and writes it
+with the scenarios' writer (:func:`~.outputs.write_json`, :func:`~.outputs.write_csv`).  What the spec's plain
+values cannot hold goes to :func:`~.build.build_scenario` as its Python-only inputs: a vehicle given as
+:class:`~exudyn_wheelrail.rolling_stock.vehicle_data.VehicleData`, ``CurvingCase.wheel_rail_pair`` and
+``CurvingCase.irregularity``.
+
+Outputs: ``summary.json`` (:func:`curving_summary`; non-finite numbers as ``null``, as every summary the
+scenarios' writer writes) and ``timeseries.csv`` — every column the run records, in the recorder's order (time,
+leading wheelset's distance, Y, Q, Y/Q, flange contact, contact angle, wheelset lateral displacement, the track
+under the wheelsets, then the curve's columns: yaw relative to the track and curvature per wheelset), 10
+significant digits.
 
 Run length (:func:`curving_distances`): the leading wheelset starts :data:`LEAD_IN_M` before the transition; the
 run lasts until the trailing wheelset has run the settling distance ``max(SETTLE_M, SETTLE_S · V)`` into the
@@ -29,43 +43,37 @@ irregularity must vanish, with its slopes, under every wheelset at t = 0 (checke
 :func:`spectral_irregularity` generates one from a standard spectrum (:mod:`exudyn_wheelrail.track.spectra`) over
 the run's distance and fades it in (:class:`FadedIn`, a raised cosine) from the leading wheelset's start to the
 start of the circular curve, so the steady part runs over the full standard irregularity.  The steady values are
-then the means over the averaging window of the response to it.
+then the means over the averaging window of the response to it.  The irregularity reaches the build as an object
+(:func:`~.build.build_scenario`'s ``irregularity``), the command line's faded spectrum as any other: a scenario's
+``spectrum`` track component has no fade-in, so it is not written into the spec.
 """
 from __future__ import annotations
 
-import dataclasses
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import exudyn as exu
 import numpy as np
 
 from .. import contact_defaults
-from ..analysis.curving import curving_columns, minimum_radius_m, steady_state
-from ..contact.pair import WheelRailPair
-from ..multibody.connector import add_wheel_rail_contact, place_on_rails
-from ..rolling_stock.track_following import TrackFollowingFrame
-from ..rolling_stock.vehicle_builder import build_vehicle
+from ..analysis.curving import minimum_radius_m, steady_state
 from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
 from ..simulation import status as S
-from ..simulation.exudyn_settings import run_solver_settings
 from ..simulation.presets import PRESETS
-from ..simulation.recorder import Recorder, vehicle_probes
-from ..simulation.runner import run as run_model
 from ..simulation.settings import RunSettings
 from ..track.irregularities import ChannelTable
 from ..track.layout import MAX_CANT_M, MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
-from ..track.rigid import RigidStraightTrack
 from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
+from .build import ScenarioModel, build_scenario
 from .curve_setup import (CREEP_STEP_FACTOR, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
-                          check_start_undisplaced, creep_limited_step_s, creep_step_limit_s, entry_layout)
+                          check_start_undisplaced, creep_limited_step_s, creep_step_limit_s)
 from .defaults import DEFAULT_RAMP, LEAD_IN_M, default_transition_m
-from .run import run_events
+from .outputs import write_csv, write_json
+from .run import run_events, run_model
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
-           "build_curving", "run_curving", "LEAD_IN_M", "SETTLE_M", "SETTLE_S", "WINDOW_M", "WINDOW_S",
+           "curving_scenario", "build_curving", "run_curving", "CURVING_TIMESERIES", "LEAD_IN_M", "SETTLE_M",
+           "SETTLE_S", "WINDOW_M", "WINDOW_S",
            "MAX_TRANSITION_M", "MAX_SPEED_KM_H", "MIN_SPEED_KM_H", "MAX_RADIUS_M", "DEFAULT_RAMP", "CREEP_STEP_FACTOR",
            "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity",
            "irregularity_fade_m", "MIN_FADE_M", "START_TOLERANCE_M"]
@@ -245,63 +253,69 @@ def curving_distances(case: CurvingCase, vehicle) -> dict:
                 total_m=total, duration_s=total / V, window_start_s=(total - window) / V)
 
 
-def build_curving(case: CurvingCase, vehicle=None):
-    """The assembled model of a curving run: a dict of handles (``mbs``, ``model``, ``contact``, ``frame``,
-    ``layout``, ``recorder``, ``run``, ``settings``, ``solver_type``, ``distances``)."""
-    vehicle = check_curving_case(case, vehicle)
+#: the column groups of the curving run's time series (the recorder's, then the curve's), all written
+CURVING_TIMESERIES = ["Y", "Q", "YQ", "flange", "contact_angle", "wheelset_lateral", "track", "curving"]
+
+
+def _vehicle_entry(case: CurvingCase, vehicle) -> dict:
+    """The spec's vehicle reference: the case's name or file; for VehicleData (the build's Python-only ``vehicle``,
+    which the spec's checks judge) a label: the file it was read from, else its name."""
+    if isinstance(case.vehicle, VehicleData):
+        return {"file": str(vehicle.path)} if vehicle.path is not None else {"name": vehicle.name}
+    return {"file" if Path(str(case.vehicle)).suffix else "name": str(case.vehicle)}
+
+
+def curving_scenario(case: CurvingCase, vehicle=None) -> dict:
+    """The scenario spec (plain values, :func:`~.spec.validate_scenario`'s input) of a curving case: the module
+    docstring says what it fills.  ``vehicle``: the case's vehicle data (read if None)."""
+    vehicle = _vehicle(case) if vehicle is None else vehicle
     dist = curving_distances(case, vehicle)
-    V = case.speed_m_s
-    layout = entry_layout(case.radius_m, case.cant_m, dist["transition_m"], case.direction, LEAD_IN_M,
-                          dist["total_m"] + LAYOUT_MARGIN_M)
     preset = PRESETS[case.preset]
-    run = RunSettings(**preset.run)
-    dt = creep_limited_step_s(vehicle, V, run.dt_s)       # a whole fraction of the preset's step
-    run = dataclasses.replace(run, dt_s=dt).with_duration(dist["duration_s"])
-    geo = vehicle.geometry
-    s_start = -max(vehicle.wheelset_x_m())              # leading wheelset at s = 0 at t = 0
-    sc = exu.SystemContainer()
-    mbs = sc.AddSystem()
-    model = build_vehicle(mbs, vehicle, speed_m_s=V, s_start_m=s_start)
-    pair = case.wheel_rail_pair or WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
-                                                 inclination=geo.rail_inclination_tan,
-                                                 back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
-    contact_options = dict(preset.contact)
-    track = {}
-    if case.irregularity is not None:                  # zero under the wheelsets at t = 0 (check_curving_case)
-        track = dict(track=RigidStraightTrack(case.irregularity))
-    contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, s_start_m=s_start,
-                                     creep_law=contact_options.get("creep_law", "table"), mu=case.friction,
-                                     geometry=contact_options.get("geometry", "online"), layout=layout, **track)
-    place_on_rails(mbs, model, pair)
-    frame = TrackFollowingFrame(mbs, model, layout)
-    probes = vehicle_probes(model=model, contact=contact, track=contact.track, speed_m_s=V, s_leading0_m=0.0)
-    probes += curving_columns(model, layout)
-    recorder = Recorder(probes, n_rows_hint=run.steps // run.record_every + 2)
-    mbs.Assemble()
-    frame.update(mbs, 0.0)
-    settings, solver_type = run_solver_settings(run)
-    return dict(mbs=mbs, system_container=sc, model=model, contact=contact, frame=frame, layout=layout,
-                recorder=recorder, run=run, settings=settings, solver_type=solver_type, distances=dist, pair=pair,
-                vehicle=vehicle)
+    layout = {"radius_m": float(case.radius_m), "cant_m": float(case.cant_m), "direction": case.direction,
+              "start_m": LEAD_IN_M}
+    if case.transition_m is not None:
+        layout["transition_m"] = float(case.transition_m)
+    return {"schema_version": 2,
+            "scenario": {"name": "curving", "description": f"steady curving: {vehicle.name}, R = {case.radius_m:g} m "
+                                                           f"{case.direction}, cant {case.cant_m:g} m, "
+                                                           f"{case.speed_km_h:g} km/h"},
+            "vehicle": {**_vehicle_entry(case, vehicle), "speed_km_h": float(case.speed_km_h), "start_s_m": 0.0},
+            "layout": layout,
+            "contact": {**preset.contact, "friction": float(case.friction)},
+            "run": {**preset.run, "dt_s": creep_limited_step_s(vehicle, case.speed_m_s, RunSettings(**preset.run).dt_s),
+                    "duration_s": dist["duration_s"]},
+            "outputs": {"timeseries": list(CURVING_TIMESERIES), "carbody_points": [], "criteria": False,
+                        "plots": False, "formats": ["csv"]}}
+
+
+def build_curving(case: CurvingCase, vehicle=None) -> ScenarioModel:
+    """The assembled model of a curving run (checked first, :func:`check_curving_case`): the
+    :class:`~.build.ScenarioModel` of :func:`curving_scenario`, with the case's Python-only inputs."""
+    vehicle = check_curving_case(case, vehicle)
+    return build_scenario(curving_scenario(case, vehicle),
+                          vehicle=vehicle if isinstance(case.vehicle, VehicleData) else None,
+                          pair=case.wheel_rail_pair, irregularity=case.irregularity)
 
 
 def run_curving(case: CurvingCase, out_dir=None, progress=None) -> CurvingResult:
-    """Build, run and reduce a curving case; with ``out_dir`` write ``summary.json`` and ``timeseries.csv``."""
+    """Build, run and reduce a curving case; with ``out_dir`` write ``summary.json`` and ``timeseries.csv``.
+    ``progress``: None or False — none; True or a stream — the bar of :func:`~.run.run_model`."""
     h = build_curving(case)
-    outcome = run_model(h["mbs"], h["run"], h["contact"], speed_m_s=case.speed_m_s, recorder=h["recorder"],
-                        progress=progress, exu_settings=(h["settings"], h["solver_type"]),
-                        user_function=h["frame"].update)
-    ts = h["recorder"].table()
-    status = outcome.status
-    summary = curving_summary(case, h, ts, status, outcome)
-    result = CurvingResult(summary=summary, timeseries=ts, outcome=outcome)
+    outcome = run_model(h, progress=progress or False, label="curving: ")
+    ts = h.recorder.table()
+    result = CurvingResult(summary=curving_summary(case, h, ts, outcome), timeseries=ts, outcome=outcome)
     if out_dir is not None:
         write_outputs(result, out_dir)
     return result
 
 
-def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> dict:
-    vehicle, model, layout, dist = h["vehicle"], h["model"], h["layout"], h["distances"]
+def curving_summary(case: CurvingCase, h: ScenarioModel, ts: dict, outcome) -> dict:
+    """The curving run's ``summary.json``: the case, the curve's quantities, the run's status, and for a run that
+    reached its end the steady state and the force balance (:func:`~exudyn_wheelrail.analysis.curving.
+    steady_state`) over the steady part."""
+    vehicle, model, layout = h.vehicle, h.model, h.layout
+    dist = curving_distances(case, vehicle)
+    status = outcome.status
     g = model.gravity_m_s2
     V = case.speed_m_s
     s_curve = LEAD_IN_M + dist["transition_m"] + 1.0
@@ -316,14 +330,14 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
                "cant_angle_rad": curve["cant_angle_rad"],
                "unbalanced_lateral_acceleration_m_s2": a_nc,
                "balance_speed_km_h": curve["balance_speed_km_h"],
-               "distances_m": dist, "solver": h["run"].solver, "dt_s": h["run"].dt_s,
+               "distances_m": dist, "solver": h.run.solver, "dt_s": h.run.dt_s,
                "solve_seconds": outcome.solve_seconds, "t_end_s": outcome.t_end_s}
     if case.irregularity is not None:
         irr = case.irregularity
         summary["irregularity"] = {"description": repr(irr), "seed": getattr(irr, "seed", None)}
         if isinstance(irr, FadedIn):
             summary["irregularity"]["faded_in_m"] = [irr.s_from_m, irr.s_to_m]
-    ok = status.kind == S.OK and outcome.t_end_s >= dist["duration_s"] - 2 * h["run"].dt_s
+    ok = status.kind == S.OK and outcome.t_end_s >= dist["duration_s"] - 2 * h.run.dt_s
     if ok:
         st = steady_state(ts, model, layout, t_from_s=dist["window_start_s"], speed_m_s=V, gravity_m_s2=g,
                           a_nc_m_s2=a_nc)
@@ -364,25 +378,8 @@ def curving_summary(case: CurvingCase, h: dict, ts: dict, status, outcome) -> di
 
 
 def write_outputs(result: CurvingResult, out_dir) -> None:
+    """``summary.json`` and ``timeseries.csv`` (every recorded column) into ``out_dir``, by the scenarios' writer."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "summary.json", "w") as f:
-        json.dump(_jsonable(result.summary), f, indent=2)
-    ts = result.timeseries
-    names = list(ts)
-    data = np.column_stack([ts[n] for n in names]) if names else np.zeros((0, 0))
-    np.savetxt(out / "timeseries.csv", data, delimiter=",", header=",".join(names), comments="", fmt="%.9g")
-
-
-def _jsonable(x):
-    if isinstance(x, dict):
-        return {k: _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return _jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        return float(x) if math.isfinite(x) else None
-    if isinstance(x, np.integer):
-        return int(x)
-    return x
+    write_json(out / "summary.json", result.summary)
+    write_csv(out / "timeseries.csv", result.timeseries)

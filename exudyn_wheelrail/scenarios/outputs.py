@@ -1,8 +1,13 @@
-r"""Writing a scenario's results: the time series (CSV, NPZ), ``summary.json`` and the plots (:mod:`.plots`)."""
+r"""Writing a scenario's results: the time series (CSV, NPZ), ``summary.json`` and the plots (:mod:`.plots`).
+
+:func:`write_csv` and :func:`write_json` are the package's one writer of time series and summaries (the scenarios,
+``rtri``, ``bridge-crossing``, ``curving``): CSV with 10 significant digits, JSON indented by 2 with every
+non-finite number (NaN, ±inf) written as ``null`` — valid JSON for any reader (:func:`finite_or_none`)."""
 from __future__ import annotations
 
 import csv
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +15,7 @@ import numpy as np
 from .plots import FIGURES, save_group_figure
 from .result import ScenarioResult
 
-__all__ = ["jsonable", "write_scenario_outputs", "write_csv", "write_json"]
+__all__ = ["jsonable", "finite_or_none", "write_scenario_outputs", "write_csv", "write_json"]
 
 
 def jsonable(o):
@@ -66,7 +71,22 @@ def write_csv(path, ts: dict) -> None:
                 w.writerow([f"{v:.10g}" for v in row])
 
 
+def finite_or_none(o):
+    """``o`` (dicts, lists, tuples, arrays, numbers) with every non-finite float (NaN, ±inf) replaced by None, the
+    containers copied, everything else as it is."""
+    if isinstance(o, dict):
+        return {k: finite_or_none(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [finite_or_none(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return finite_or_none(o.tolist())
+    if isinstance(o, (float, np.floating)) and not math.isfinite(o):
+        return None
+    return o
+
+
 def write_json(path, data: dict) -> None:
+    """``data`` as JSON, indented by 2, non-finite numbers as ``null`` (:func:`finite_or_none`)."""
     with open(path, "w") as fh:
-        json.dump(data, fh, indent=2, allow_nan=True, default=jsonable)
+        json.dump(finite_or_none(data), fh, indent=2, allow_nan=False, default=lambda o: finite_or_none(jsonable(o)))
 

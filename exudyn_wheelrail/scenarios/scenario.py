@@ -15,13 +15,20 @@ out as a curve (a ``[layout]``: the connector's ``layout=`` and the track-follow
 with an optional lateral support motion, the vehicle in static equilibrium on the rails at t = 0
 (:func:`~exudyn_wheelrail.multibody.place_on_rails`) — and the recorder; :func:`run_scenario` runs it through the
 one solve wrapper (:func:`exudyn_wheelrail.simulation.runner.run`: watched by the run monitor, a status of
-:mod:`exudyn_wheelrail.simulation.status`) and evaluates it.  The RTRI case (:mod:`.rtri`) is such a spec.
+:mod:`exudyn_wheelrail.simulation.status`) and evaluates it.  The RTRI case (:mod:`.rtri`) is such a spec, and so
+is the ``curving`` command's run (:mod:`.curving`: a spec with a ``[layout]`` filled from its case, built by
+:func:`build_scenario`, run by :func:`run_model`, written by :func:`write_json` / :func:`write_csv`; its own part is
+the steady-state evaluation).  What a Python caller holds as an object — a vehicle's data, a wheel–rail pair, an
+irregularity of any kind — goes to :func:`build_scenario` as a keyword argument (its Python-only inputs,
+:mod:`.build`), not into the spec.
 
 The modules, one job each (this module is the public import path: it re-exports their public names):
 :mod:`.spec` — the schema's constants, the loader and the validation (``[layout]``: :mod:`.spec_layout`);
 :mod:`.overrides` — the dotted-key overrides; :mod:`.build` — spec → Exudyn model; :mod:`.deck` — the flexible deck's support motion, recorded
 columns and summary; :mod:`.run` — the run and its summary (peaks, scalars, criteria, notes); :mod:`.result` —
-the result of a run (:class:`ScenarioResult`); :mod:`.outputs` and :mod:`.plots` — the files and the figures.
+the result of a run (:class:`ScenarioResult`); :mod:`.outputs` and :mod:`.plots` — the files (the package's one
+writer of time series and summaries: CSV with 10 significant digits, JSON with non-finite numbers as ``null``) and
+the figures.
 
 Schema (``schema_version = 2``)
 ===============================

@@ -195,9 +195,12 @@ def _from_v1(data: dict) -> dict:
     return out
 
 
-def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default_name: str = "scenario") -> dict:
+def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default_name: str = "scenario",
+                      vehicle=None) -> dict:
     """Validate a scenario (as read from TOML, or a normalised scenario) and return its normal form: defaults
-    filled in, file paths absolute (relative ones against ``base_dir``), plain Python values only."""
+    filled in, file paths absolute (relative ones against ``base_dir``), plain Python values only.  ``vehicle``: the
+    VehicleData a Python caller builds in place of the named vehicle (:func:`~.build.build_scenario`'s Python-only
+    input): the checks judge it and ``vehicle.name`` / ``vehicle.file`` is not read (a label of it)."""
     c = _Check(source, Path(base_dir) if base_dir is not None else None)
     c.table(data, "", required=("schema_version", "vehicle"),
             optional=("scenario", "track", "layout", "structure", "flexible_track", "contact", "run", "outputs"))
@@ -213,7 +216,7 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     out["scenario"] = {"name": c.string(sc.get("name", default_name), "scenario.name"),
                        "description": c.string(sc.get("description", ""), "scenario.description")}
     # ----------------------------------------------------------------------------------------- [vehicle]
-    out["vehicle"], vehicle = _vehicle(c, data["vehicle"])
+    out["vehicle"], vehicle = _vehicle(c, data["vehicle"], vehicle)
     # ------------------------------------------------------------------------------------------- [track]
     track = c.array(data.get("track", []), "track")
     out["track"] = [_track_component(c, comp, f"track.{i}") for i, comp in enumerate(track)]
@@ -272,15 +275,18 @@ def _flat_overrides(value, prefix: str = "") -> dict:
     return out
 
 
-def _vehicle(c: _Check, vt) -> tuple[dict, object]:
+def _vehicle(c: _Check, vt, given=None) -> tuple[dict, object]:
     """``[vehicle]``: one vehicle (``name`` or ``file``) or a train (``consist``: a shipped consist name of
     ``vehicles/trains/`` or a consist file, :mod:`exudyn_wheelrail.rolling_stock.train`; ``start_s_m`` is then the track
     distance of the train's leading wheelset; no ``overrides``).  Returns the normal form and the vehicle data the
-    output checks judge (for a train: its first car without a car body, else its first car)."""
+    output checks judge (for a train: its first car without a car body, else its first car; ``given``: the Python
+    caller's vehicle data, the reference not read)."""
     c.table(vt, "vehicle", required=("speed_km_h",), optional=("name", "file", "consist", "start_s_m", "overrides"))
     if sum(k in vt for k in ("name", "file", "consist")) != 1:
         raise c.error("vehicle", "give exactly one of vehicle.name (a shipped vehicle), vehicle.file (a vehicle "
                                  "data file) or vehicle.consist (a train: a shipped consist or a consist file)")
+    if "consist" in vt and given is not None:
+        raise c.error("vehicle.consist", "a vehicle's data given in place of a train: give vehicle.name or file")
     if "consist" in vt:
         from ..rolling_stock.train import ConsistError, load_consist
         ref = c.string(vt["consist"], "vehicle.consist")
@@ -302,14 +308,15 @@ def _vehicle(c: _Check, vt) -> tuple[dict, object]:
         key, ref = "vehicle.name", c.string(vt["name"], "vehicle.name")
         out = {"name": ref}
     else:
-        key, ref = "vehicle.file", c.path(vt["file"], "vehicle.file")
+        key = "vehicle.file"
+        ref = c.path(vt["file"], key) if given is None else c.string(vt["file"], key)
         out = {"file": ref}
     overrides = vt.get("overrides", {})
     if not isinstance(overrides, dict):
         raise c.error("vehicle.overrides", f"expected a table {{\"table.key\" = value}}, got {overrides!r}")
     overrides = _flat_overrides(overrides)
     try:
-        vehicle = load_vehicle_with_overrides(ref, overrides or None)
+        vehicle = given if given is not None else load_vehicle_with_overrides(ref, overrides or None)
     except ValueError as exc:
         raise c.error("vehicle.overrides" if overrides and "override" in str(exc) else key, str(exc)) from None
     out.update({"speed_km_h": c.number(vt["speed_km_h"], "vehicle.speed_km_h", lo=0.0, hi=600.0),
@@ -557,10 +564,12 @@ def features_end_m(scn: dict) -> float | None:
     return max(ends) if ends else None
 
 
-def as_scenario(scenario) -> tuple[dict, str | None]:
-    """The normal form of a scenario file path or dict, and the resolved file path (None for a dict)."""
+def as_scenario(scenario, vehicle=None) -> tuple[dict, str | None]:
+    """The normal form of a scenario file path or dict, and the resolved file path (None for a dict); ``vehicle``
+    as :func:`validate_scenario`."""
     if isinstance(scenario, (str, Path)):
-        return load_scenario(scenario), str(Path(scenario).resolve())
+        scn, source = load_scenario(scenario), str(Path(scenario).resolve())
+        return (scn if vehicle is None else validate_scenario(scn, source, vehicle=vehicle)), source
     if isinstance(scenario, dict):
-        return validate_scenario(scenario), None
+        return validate_scenario(scenario, vehicle=vehicle), None
     raise TypeError(f"scenario: expected a file path or a scenario dict, got {type(scenario).__name__}")
