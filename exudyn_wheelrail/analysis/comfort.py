@@ -2,7 +2,7 @@ r"""Ride comfort of a recorded run: car-body accelerations filtered as EN 14363 
 and Sperling's ride index Wz — plus the signal helpers that :mod:`exudyn_wheelrail.analysis.safety` shares
 (input checks, zero-phase Butterworth filters, sliding means over a distance window).
 
-Time series in, numbers out: plain numpy/scipy, SI units (accelerations in m/s², times in s, distances in m,
+Time series in, numbers out: plain numpy, SI units (accelerations in m/s², times in s, distances in m,
 speeds in m/s, frequencies in Hz).  Every signal is sampled at one uniform time step ``dt_s``; the running speed
 ``speed_m_s`` (constant) converts distance windows to time windows.  Bad input raises ``ValueError`` with the
 name of the offending argument: NaN/inf in a signal, signals of different lengths, a non-uniform time axis
@@ -11,20 +11,20 @@ a record shorter than a window or than the filter's edge padding.
 
 Filters (:func:`lowpass`, :func:`bandpass`)
 -------------------------------------------
-Butterworth filters from ``scipy.signal.butter`` (second-order sections; the corner frequencies are pre-warped, so
-the digital filter has the analogue Butterworth magnitude at the warped frequency Ω = 2 f_s tan(π f / f_s)), run
-**forward and backward** (``scipy.signal.sosfiltfilt``): zero phase — a peak stays where it is — and the amplitude
+Digital Butterworth filters (:mod:`.filters`: second-order sections; the corner frequencies are pre-warped, so the
+digital filter has the analogue Butterworth magnitude at the warped frequency Ω = 2 f_s tan(π f / f_s)), run
+**forward and backward** (:func:`~.filters.zero_phase`): zero phase — a peak stays where it is — and the amplitude
 gain is the *square* of the single-pass Butterworth magnitude,
 
 * low-pass of order n, corner f_c:   G(f) = 1 / (1 + (Ω/Ω_c)^(2n)),
-* band-pass of order n (``butter(n, [f_1, f_2], "bandpass")``, a filter of order 2n),
+* band-pass of order n (a filter of order 2n),
   Ω_0² = Ω_1 Ω_2, B = Ω_2 − Ω_1:   G(f) = 1 / (1 + ((Ω² − Ω_0²) / (Ω B))^(2n)),
 
 so G = 1/2 (−6 dB) at the corners and the roll-off is that of order 2n.  ``tests/test_safety_comfort.py`` checks
 both formulas on steady sines.  The default order n = 4 is an **assumption**: the filter *types and corner
 frequencies* below are those tabulated for EN 14363 / UIC 518 evaluations, but the standard's text on the filter
-order and phase was not available to us.  Edge transients: ``sosfiltfilt`` pads the record by an odd extension of
-a few samples; the first and last ~1/f_low seconds of a band-passed record carry the high-pass transient.
+order and phase was not available to us.  Edge transients: the filter pads the record by an odd extension of
+a few samples (:func:`~.filters.edge_padding`); the first and last ~1/f_low seconds of a band-passed record carry the high-pass transient.
 
 EN 14363 quantities (:func:`carbody_acceleration_en14363`)
 -----------------------------------------------------------
@@ -71,7 +71,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import signal
+
+from .filters import butterworth_sections, edge_padding, zero_phase
 
 __all__ = [
     "EN14363_CARBODY_BAND_HZ",
@@ -205,10 +206,10 @@ def sliding_rms(x, n: int) -> np.ndarray:
 
 # ============================================================================================ filters
 def _filtfilt(sos: np.ndarray, x: np.ndarray, name: str) -> np.ndarray:
-    padlen = 3 * (2 * len(sos) + 1 - min(int((sos[:, 2] == 0).sum()), int((sos[:, 5] == 0).sum())))
+    padlen = edge_padding(sos)
     if x.size <= padlen:
         raise ValueError(f"{name}: {x.size} samples are too few for the zero-phase filter (more than {padlen} needed)")
-    return signal.sosfiltfilt(sos, x)
+    return zero_phase(sos, x)
 
 
 def lowpass(x, dt_s: float, cutoff_hz: float, order: int = DEFAULT_FILTER_ORDER, name: str = "signal") -> np.ndarray:
@@ -219,13 +220,13 @@ def lowpass(x, dt_s: float, cutoff_hz: float, order: int = DEFAULT_FILTER_ORDER,
     fc = check_positive(cutoff_hz, "cutoff_hz")
     if fc >= 0.5 * fs:
         raise ValueError(f"cutoff_hz = {fc} Hz is not below the Nyquist frequency {0.5 * fs} Hz (dt = {dt_s} s)")
-    sos = signal.butter(int(order), fc, btype="lowpass", fs=fs, output="sos")
+    sos = butterworth_sections(int(order), fc, fs, "lowpass")
     return _filtfilt(sos, a, name)
 
 
 def bandpass(x, dt_s: float, low_hz: float, high_hz: float, order: int = DEFAULT_FILTER_ORDER,
              name: str = "signal") -> np.ndarray:
-    """Zero-phase Butterworth band-pass (``butter(order, [low, high], "bandpass")``, forward-backward; gain
+    """Zero-phase Butterworth band-pass (order ``order`` per pass, a filter of order 2 ``order``, forward-backward; gain
     1/(1 + ((Ω² − Ω_0²)/(Ω B))^(2n)), module doc).  Needs 0 < low < high < Nyquist."""
     a = as_signal(x, name)
     fs = 1.0 / check_positive(dt_s, "dt_s")
@@ -235,7 +236,7 @@ def bandpass(x, dt_s: float, low_hz: float, high_hz: float, order: int = DEFAULT
         raise ValueError(f"band {f1}–{f2} Hz: expected low_hz < high_hz")
     if f2 >= 0.5 * fs:
         raise ValueError(f"high_hz = {f2} Hz is not below the Nyquist frequency {0.5 * fs} Hz (dt = {dt_s} s)")
-    sos = signal.butter(int(order), [f1, f2], btype="bandpass", fs=fs, output="sos")
+    sos = butterworth_sections(int(order), (f1, f2), fs, "bandpass")
     return _filtfilt(sos, a, name)
 
 
