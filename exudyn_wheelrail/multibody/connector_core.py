@@ -373,30 +373,38 @@ def contact_geometry(q, model, state, work, table, residual):
     ``table`` the geometry table's arrays (``model[MODEL_GEOMETRY][GEO_TABLE]``;
     :func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`) and ``residual`` the structure's
     residual flexibility table (the deck arrays' ``node_residual``) in series with the contacts.  Either may be
-    ``None``: then numba compiles none of its code (a branch on a ``None`` argument is dropped by its type), so a
-    run on the rigid track with the online search compiles neither the table nor the series solve.  (The kernel
-    is called from here, not through a wrapper: every layer of compiled functions generates the machine code of
-    all it calls once more.)"""
+    ``None``: then numba compiles none of its code, so a run on the rigid track with the online search compiles
+    neither the table nor the series solve.  numba drops a branch by the type of a ``None`` argument only where the
+    branch is the ``if`` or the ``else`` of that test: code after an early ``return`` is compiled, hence the
+    if/else here.  (The geometry itself, :func:`_wheel_geometry`, is inlined, not called: every layer of compiled
+    functions generates the machine code of all it calls once more.)"""
+    if residual is None:                 # an if/else on the argument's type: the other branch is not compiled
+        _wheel_geometry(model, state, table)
+    else:
+        _predict_residual(q, model, state, work)
+        for attempt in range(2):
+            _wheel_geometry(model, state, table)
+            # a solve that moves its rails further than the geometry's linearization is trusted: move them there
+            # and find the geometry again (once)
+            if attempt == 1 or not series_compliance(state, work, False):
+                break
+            _move_rails(q, model, state, work)
+        series_compliance(state, work, True)
+
+
+@compiled(inline="always")
+def _wheel_geometry(model, state, table):
+    """The contact geometry and Hertz of every wheel at the poses of ``state``: the online search, or the geometry
+    table ``table`` (not None)."""
     nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
     poses, warm, out, stats = state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS]
-    if residual is not None:
-        _predict_residual(q, model, state, work)
-    for attempt in range(2):
-        if table is None:
-            K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
-            GT.count_fallback(out, stats)
-        else:
-            table_par, table_cz_ref, table_data = table
-            GT.evaluate_wheels_tabulated(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses,
-                                         warm, params, out, stats, scan)
-        if residual is None:
-            return
-        # a solve that moves its rails further than the geometry's linearization is trusted: move them there and
-        # find the geometry again (once)
-        if attempt == 1 or not series_compliance(state, work, False):
-            break
-        _move_rails(q, model, state, work)
-    series_compliance(state, work, True)
+    if table is None:
+        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
+        GT.count_fallback(out, stats)
+    else:
+        table_par, table_cz_ref, table_data = table
+        GT.evaluate_wheels_tabulated(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses,
+                                     warm, params, out, stats, scan)
 
 
 #: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of
