@@ -24,10 +24,11 @@ from exudyn_wheelrail.analysis.filters import (butterworth_sections, edge_paddin
 
 EPS = np.finfo(float).eps
 #: (kind, corners Hz, sampling Hz): the package's uses (EN 14363's 0.4-10 Hz band on car-body records, the 20 Hz force
-#: low-pass at 1 ms and 0.5 ms) and corners near the ends of the range (0.4 f_s; the band's lower corner at 1e-4 f_s)
+#: low-pass at 1 ms and 0.5 ms), corners near the ends of the range (0.4 f_s; the band's lower corner at 1e-4 f_s)
+#: and narrow bands (B/2 < Ω_0: an odd order's real prototype pole gives a complex pair, not two real poles)
 CASES = [("bandpass", (0.4, 10.0), 1000.0), ("bandpass", (0.4, 10.0), 2000.0), ("bandpass", (0.5, 40.0), 100.0),
-         ("bandpass", (2.0, 30.0), 200.0), ("lowpass", 20.0, 1000.0), ("lowpass", 20.0, 2000.0),
-         ("lowpass", 40.0, 100.0)]
+         ("bandpass", (2.0, 30.0), 200.0), ("bandpass", (4.0, 8.0), 100.0), ("bandpass", (0.4, 1.0), 1000.0),
+         ("lowpass", 20.0, 1000.0), ("lowpass", 20.0, 2000.0), ("lowpass", 40.0, 100.0)]
 ORDERS = (1, 2, 3, 4, 5, 7)
 
 
@@ -79,7 +80,8 @@ def test_design_and_filter_agree_with_scipy_within_the_coefficients_rounding(cas
     assert sos.shape == ref.shape
     w = np.linspace(1e-3, np.pi - 1e-3, 400)
     h, (_, h_ref) = sections_response(sos, w), signal.sosfreqz(ref, worN=w)
-    assert np.max(np.abs(h - h_ref)) <= 1e-9 * np.max(np.abs(h_ref))
+    allowance = _rounding_allowance(lambda c: sections_response(c, w), sos)
+    assert np.max(np.abs(h - h_ref)) <= 4.0 * allowance + 16 * EPS * np.max(np.abs(h_ref))
     x = 3.0 + np.random.default_rng(order).standard_normal(3000)
     allowance = _rounding_allowance(lambda c: zero_phase(c, x), sos)
     assert np.max(np.abs(zero_phase(sos, x) - signal.sosfiltfilt(ref, x))) <= 4.0 * allowance + 16 * EPS * 3.0
@@ -89,10 +91,13 @@ def test_design_and_filter_agree_with_scipy_within_the_coefficients_rounding(cas
 def test_a_level_signal_passes_the_low_pass_and_not_the_band_pass(case):
     kind, corners, fs = case
     sos = butterworth_sections(4, corners, fs, kind)
-    y = zero_phase(sos, np.full(500, 2.5))
+    level = np.full(500, 2.5)
+    y = zero_phase(sos, level)
     expected = 2.5 if kind == "lowpass" else 0.0
-    # started in its steady state: no transient, only rounding (the DC gain is a product of 4 sections' quotients)
-    assert np.max(np.abs(y - expected)) <= 1e-12 * 2.5
+    # started in its steady state: no transient, only the rounding of the coefficients (the DC gain is a product of
+    # the sections' quotients) and of the recursion
+    allowance = _rounding_allowance(lambda c: zero_phase(c, level), sos)
+    assert np.max(np.abs(y - expected)) <= 4.0 * allowance + 64 * EPS * 2.5
 
 
 def test_zero_phase_keeps_a_symmetric_pulse_symmetric():

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.analysis.curving import STEADY_A_MIN_M_S2, STEADY_TOLERANCE, carried_mass_kg, steady_state
+from exudyn_wheelrail.analysis.curving import STEADY_A_MIN_M_S2, STEADY_TOLERANCE, steady_state
 from exudyn_wheelrail.contact.pair import WheelRailPair
 from exudyn_wheelrail.conventions import RAIL_CENTRE_DISTANCE_M
 from exudyn_wheelrail.profiles.profiles import WheelProfile
@@ -185,12 +185,16 @@ def test_python_only_inputs_of_the_build():
     heavy = load_vehicle_with_overrides(VEHICLE, {"car_body.mass_kg": 40000.0})
     assert build_scenario(scn, vehicle=heavy).model.car_body.mass_kg == 40000.0
     assert build_curving(dataclasses.replace(case, vehicle=heavy)).model.car_body.mass_kg == 40000.0
+    # the spec's overrides are not applied to a vehicle given as data: refused, naming the key
+    with pytest.raises(ScenarioError, match=r"vehicle\.overrides: not applied to a vehicle given"):
+        build_scenario({**scn, "vehicle": {**scn["vehicle"], "overrides": {"car_body.mass_kg": 30000.0}}},
+                       vehicle=heavy)
 
 
 # ------------------------------------------------------------------------------------- (c) a steady curve
 def test_steady_curve_balances_the_unbalanced_lateral_acceleration():
     """curve_r1000.toml run as long as the curving command runs that curve: ΣΣY over the steady window balances
-    the carried mass times a_nc (from the closed form) within twice STEADY_TOLERANCE of the force balance's scale
+    the vehicle's mass times a_nc (from the closed form) within twice STEADY_TOLERANCE of the force balance's scale
     (the curving module's 2 % target), and the run is steady by its drift criterion."""
     case = CurvingCase(VEHICLE, radius_m=1000.0, cant_m=0.1, speed_km_h=100.0)
     dist = curving_distances(case, load_vehicle(VEHICLE))
@@ -207,7 +211,8 @@ def test_steady_curve_balances_the_unbalanced_lateral_acceleration():
     assert lay["unbalanced_lateral_acceleration_m_s2"] == pytest.approx(a_nc, rel=1e-12)
     assert lay["cant_angle_rad"] == phi
     assert lay["balance_speed_km_h"] == pytest.approx(math.sqrt(g * math.tan(phi) * 1000.0) * 3.6, rel=1e-12)
-    m = carried_mass_kg(h.model, g)
+    m = load_vehicle(VEHICLE).total_mass_kg                         # the vehicle file's bodies (a car)
+    assert lay["vehicle_mass_kg"] == m
     assert lay["m_a_nc_N"] == pytest.approx(m * a_nc, rel=1e-12)
     st = steady_state(result.timeseries, h.model, h.layout, t_from_s=dist["window_start_s"], speed_m_s=V,
                       gravity_m_s2=g, a_nc_m_s2=a_nc)

@@ -220,7 +220,7 @@ def lowpass(x, dt_s: float, cutoff_hz: float, order: int = DEFAULT_FILTER_ORDER,
     fc = check_positive(cutoff_hz, "cutoff_hz")
     if fc >= 0.5 * fs:
         raise ValueError(f"cutoff_hz = {fc} Hz is not below the Nyquist frequency {0.5 * fs} Hz (dt = {dt_s} s)")
-    sos = butterworth_sections(int(order), fc, fs, "lowpass")
+    sos = butterworth_sections(order, fc, fs, "lowpass")
     return _filtfilt(sos, a, name)
 
 
@@ -236,7 +236,7 @@ def bandpass(x, dt_s: float, low_hz: float, high_hz: float, order: int = DEFAULT
         raise ValueError(f"band {f1}–{f2} Hz: expected low_hz < high_hz")
     if f2 >= 0.5 * fs:
         raise ValueError(f"high_hz = {f2} Hz is not below the Nyquist frequency {0.5 * fs} Hz (dt = {dt_s} s)")
-    sos = butterworth_sections(int(order), (f1, f2), fs, "bandpass")
+    sos = butterworth_sections(order, (f1, f2), fs, "bandpass")
     return _filtfilt(sos, a, name)
 
 

@@ -4,7 +4,6 @@ figure (:func:`plot_speed_sweep`)."""
 from __future__ import annotations
 
 import csv
-import json
 import time
 from concurrent.futures import as_completed
 from dataclasses import dataclass, field, replace
@@ -17,7 +16,7 @@ from .bridge_crossing_case import BridgeCrossing, positive_number
 from .bridge_crossing_loads import resolve_load_model
 from .bridge_crossing_run import run_bridge_crossing
 from .deck import EN1990_DECK_ACCELERATION_LIMITS_M_S2
-from .outputs import jsonable
+from .outputs import write_json
 from .plots import pyplot
 from .sweep import resolve_executor
 
@@ -118,9 +117,8 @@ def _write_sweep(result: SpeedSweepResult, out: Path) -> dict:
         for i in range(len(t["case"])):
             w.writerow(["" if t[c][i] is None else (repr(t[c][i]) if isinstance(t[c][i], float) else t[c][i])
                         for c in t])
-    with open(paths["json"], "w") as fh:
-        json.dump({"case": result.case.as_dict(), "resonance_speeds": result.resonance_speeds,
-                   "wall_seconds": result.wall_seconds, "table": t}, fh, indent=1, allow_nan=True, default=jsonable)
+    write_json(paths["json"], {"case": result.case.as_dict(), "resonance_speeds": result.resonance_speeds,
+                               "wall_seconds": result.wall_seconds, "table": t}, indent=1)
     plot_speed_sweep(result, paths["plot"])
     return {k: str(v) for k, v in paths.items()}
 

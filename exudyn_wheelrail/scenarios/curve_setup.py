@@ -16,8 +16,8 @@ from ..track.irregularities import CHANNELS, channel_values
 from ..track.layout import TrackLayout
 from ..track.rigid import Irregularity
 
-__all__ = ["CurvingInputError", "CREEP_STEP_FACTOR", "LAYOUT_MARGIN_M", "START_TOLERANCE_M", "creep_step_limit_s",
-           "creep_limited_step_s", "wheelset_start_s_m", "check_start_undisplaced", "entry_layout"]
+__all__ = ["CurvingInputError", "CREEP_STEP_FACTOR", "LAYOUT_MARGIN_M", "START_TOLERANCE_M", "CURVE_READ_M",
+           "creep_step_limit_s", "creep_limited_step_s", "wheelset_start_s_m", "check_start_undisplaced", "entry_layout"]
 
 #: RK44 step = this / the fastest creep decay rate (RK44's real-axis stability limit is 2.785)
 CREEP_STEP_FACTOR = 2.0
@@ -26,6 +26,9 @@ LAYOUT_MARGIN_M = 10.0
 #: the track under the wheelsets at t = 0 counts as undisplaced when every channel is within this [m] (and every
 #: slope within this per metre)
 START_TOLERANCE_M = 1e-12
+#: the curve's quantities at the run's speed (cant angle, a_nc, balance speed) are read this far into the circular
+#: curve [m], past the end of the transition
+CURVE_READ_M = 1.0
 
 
 class CurvingInputError(ValueError):

@@ -65,7 +65,7 @@ from ..track.irregularities import ChannelTable
 from ..track.layout import MAX_CANT_M, MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
 from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
 from .build import ScenarioModel, build_scenario
-from .curve_setup import (CREEP_STEP_FACTOR, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
+from .curve_setup import (CREEP_STEP_FACTOR, CURVE_READ_M, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
                           check_start_undisplaced, creep_limited_step_s, creep_step_limit_s)
 from .defaults import DEFAULT_RAMP, LEAD_IN_M, default_transition_m
 from .outputs import write_csv, write_json
@@ -318,7 +318,7 @@ def curving_summary(case: CurvingCase, h: ScenarioModel, ts: dict, outcome) -> d
     status = outcome.status
     g = model.gravity_m_s2
     V = case.speed_m_s
-    s_curve = LEAD_IN_M + dist["transition_m"] + 1.0
+    s_curve = LEAD_IN_M + dist["transition_m"] + CURVE_READ_M
     curve = curve_quantities(layout, case.radius_m, case.cant_m, s_curve, V, g)
     a_nc = curve["unbalanced_lateral_acceleration_m_s2"]
     mass = float(vehicle.total_mass_kg)

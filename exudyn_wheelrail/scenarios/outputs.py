@@ -85,8 +85,9 @@ def finite_or_none(o):
     return o
 
 
-def write_json(path, data: dict) -> None:
-    """``data`` as JSON, indented by 2, non-finite numbers as ``null`` (:func:`finite_or_none`)."""
+def write_json(path, data: dict, indent: int = 2) -> None:
+    """``data`` as JSON, indented by ``indent``, non-finite numbers as ``null`` (:func:`finite_or_none`)."""
     with open(path, "w") as fh:
-        json.dump(finite_or_none(data), fh, indent=2, allow_nan=False, default=lambda o: finite_or_none(jsonable(o)))
+        json.dump(finite_or_none(data), fh, indent=indent, allow_nan=False,
+                  default=lambda o: finite_or_none(jsonable(o)))
 

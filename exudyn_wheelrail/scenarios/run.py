@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.curving import carried_mass_kg
 from ..analysis.safety import running_criteria_summary
 from ..rolling_stock.train import car_suffix
 from ..simulation import status as S
@@ -16,6 +15,7 @@ from ..simulation.runner import run
 from ..track.layout import curve_quantities
 from ..validation import output_dir
 from .build import ScenarioModel, build_scenario
+from .curve_setup import CURVE_READ_M
 from .deck import deck_scalars, deck_summary
 from .flexible_track import flexible_track_summary
 from .outputs import write_scenario_outputs
@@ -324,16 +324,21 @@ def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> Sc
 def layout_summary(h: ScenarioModel) -> dict:
     """The curve of a scenario with a ``[layout]``: its input (normal form), where the circular curve starts, and at
     the run's speed its cant angle, balance speed and unbalanced lateral acceleration a_nc (track plane, positive
-    outwards; :func:`~exudyn_wheelrail.track.layout.curve_quantities`, read 1 m into the circular curve as the
-    ``curving`` command does) with the mass the wheels carry times a_nc — the steady-curving balance of ΣY
-    (:mod:`exudyn_wheelrail.analysis.curving`)."""
+    outwards; :func:`~exudyn_wheelrail.track.layout.curve_quantities`, read :data:`~.curve_setup.CURVE_READ_M` into
+    the circular curve as the ``curving`` command does) with the mass of the modelled bodies times a_nc — the
+    steady-curving balance of the wheelsets' ΣY and the guidance elements' force (the ``curving`` command's
+    ``force_balance``,
+    :mod:`exudyn_wheelrail.analysis.curving`: for the bogie and wheelset layouts the carried dead load's lateral
+    inertia is held by the moving frame, not by the wheels)."""
     lay = h.scenario["layout"]
     curve_start = lay["start_m"] + lay["transition_m"]
     g = h.model.gravity_m_s2
-    q = curve_quantities(h.layout, lay["radius_m"], lay["cant_m"], curve_start + 1.0, h.speed_m_s, g)
-    carried = carried_mass_kg(h.model, g)
+    q = curve_quantities(h.layout, lay["radius_m"], lay["cant_m"], curve_start + CURVE_READ_M, h.speed_m_s, g)
+    mass = float(h.vehicle.total_mass_kg)
     return {**lay, "curve_start_m": curve_start, "speed_km_h": h.scenario["vehicle"]["speed_km_h"], **q,
-            "carried_mass_kg": carried, "m_a_nc_N": carried * q["unbalanced_lateral_acceleration_m_s2"]}
+            "vehicle_mass_kg": mass, "m_a_nc_N": mass * q["unbalanced_lateral_acceleration_m_s2"],
+            "balance": "in the steady curve the wheelsets' sum of Y plus guidance_lateral_N (the guidance elements "
+                       "of the bogie and wheelset layouts; none for a car) is m_a_nc_N"}
 
 
 def _model_info(h: ScenarioModel) -> dict:

@@ -97,7 +97,10 @@ dotted overrides with the old keys are moved the same way.
     refuses others, naming ``track``).  An explicit ``run.solver`` without ``run.dt_s`` takes the ``curving``
     command's step: 1 ms, or the largest whole fraction of it within the creep damping's limit at this speed
     (:func:`~.curve_setup.creep_step_limit_s`; a given ``run.dt_s`` above that limit is a warning).  With a
-    ``[structure]`` the curve runs over the deck (the deck's modes along s, under the local track frame); not with
+    ``[structure]`` the curve runs over the deck (the deck's modes along s, under the local track frame: its lateral
+    modes take the wheels' force in the canted track plane, about m a_nc, not the horizontal m V²/R a level deck
+    carries, and its vertical modes the load normal to that plane, 1/cos φ of the weight; read the deck's lateral
+    response of a curve with that in mind); not with
     a ``[flexible_track]`` or a train (``vehicle.consist``: the track-following frames follow one vehicle's
     bodies), nor with ``contact.wheel_rail = "springs"``.  Output group ``"curving"``; ``summary.json`` gains a
     ``layout`` block (:func:`layout_summary`: radius, cant, cant angle, balance speed, the unbalanced lateral

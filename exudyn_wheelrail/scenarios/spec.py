@@ -315,6 +315,9 @@ def _vehicle(c: _Check, vt, given=None) -> tuple[dict, object]:
     if not isinstance(overrides, dict):
         raise c.error("vehicle.overrides", f"expected a table {{\"table.key\" = value}}, got {overrides!r}")
     overrides = _flat_overrides(overrides)
+    if overrides and given is not None:
+        raise c.error("vehicle.overrides", "not applied to a vehicle given to the build as data (vehicle=): change "
+                                           "that VehicleData instead")
     try:
         vehicle = given if given is not None else load_vehicle_with_overrides(ref, overrides or None)
     except ValueError as exc:

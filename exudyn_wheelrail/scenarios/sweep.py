@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 from multiprocessing import get_context
 from pathlib import Path
 
-from .outputs import jsonable
+from .outputs import write_json
 from .overrides import apply_overrides, set_dotted
 from .plots import pyplot
 from .run import run_scenario
@@ -235,9 +235,7 @@ def _write(result: SweepResult, base: dict, out: Path, plot_result: str, plot_pa
         w.writerow(list(t))
         for i in range(n):
             w.writerow([_cell(t[c][i]) for c in t])
-    with open(paths["json"], "w") as fh:
-        json.dump({"base_scenario": base, "parameters": result.parameters, "table": t}, fh, indent=1,
-                  allow_nan=True, default=jsonable)
+    write_json(paths["json"], {"base_scenario": base, "parameters": result.parameters, "table": t}, indent=1)
     if plot_result not in t:
         result.notes.append(f"plot_result = {plot_result!r}: not in the table (no case produced it); no plot "
                             f"written. Scalars: {', '.join(c for c in t if c not in ('case', 'case_dir'))}")
