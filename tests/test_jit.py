@@ -17,6 +17,7 @@ import sys
 import types
 from pathlib import Path
 
+import pytest
 from numba import njit
 
 from exudyn_wheelrail import jit
@@ -115,6 +116,61 @@ def test_the_none_branches_compile_and_give_the_rigid_values():
                                              np.zeros((1, 2), dtype=np.int64), None, np.ones(2), np.ones(2), phi,
                                              work)
     assert connector_core._frame_rate(None, None, 10.0, 30.0, 0.0, np.zeros(8)) == (0.0, 0.0, 0.0)
+
+
+@jit.compiled
+def _only_with_data(x):
+    return 2.0 * x
+
+
+@jit.compiled
+def _if_else_on_optional(x, data):
+    if data is None:
+        y = x
+    else:
+        y = _only_with_data(x)
+    return y
+
+
+def test_the_branch_of_a_present_argument_is_not_compiled_when_it_is_none():
+    """The form the kernels use for optional data (an ``if``/``else`` on ``x is None`` of an argument): called with
+    ``None``, the other branch's callee is never compiled; called with data, it is."""
+    assert _if_else_on_optional(3.0, None) == 3.0
+    assert _only_with_data.signatures == []
+    assert _if_else_on_optional(3.0, 1.0) == 6.0
+    assert len(_only_with_data.signatures) == 1
+
+
+_RIGID_RUN_COMPILES = r"""
+import sys
+import exudyn as exu
+import numpy as np
+from exudyn_wheelrail.contact import WheelRailPair
+from exudyn_wheelrail.multibody import connector as C, connector_core
+from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+from exudyn_wheelrail.structures import deck_kinematics
+mbs = exu.SystemContainer().AddSystem()
+model = build_vehicle(mbs, "single_wheelset", speed_m_s=20.0)
+pair = WheelRailPair("S1002", "UIC60", inclination="1/40")
+C.place_on_rails(mbs, model, pair)
+contact = C.add_wheel_rail_contact(mbs, [model.wheelsets[0].node], pair, speed_m_s=20.0, creep_law="fastsim")
+mbs.Assemble()
+contact.warm_up(mbs)
+assert connector_core.contact_forces_core.signatures, "the contact call was not compiled"
+print(len(connector_core.series_compliance.signatures), len(deck_kinematics.series_contacts.signatures))
+"""
+
+
+@pytest.mark.validation
+def test_a_rigid_track_run_does_not_compile_the_series_solve(tmp_path):
+    """A contact on the rigid track, compiled from an empty cache in its own process: the series solve with a
+    structure's residual flexibility (``series_compliance``, ``series_contacts``, ~2 s of a first run) is not
+    compiled.  (A validation test: it compiles the contact call, ~30 s.)"""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    r = subprocess.run([sys.executable, "-c", _RIGID_RUN_COMPILES], env=env, capture_output=True, text=True,
+                       timeout=900)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert r.stdout.split() == ["0", "0"]
 
 
 def test_a_kernel_compiles_afresh_when_another_file_of_the_package_changes(tmp_path):
