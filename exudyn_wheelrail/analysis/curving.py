@@ -131,7 +131,9 @@ def curving_columns(model, layout) -> list:
 
 def carried_mass_kg(model, gravity_m_s2: float) -> float:
     """The mass the wheels carry [kg]: the static wheel loads over g (with the dead loads of the bogie and wheelset
-    layouts), the vehicle's mass for a model without a load path; its ΣΣY balances it times a_nc."""
+    layouts), the vehicle's mass for a model without a load path — the scale of the steady-state tolerance
+    (:func:`steady_state`).  (What ΣY balances in the steady curve is the modelled bodies' mass times a_nc, less
+    the guidance elements' force of the bogie and wheelset layouts, whose carried dead load the frame holds.)"""
     return (float(model.load_path.wheel.sum()) / gravity_m_s2 if model.load_path is not None
             else float(model.vehicle.total_mass_kg))
 

@@ -1,6 +1,7 @@
 r"""What the steady-curving run (:mod:`.curving`) and a scenario with a ``[layout]`` (:mod:`.build`) share, written
 once: the curve entry's layout covering a run (:func:`entry_layout`), the explicit step the creep damping of a
-slowly rolling wheelset allows (:func:`creep_step_limit_s`, :func:`creep_limited_step_s`), and the starting rule for
+slowly rolling wheelset allows (:func:`creep_step_limit_s`, :func:`creep_limited_step_s`), the plausibility of a
+curve for a vehicle (:func:`check_curve`), and the starting rule for
 track irregularities on a curve (:func:`check_start_undisplaced`): the vehicle starts in static equilibrium on the
 undisplaced straight ahead of the transition, so an irregularity must vanish, with its slopes, under every wheelset
 at t = 0.
@@ -11,13 +12,16 @@ import math
 
 import numpy as np
 
+from ..analysis.curving import minimum_radius_m
 from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
 from ..track.irregularities import CHANNELS, channel_values
-from ..track.layout import TrackLayout
+from ..track.layout import MAX_CANT_M, MAX_RADIUS_M, MAX_TRANSITION_M, TrackLayout
 from ..track.rigid import Irregularity
+from .defaults import DEFAULT_RAMP
 
 __all__ = ["CurvingInputError", "CREEP_STEP_FACTOR", "LAYOUT_MARGIN_M", "START_TOLERANCE_M", "CURVE_READ_M",
-           "creep_step_limit_s", "creep_limited_step_s", "wheelset_start_s_m", "check_start_undisplaced", "entry_layout"]
+           "creep_step_limit_s", "creep_limited_step_s", "check_curve", "wheelset_start_s_m", "check_start_undisplaced",
+           "entry_layout"]
 
 #: RK44 step = this / the fastest creep decay rate (RK44's real-axis stability limit is 2.785)
 CREEP_STEP_FACTOR = 2.0
@@ -64,6 +68,35 @@ def creep_limited_step_s(vehicle, speed_m_s: float, dt_s: float) -> float:
     if dt < float(dt_s):
         dt = float(dt_s) / math.ceil(float(dt_s) / dt)
     return dt
+
+
+def check_curve(radius_m: float, cant_m: float, transition_m, vehicle) -> None:
+    """Raise :class:`CurvingInputError` (option ``radius_m``, ``cant_m`` or ``transition_m``) for a curve that
+    ``vehicle`` cannot run or that was evidently given in another unit: a radius above :data:`~..track.layout.
+    MAX_RADIUS_M` or below the smallest the vehicle can follow (:func:`~..analysis.curving.minimum_radius_m`), a cant
+    above :data:`~..track.layout.MAX_CANT_M`, a transition longer than :data:`~..track.layout.MAX_TRANSITION_M` or of
+    0 m with a cant.  The values are numbers already, the radius > 0, the cant and the transition >= 0
+    (``transition_m`` None: the default ramp); the callers check that and name their own inputs."""
+    if radius_m > MAX_RADIUS_M:
+        raise CurvingInputError("radius_m", f"{radius_m:g} m is above {MAX_RADIUS_M:g} m (was it given in mm?)")
+    r_min, why = minimum_radius_m(vehicle)
+    if radius_m < r_min:
+        hint = f"; was it given in km ({radius_m * 1000:g} m)?" if radius_m < 10.0 else ""
+        raise CurvingInputError("radius_m", f"{radius_m:g} m is below the smallest radius this vehicle can follow, "
+                                            f"{r_min:.0f} m ({why}){hint}")
+    if cant_m > MAX_CANT_M:
+        hint = f"; was it given in mm ({cant_m / 1000:g} m)?" if cant_m >= 1.0 else ""
+        raise CurvingInputError("cant_m", f"{cant_m:g} m is above the largest cant, {MAX_CANT_M:g} m (EN 13803){hint}")
+    if transition_m is None:
+        return
+    if transition_m > MAX_TRANSITION_M:
+        raise CurvingInputError("transition_m", f"{transition_m:g} m is longer than {MAX_TRANSITION_M:g} m; was it "
+                                                f"given in mm ({transition_m / 1000:g} m)?")
+    if transition_m == 0.0 and cant_m > 0.0:
+        raise CurvingInputError("transition_m", f"0 m with a cant: the cant would step from 0 to {cant_m:g} m at one "
+                                                "section (the rails twist instantly under a wheelset); give a "
+                                                f"transition for the cant ramp (e.g. 1:{DEFAULT_RAMP:g}) or leave the "
+                                                "transition out (the default ramp)")
 
 
 def wheelset_start_s_m(vehicle, s_leading_m: float = 0.0) -> np.ndarray:

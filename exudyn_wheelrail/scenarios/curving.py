@@ -56,17 +56,18 @@ from pathlib import Path
 import numpy as np
 
 from .. import contact_defaults
-from ..analysis.curving import minimum_radius_m, steady_state
+from ..conventions import CURVE_DIRECTION_SIGN
+from ..analysis.curving import steady_state
 from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
 from ..simulation import status as S
 from ..simulation.presets import PRESETS
 from ..simulation.settings import RunSettings
 from ..track.irregularities import ChannelTable
-from ..track.layout import MAX_CANT_M, MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
+from ..track.layout import MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
 from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
 from .build import ScenarioModel, build_scenario
 from .curve_setup import (CREEP_STEP_FACTOR, CURVE_READ_M, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
-                          check_start_undisplaced, creep_limited_step_s, creep_step_limit_s)
+                          check_curve, check_start_undisplaced, creep_limited_step_s, creep_step_limit_s)
 from .defaults import DEFAULT_RAMP, LEAD_IN_M, default_transition_m
 from .outputs import write_csv, write_json
 from .run import run_events, run_model
@@ -80,9 +81,9 @@ __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_c
 
 # LEAD_IN_M (straight track ahead of the leading wheelset at t = 0) and the default transition (the cant ramp
 # 1 : DEFAULT_RAMP, at least DEFAULT_MIN_TRANSITION_M) are declared in .defaults (the command line shows them); the
-# plausible radius, cant and transition in track.layout (MAX_RADIUS_M, MAX_CANT_M, MAX_TRANSITION_M); the creep
-# step (CREEP_STEP_FACTOR), the layout's margin (LAYOUT_MARGIN_M), the undisplaced start (START_TOLERANCE_M) and
-# CurvingInputError in .curve_setup, which a scenario's [layout] shares.
+# plausible radius, cant and transition in track.layout (MAX_RADIUS_M, MAX_CANT_M, MAX_TRANSITION_M); their check
+# (check_curve), the creep step (CREEP_STEP_FACTOR), the layout's margin (LAYOUT_MARGIN_M), the undisplaced start
+# (START_TOLERANCE_M) and CurvingInputError in .curve_setup, which a scenario's [layout] shares.
 
 #: settling distance after the trailing wheelset enters the circular curve: at least this [m] and this [s] of run
 SETTLE_M = 60.0
@@ -147,46 +148,31 @@ def check_curving_case(case: CurvingCase, vehicle=None):
     R = num("radius_m", case.radius_m)
     h = num("cant_m", case.cant_m)
     v = num("speed_km_h", case.speed_km_h)
+    lt = None
     if case.transition_m is not None:
         lt = num("transition_m", case.transition_m)
         if lt < 0.0:
             raise CurvingInputError("transition_m", f"{lt:g} m: a transition cannot be shorter than 0 m")
-        if lt == 0.0 and case.cant_m not in (None, 0, 0.0):
-            raise CurvingInputError("transition_m", "0 m with a cant: the cant would step from 0 to "
-                                                    f"{float(case.cant_m):g} m at one section (the rails twist "
-                                                    "instantly under a wheelset); give a transition for the cant ramp "
-                                                    f"(e.g. 1:{DEFAULT_RAMP:g}) or leave --transition-m out")
-        if lt > MAX_TRANSITION_M:
-            raise CurvingInputError("transition_m", f"{lt:g} m is longer than {MAX_TRANSITION_M:g} m; was it given "
-                                                    f"in mm ({lt / 1000:g} m)?")
     if h < 0.0:
         raise CurvingInputError("cant_m", f"{h:g} m: expected a cant >= 0 (it raises the outer rail; the direction "
                                           "of the curve is given separately)")
-    if h > MAX_CANT_M:
-        hint = f"; was it given in mm ({h / 1000:g} m)?" if h >= 1.0 else ""
-        raise CurvingInputError("cant_m", f"{h:g} m is above the largest cant, {MAX_CANT_M:g} m (EN 13803){hint}")
     if not v >= MIN_SPEED_KM_H:
         raise CurvingInputError("speed_km_h", f"{v:g} km/h: expected a running speed >= {MIN_SPEED_KM_H:g} km/h "
                                               "(the steady-curving run covers a fixed distance; below this its "
                                               "duration and the creep damping's time step make it impractical)")
     if v > MAX_SPEED_KM_H:
         raise CurvingInputError("speed_km_h", f"{v:g} km/h is above {MAX_SPEED_KM_H:g} km/h")
-    if case.direction not in ("right", "left"):
-        raise CurvingInputError("direction", f"{case.direction!r}: expected 'right' or 'left'")
+    if case.direction not in CURVE_DIRECTION_SIGN:
+        raise CurvingInputError("direction", f"{case.direction!r}: expected one of "
+                                             f"{', '.join(map(repr, CURVE_DIRECTION_SIGN))}")
     if not R > 0.0:
         raise CurvingInputError("radius_m", f"{R:g} m: expected a radius > 0")
-    if R > MAX_RADIUS_M:
-        raise CurvingInputError("radius_m", f"{R:g} m is above {MAX_RADIUS_M:g} m (was it given in mm?)")
     if vehicle is None:
         try:
             vehicle = _vehicle(case)
         except (ValueError, FileNotFoundError) as exc:
             raise CurvingInputError("vehicle", str(exc).splitlines()[0] if str(exc) else repr(exc)) from None
-    r_min, why = minimum_radius_m(vehicle)
-    if R < r_min:
-        hint = f"; was it given in km ({R * 1000:g} m)?" if R < 10.0 else ""
-        raise CurvingInputError("radius_m", f"{R:g} m is below the smallest radius this vehicle can follow, "
-                                            f"{r_min:.0f} m ({why}){hint}")
+    check_curve(R, h, lt, vehicle)
     if case.irregularity is not None:
         check_start_undisplaced(case.irregularity, vehicle)
     return vehicle

@@ -327,9 +327,8 @@ def layout_summary(h: ScenarioModel) -> dict:
     outwards; :func:`~exudyn_wheelrail.track.layout.curve_quantities`, read :data:`~.curve_setup.CURVE_READ_M` into
     the circular curve as the ``curving`` command does) with the mass of the modelled bodies times a_nc — the
     steady-curving balance of the wheelsets' ΣY and the guidance elements' force (the ``curving`` command's
-    ``force_balance``,
-    :mod:`exudyn_wheelrail.analysis.curving`: for the bogie and wheelset layouts the carried dead load's lateral
-    inertia is held by the moving frame, not by the wheels)."""
+    ``force_balance``, :mod:`exudyn_wheelrail.analysis.curving`: for the bogie and wheelset layouts the carried dead
+    load's lateral inertia is held by the moving frame, not by the wheels)."""
     lay = h.scenario["layout"]
     curve_start = lay["start_m"] + lay["transition_m"]
     g = h.model.gravity_m_s2

@@ -170,13 +170,15 @@ class _Check:
             raise self.error(exc.field, exc.problem) from None
 
 
-def load_scenario(path) -> dict:
-    """Read and validate a scenario file; returns the normalised scenario (module docstring)."""
+def load_scenario(path, vehicle=None) -> dict:
+    """Read and validate a scenario file; returns the normalised scenario (module docstring).  ``vehicle`` as
+    :func:`validate_scenario`."""
     path = Path(path)
     if not path.is_file():
         raise ScenarioError(f"{path}: scenario file not found")
     data = read_toml(path, ScenarioError)
-    return validate_scenario(data, source=str(path), base_dir=path.resolve().parent, default_name=path.stem)
+    return validate_scenario(data, source=str(path), base_dir=path.resolve().parent, default_name=path.stem,
+                             vehicle=vehicle)
 
 
 def _from_v1(data: dict) -> dict:
@@ -571,8 +573,7 @@ def as_scenario(scenario, vehicle=None) -> tuple[dict, str | None]:
     """The normal form of a scenario file path or dict, and the resolved file path (None for a dict); ``vehicle``
     as :func:`validate_scenario`."""
     if isinstance(scenario, (str, Path)):
-        scn, source = load_scenario(scenario), str(Path(scenario).resolve())
-        return (scn if vehicle is None else validate_scenario(scn, source, vehicle=vehicle)), source
+        return load_scenario(scenario, vehicle), str(Path(scenario).resolve())
     if isinstance(scenario, dict):
         return validate_scenario(scenario, vehicle=vehicle), None
     raise TypeError(f"scenario: expected a file path or a scenario dict, got {type(scenario).__name__}")

@@ -8,13 +8,11 @@ from __future__ import annotations
 
 import warnings
 
-from ..analysis.curving import minimum_radius_m
 from ..conventions import CURVE_DIRECTION_SIGN
 from ..simulation.settings import RunSettings
 from ..simulation.solvers import METHODS
-from ..track.layout import MAX_CANT_M, MAX_RADIUS_M, MAX_TRANSITION_M
 from ..validation import InputWarning
-from .curve_setup import creep_limited_step_s, creep_step_limit_s
+from .curve_setup import CurvingInputError, check_curve, creep_limited_step_s, creep_step_limit_s
 from .defaults import LEAD_IN_M, default_transition_m
 
 __all__ = ["LAYOUT_KEYS", "CURVE_DIRECTIONS", "normalise_layout", "layout_combination_error", "layout_run_settings",
@@ -28,31 +26,19 @@ CURVE_DIRECTIONS = tuple(CURVE_DIRECTION_SIGN)
 
 def normalise_layout(c, table, vehicle_start_m: float, vehicle) -> dict:
     """The normal form of ``[layout]`` (``c``: the spec's checker; ``vehicle_start_m``: ``vehicle.start_s_m``;
-    ``vehicle``: its data, for the smallest radius it can follow, :func:`~..analysis.curving.minimum_radius_m`)."""
+    ``vehicle``: its data, for the smallest radius it can follow; the curve's plausibility:
+    :func:`~.curve_setup.check_curve`)."""
     required, optional = LAYOUT_KEYS
     c.table(table, "layout", required=required, optional=optional)
     R = c.number(table["radius_m"], "layout.radius_m", lo=0.0)
-    if R > MAX_RADIUS_M:
-        raise c.error("layout.radius_m", f"{R:g} m is above {MAX_RADIUS_M:g} m (was it given in mm?)")
-    r_min, why = minimum_radius_m(vehicle)
-    if R < r_min:
-        hint = f"; was it given in km ({R * 1000:g} m)?" if R < 10.0 else ""
-        raise c.error("layout.radius_m", f"{R:g} m is below the smallest radius this vehicle can follow, "
-                                         f"{r_min:.0f} m ({why}){hint}")
     h = c.number(table["cant_m"], "layout.cant_m", lo=0.0, lo_open=False)
-    if h > MAX_CANT_M:
-        hint = f"; was it given in mm ({h / 1000:g} m)?" if h >= 1.0 else ""
-        raise c.error("layout.cant_m", f"{h:g} m is above the largest cant, {MAX_CANT_M:g} m (EN 13803){hint}")
-    if "transition_m" in table:
-        lt = c.number(table["transition_m"], "layout.transition_m", lo=0.0, lo_open=False)
-        if lt > MAX_TRANSITION_M:
-            raise c.error("layout.transition_m", f"{lt:g} m is longer than {MAX_TRANSITION_M:g} m; was it given "
-                                                 f"in mm ({lt / 1000:g} m)?")
-        if lt == 0.0 and h > 0.0:
-            raise c.error("layout.transition_m", f"0 m with a cant: the cant would step from 0 to {h:g} m at one "
-                                                 "section (the rails twist instantly under a wheelset); give a "
-                                                 "transition for the cant ramp or leave layout.transition_m out")
-    else:
+    lt = (c.number(table["transition_m"], "layout.transition_m", lo=0.0, lo_open=False) if "transition_m" in table
+          else None)
+    try:
+        check_curve(R, h, lt, vehicle)
+    except CurvingInputError as exc:
+        raise c.error(f"layout.{exc.option}", exc.problem) from None
+    if lt is None:
         lt = float(default_transition_m(h))
     start = c.number(table.get("start_m", LEAD_IN_M), "layout.start_m")
     if start < vehicle_start_m:
