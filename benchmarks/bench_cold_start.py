@@ -17,8 +17,9 @@ run again in the same copy (``--warm-repeats`` times; the run of least overhead 
 commands run as Python runs by default, writing the package's bytecode on the first run (``PYTHONDONTWRITEBYTECODE``
 is removed from their environment: with it, every warm run would compile the package's sources again).  Wall times are of the whole process (``time.perf_counter`` around ``subprocess``);
 where the command prints its solve time (``solve X s``) that is reported too, and ``overhead`` = wall − solve.
-Compile times come from numba's ``numba:compile`` events recorded inside the child process: per function its
-exclusive time (its own typing, lowering and code generation, without the functions it compiles on the way) and
+Compile times come from numba's ``numba:compile`` events recorded in every process of the command (its own and
+the second process a first run starts to compile a share of its kernels; summed, and the count of processes that
+compiled reported): per function its exclusive time (its own typing, lowering and code generation, without the functions it compiles on the way) and
 the count of specializations compiled, in CPU seconds of the process (less disturbed by other work on a shared
 machine than wall time).
 
@@ -64,38 +65,36 @@ HELP_COMMANDS = ("", "geometry", "conicity", "creep-table", "rtri", "rtri-sweep"
 
 _SOLVE = re.compile(r"solve (\d+(?:\.\d+)?) s")
 
-# ---- the child: record numba's compile events, then run the command --------------------------------------------
-_CHILD = r'''
-import atexit, json, runpy, sys, time
-from numba.core import event
-stack, per, record = [], {}, sys.argv[1]
-class Recorder(event.Listener):
-    def on_start(self, ev):
-        stack.append([time.process_time(), 0.0])
-    def on_end(self, ev):
-        t0, nested = stack.pop()
-        t = time.process_time() - t0
-        if stack:
-            stack[-1][1] += t
-        f = getattr(ev.data["dispatcher"], "py_func", None)
-        name = f"{getattr(f, '__module__', '?')}.{getattr(f, '__qualname__', '?')}"
-        row = per.setdefault(name, [0.0, 0, 0.0])
-        row[0] += t - nested
-        row[1] += 1
-        if not stack:
-            row[2] += t
-event.register("numba:compile", Recorder())
-def dump():
-    with open(record, "w") as fh:
-        json.dump(per, fh)
-atexit.register(dump)
-args = sys.argv[2:]
-if args[0] == "-m":
-    sys.argv = [args[1]] + args[2:]
-    runpy.run_module(args[1], run_name="__main__", alter_sys=True)
-else:
-    sys.argv = args
-    runpy.run_path(args[0], run_name="__main__")
+# ---- every process of a command records numba's compile events -------------------------------------------------
+#: a ``sitecustomize`` module (imported by every Python process at start-up) on the cold run's path: with
+#: WHEELRAIL_BENCH_RECORD set, the process records its compile events and writes them to that folder at exit
+#: (the command's process and any it starts, e.g. the second process compiling a share of a first run's kernels)
+_RECORDER = r'''
+import atexit, json, os, time
+folder = os.environ.get("WHEELRAIL_BENCH_RECORD")
+if folder:
+    from numba.core import event
+    stack, per = [], {}
+    class Recorder(event.Listener):
+        def on_start(self, ev):
+            stack.append([time.process_time(), 0.0])
+        def on_end(self, ev):
+            t0, nested = stack.pop()
+            t = time.process_time() - t0
+            if stack:
+                stack[-1][1] += t
+            f = getattr(ev.data["dispatcher"], "py_func", None)
+            name = f"{getattr(f, '__module__', '?')}.{getattr(f, '__qualname__', '?')}"
+            row = per.setdefault(name, [0.0, 0, 0.0])
+            row[0] += t - nested
+            row[1] += 1
+            if not stack:
+                row[2] += t
+    event.register("numba:compile", Recorder())
+    def dump():
+        with open(os.path.join(folder, f"{os.getpid()}.json"), "w") as fh:
+            json.dump({"per": per}, fh)
+    atexit.register(dump)
 '''
 
 
@@ -109,7 +108,7 @@ def _fresh_copy(root: Path) -> Path:
     return root
 
 
-def _env(copy: Path) -> dict:
+def _env(copy: Path, record: Path | None = None) -> dict:
     env = dict(os.environ)
     env.pop("NUMBA_CACHE_DIR", None)                 # the cache beside the copy's sources: empty
     # Python's default: the package's bytecode written on the first run and read by every later one, as on a user's
@@ -118,14 +117,21 @@ def _env(copy: Path) -> dict:
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     env["PYTHONPATH"] = str(copy)
     env["MPLBACKEND"] = "Agg"
+    env.pop("WHEELRAIL_BENCH_RECORD", None)
+    if record is not None:                          # the recorder first on the path, its folder given
+        (record / "site").mkdir(parents=True)
+        (record / "site" / "sitecustomize.py").write_text(_RECORDER)
+        env["PYTHONPATH"] = os.pathsep.join([str(record / "site"), str(copy)])
+        env["WHEELRAIL_BENCH_RECORD"] = str(record)
     return env
 
 
 def _run(copy: Path, args: list, record: Path | None) -> dict:
-    cmd = [sys.executable] + (["-c", _CHILD, str(record)] if record else []) + args
+    cmd = [sys.executable] + args
+    env = _env(copy, record)
     load0 = _load()
     t0 = time.perf_counter()
-    r = subprocess.run(cmd, cwd=copy, env=_env(copy), capture_output=True, text=True)
+    r = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - t0
     m = _SOLVE.search(r.stdout + r.stderr)
     row = {"wall_s": round(wall, 2), "exit_code": r.returncode, "load": [load0, _load()]}
@@ -142,9 +148,16 @@ def time_command(name: str, args: list, warm_repeats: int = 1) -> dict:
         copy = _fresh_copy(Path(tmp))
         out = str(Path(tmp) / "out")
         argv = [a.replace("{out}", out) for a in args]
-        record = Path(tmp) / "compile.json"
+        record = Path(tmp) / "compile"
         cold = _run(copy, argv, record)
-        per = json.loads(record.read_text()) if record.exists() else {}
+        per, processes = {}, 0
+        for path in record.glob("*.json"):           # every process's events, summed
+            events = json.loads(path.read_text())["per"]
+            processes += bool(events)
+            for k, v in events.items():
+                row = per.setdefault(k, [0.0, 0, 0.0])
+                for i in range(3):
+                    row[i] += v[i]
         warms = [_run(copy, argv, None) for _ in range(warm_repeats)]
         warm = min(warms, key=lambda w: w.get("overhead_s", w["wall_s"]))
         if warm_repeats > 1:
@@ -155,7 +168,7 @@ def time_command(name: str, args: list, warm_repeats: int = 1) -> dict:
                         if k.startswith("exudyn_wheelrail.")), key=lambda d: -d["exclusive_cpu_s"])
     total = sum(v[0] for v in per.values())
     return {"command": "python " + " ".join(args), "cold": cold, "warm": warm,
-            "compile_cpu_s": round(total, 2),
+            "compile_cpu_s": round(total, 2), "compiling_processes": processes,
             "compile_cpu_s_package_functions": round(sum(f["exclusive_cpu_s"] for f in functions), 2),
             "specializations": sum(f["specializations"] for f in functions), "functions": functions}
 

@@ -18,20 +18,48 @@
   before it compiles anything — the branch that is not taken is never compiled.
 * **A first run says so.**  The first compilation of a package kernel in a process prints one line on standard
   error when it is a terminal (:data:`COMPILE_NOTICE`); a log file or a test gets nothing.
+* **A first run uses a second core.**  numba compiles a kernel and everything it calls in one thread, and a kernel's
+  own compilation waits for its callees'.  :func:`compile_ahead` takes a kernel's callees as two shares of jobs:
+  when a share set aside is missing from the cache and the machine has another CPU, a second Python process
+  compiles it into the cache while this one compiles its own share; the kernel itself, compiled next, then loads
+  both.  The first run's compilation takes about the time of the larger share instead of the sum.
+* **Safe with several processes.**  Test workers and :func:`compile_ahead`'s second process write the same cache
+  at once.  numba numbers a kernel's data files by the entries its index had when read, so two processes adding two
+  specializations of one kernel can write them under one file name and leave an index entry that loads the other
+  specialization's machine code.  Here a data file is named by a digest of its index key (one name per
+  specialization, machine and bytecode), written before the index names it, and the index is read, updated and
+  written under a lock (one lock file per cache folder; without ``fcntl``, i.e. on Windows, unlocked: an entry may
+  then be lost and compiled again, never mixed up).
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
+import importlib
+import os
+import pickle
+import subprocess
 import sys
 from functools import cache, partial
 from pathlib import Path
 
+import numba
 from numba import njit, types
 from numba.core import event
 from numba.core.caching import FunctionCache, IndexDataCacheFile
 from numba.core.registry import CPUDispatcher
 
-__all__ = ["compiled", "COMPILE_NOTICE", "package_source_digest"]
+try:                                   # POSIX: the cache index's lock
+    import fcntl
+except ImportError:                    # Windows: no lock (module docstring)
+    fcntl = None
+
+__all__ = ["compiled", "compile_ahead", "is_compiled", "Pending", "COMPILE_NOTICE", "package_source_digest"]
+
+#: the lock file of a cache folder's indexes (module docstring)
+INDEX_LOCK_NAME = "exudyn_wheelrail-index.lock"
+#: how long :func:`compile_ahead` waits for its second process [s] before it compiles what is missing itself
+COMPILE_AHEAD_TIMEOUT_S = 900.0
 
 #: the line shown on a terminal when a process first compiles a kernel of the package
 COMPILE_NOTICE = ("compiling the package's numba kernels (first run after an install or an update only; later runs "
@@ -82,15 +110,60 @@ def package_source_digest() -> bytes:
     return digest.digest()
 
 
+@contextlib.contextmanager
+def _index_lock(folder):
+    """Exclusive lock of the cache folder ``folder``'s indexes (module docstring); a no-op without ``fcntl``."""
+    if fcntl is None:
+        yield
+        return
+    with open(os.path.join(folder, INDEX_LOCK_NAME), "a+b") as f:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+
+
+class _KeyedDataFile(IndexDataCacheFile):
+    """numba's index and data files of one kernel, safe when several processes add entries at once (module
+    docstring): each data file named by a digest of its key, written first; the index updated under the lock."""
+
+    def __init__(self, cache_path, filename_base, source_stamp):
+        super().__init__(cache_path=cache_path, filename_base=filename_base, source_stamp=source_stamp)
+        self._filename_base = filename_base
+
+    def key_name(self, key) -> str:
+        """The data file's name of index key ``key``: the kernel's file base and a digest of the key's text (the
+        signature's type names, the machine's description, the bytecode's hashes: stable between processes)."""
+        return "%s.%s.nbc" % (self._filename_base, hashlib.sha256(repr(key).encode()).hexdigest()[:20])
+
+    def save(self, key, data):
+        name = self.key_name(key)
+        self._save_data(name, data)
+        with _index_lock(self._cache_path):
+            overloads = self._load_index()
+            if overloads.get(key) != name:
+                overloads[key] = name
+                self._save_index(overloads)
+
+    def has(self, key) -> bool:
+        """Whether the index (of this source version) has an entry ``key``."""
+        return key in self._load_index()
+
+
 class _PackageSourceCache(FunctionCache):
-    """numba's on-disk cache of one kernel (same place and files), whose index is valid only for the source of its
-    own file *and* of the whole package (:func:`package_source_digest`)."""
+    """numba's on-disk cache of one kernel (same place), whose index is valid only for the source of its own file
+    *and* of the whole package (:func:`package_source_digest`), its files written by :class:`_KeyedDataFile`."""
 
     def __init__(self, py_func):
         super().__init__(py_func)
         stamp = (self._impl.locator.get_source_stamp(), package_source_digest())
-        self._cache_file = IndexDataCacheFile(cache_path=self._cache_path, filename_base=self._impl.filename_base,
-                                              source_stamp=stamp)
+        self._cache_file = _KeyedDataFile(cache_path=self._cache_path, filename_base=self._impl.filename_base,
+                                          source_stamp=stamp)
+
+    def has_overload(self, sig, target_context) -> bool:
+        """Whether the cache holds the specialization ``sig`` (without loading it)."""
+        return self._cache_file.has(self._index_key(sig, target_context.codegen()))
 
 
 def compiled(func=None, **options):
@@ -104,3 +177,98 @@ def compiled(func=None, **options):
             dispatcher.get_call_template = partial(_typed_call_template, dispatcher.get_call_template)
         return dispatcher
     return wrap(func) if func is not None else wrap
+
+
+def _signature(args) -> tuple:
+    """The argument types numba dispatches a call with ``args`` by."""
+    return tuple(numba.typeof(a) for a in args)
+
+
+def is_compiled(dispatcher, args) -> bool:
+    """Whether the specialization of ``dispatcher`` for the types of ``args`` is compiled in this process or in the
+    cache (a plain function, ``NUMBA_DISABLE_JIT=1``: always)."""
+    return not isinstance(dispatcher, CPUDispatcher) or _is_cached(dispatcher, _signature(args))
+
+
+def _is_cached(dispatcher, sig) -> bool:
+    """Whether ``dispatcher`` has ``sig`` compiled in this process or in its cache."""
+    if sig in dispatcher.overloads:
+        return True
+    cache_ = getattr(dispatcher, "_cache", None)
+    return isinstance(cache_, _PackageSourceCache) and cache_.has_overload(sig, dispatcher.targetctx)
+
+
+def _cpus() -> int:
+    """The CPUs this process may run on."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity is not None else (os.cpu_count() or 1)
+
+
+class Pending:
+    """The second process of :func:`compile_ahead`, still compiling (or none)."""
+
+    def __init__(self, proc=None):
+        self._proc = proc
+
+    def wait(self) -> None:
+        """Returns when the second process has ended (its share in the cache), at most
+        :data:`COMPILE_AHEAD_TIMEOUT_S` later (then it is stopped: what it has not compiled, the kernel's
+        compilation compiles)."""
+        proc, self._proc = self._proc, None
+        if proc is None:
+            return
+        try:
+            proc.wait(timeout=COMPILE_AHEAD_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
+def compile_ahead(kernel, args, here, aside=()) -> Pending:
+    """Before the first call ``kernel(*args)``: when that specialization is in neither this process nor the cache,
+    start a second process compiling the kernel's callees of ``aside`` into the cache and compile those of
+    ``here`` in this process (module docstring).  Each job is ``(dispatcher, args)``, compiled for exactly the
+    types of ``args`` (those the kernel hands the callee).  With one CPU, or when all of ``aside`` is cached, both
+    shares are compiled here.  Returns the second process: its ``wait()`` before the kernel's first call (the
+    kernel's compilation then loads both shares from the cache; this process may do other work meanwhile).  A
+    second process that fails leaves its share to the kernel's compilation (as without this function).  Without a
+    compiler (``NUMBA_DISABLE_JIT=1``) nothing."""
+    if not isinstance(kernel, CPUDispatcher) or _is_cached(kernel, _signature(args)):
+        return Pending()
+    here = [(d, _signature(a)) for d, a in here if isinstance(d, CPUDispatcher)]
+    aside = [(d, _signature(a)) for d, a in aside if isinstance(d, CPUDispatcher)]
+    missing = [(d, sig) for d, sig in aside if not _is_cached(d, sig)]
+    pending = Pending()
+    if missing and _cpus() > 1:
+        jobs = [(d.py_func.__module__, d.py_func.__qualname__, sig) for d, sig in missing]
+        proc = subprocess.Popen([sys.executable, "-c", _SECOND_PROCESS], stdin=subprocess.PIPE,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        pending = Pending(proc)
+        try:
+            proc.stdin.write(pickle.dumps({"path": list(sys.path), "jobs": pickle.dumps(jobs)}))
+            proc.stdin.close()
+        except OSError:                 # the process ended early: its jobs are compiled by the kernel's call
+            pass
+        missing = []
+    for d, sig in here + missing:
+        d.compile(sig)
+    return pending
+
+
+def compile_jobs(jobs: bytes) -> None:
+    """The second process of :func:`compile_ahead`: compiles each of the pickled ``(module, qualified name,
+    signature)`` jobs into the cache."""
+    for module, qualname, sig in pickle.loads(jobs):
+        target = importlib.import_module(module)
+        for part in qualname.split("."):
+            target = getattr(target, part)
+        target.compile(sig)
+
+
+#: the second process's program: the parent's import path first (the package as the parent imported it), then
+#: :func:`compile_jobs`
+_SECOND_PROCESS = ("import pickle, sys\n"
+                   "payload = pickle.load(sys.stdin.buffer)\n"
+                   "sys.path[:0] = payload['path']\n"
+                   "from exudyn_wheelrail.jit import compile_jobs\n"
+                   "compile_jobs(payload['jobs'])\n")

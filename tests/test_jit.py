@@ -7,7 +7,12 @@
   optional part (geometry table, the deck's shapes and residual flexibility, the layout, the creep table), and the
   kernels that branch on those arguments compile with ``None`` (the other branch dropped by its type) and give the
   rigid track's values;
-* a cached kernel is compiled afresh when any file of the package changes, not only its own.
+* a cached kernel is compiled afresh when any file of the package changes, not only its own;
+* two processes adding entries to one kernel's cache at once never leave an entry that loads another
+  specialization's machine code;
+* ``compile_ahead`` compiles the share set aside in a second process, this process's share here, and nothing when
+  the kernel is cached; the shares of the contact kernel and of the connector's call have exactly the types those
+  kernels hand their callees (a wrong type would compile a specialization nobody calls).
 """
 import io
 import os
@@ -161,6 +166,11 @@ print(len(connector_core.series_compliance.signatures), len(deck_kinematics.seri
 """
 
 
+def _cached_kernels(folder: Path) -> set:
+    """The kernels with a data file in the numba cache ``folder`` (``module.kernel`` names)."""
+    return {path.name.split("-")[0] for path in folder.rglob("*.nbc")}
+
+
 @pytest.mark.validation
 def test_a_rigid_track_run_does_not_compile_the_series_solve(tmp_path):
     """A contact on the rigid track, compiled from an empty cache in its own process: the series solve with a
@@ -170,7 +180,10 @@ def test_a_rigid_track_run_does_not_compile_the_series_solve(tmp_path):
     r = subprocess.run([sys.executable, "-c", _RIGID_RUN_COMPILES], env=env, capture_output=True, text=True,
                        timeout=900)
     assert r.returncode == 0, r.stderr[-2000:]
-    assert r.stdout.split() == ["0", "0"]
+    assert r.stdout.split() == ["0", "0"]                          # not in this process
+    compiled_anywhere = _cached_kernels(tmp_path / "cache")        # nor in compile_ahead's second process
+    assert "connector_core.contact_geometry" in compiled_anywhere
+    assert not {"connector_core.series_compliance", "deck_kinematics.series_contacts"} & compiled_anywhere
 
 
 def test_a_kernel_compiles_afresh_when_another_file_of_the_package_changes(tmp_path):
@@ -201,3 +214,149 @@ def test_a_kernel_compiles_afresh_when_another_file_of_the_package_changes(tmp_p
     assert run() == ["1.0", "1.0", "1"]                          # loaded from the cache: nothing changed
     (pkg / "_probe_constant.py").write_text("VALUE = 2.0\n")
     assert run() == ["2.0", "1.0", "0"]                          # compiled afresh; plain numba: stale
+
+
+def test_two_processes_adding_to_one_cache_never_mix_up_entries(tmp_path):
+    """Two processes add a specialization of one kernel each: B writes its index entry, A (which read the index
+    before that) writes its own, and B's data file lands last.  numba's own cache names a data file by the entries
+    its index had when read (both pick number 1): A's entry then loads B's machine code.  The package's cache names
+    each data file by its key: A's entry loads A's code (B's entry may be lost from the index — compiled again
+    later — never mixed up)."""
+    def files(kind):
+        return kind(cache_path=str(tmp_path / kind.__name__), filename_base="kernel-1.py311", source_stamp="s")
+
+    for kind, mixed_up in ((jit.IndexDataCacheFile, True), (jit._KeyedDataFile, False)):
+        (tmp_path / kind.__name__).mkdir()
+        a, b = files(kind), files(kind)
+        deferred = []
+        write_data = b._save_data
+        b._save_data = lambda name, data: deferred.append((name, data))
+        b.save("key-float64", b"code for float64")       # B: index entry written, its data file still to come
+        a._load_index = lambda: {}                         # A read the index before B wrote it
+        a.save("key-int64", b"code for int64")
+        write_data(*deferred[0])                           # B's data file lands last
+        reader = files(kind)
+        if mixed_up:
+            assert reader.load("key-int64") == b"code for float64"
+        else:
+            assert reader.load("key-int64") == b"code for int64"
+            assert reader.load("key-float64") in (None, b"code for float64")
+
+
+_AHEAD_KERNELS = """
+from exudyn_wheelrail.jit import compiled
+
+
+@compiled
+def leaf_here(x):
+    return 2.0 * x
+
+
+@compiled
+def leaf_aside(x):
+    return x + 1.0
+
+
+@compiled
+def top(x):
+    return leaf_here(x) + leaf_aside(x)
+"""
+
+_AHEAD_RUN = r"""
+import os, sys
+from exudyn_wheelrail import jit
+import ahead_kernels as k
+started = []
+popen = jit.subprocess.Popen
+jit.subprocess.Popen = lambda *a, **kw: started.append(1) or popen(*a, **kw)
+pending = jit.compile_ahead(k.top, (1.0,), [(k.leaf_here, (1.0,))], [(k.leaf_aside, (1.0,))])
+here_now = len(k.leaf_here.signatures)
+aside_now = len(k.leaf_aside.signatures)
+pending.wait()
+aside_cached = jit._is_cached(k.leaf_aside, (jit.numba.float64,))
+value = k.top(1.0)
+print(len(started), here_now, aside_now, aside_cached, value, k.leaf_aside.stats.cache_hits.total())
+"""
+
+
+def test_compile_ahead_compiles_the_share_set_aside_in_a_second_process(tmp_path):
+    """On an empty cache: one second process compiles the share set aside into the cache (not this process), this
+    process compiles its own share, and the kernel then loads the other share from the cache and gives the right
+    value.  Run again: the kernel is cached, so no process is started and nothing is compiled ahead."""
+    (tmp_path / "ahead_kernels.py").write_text(_AHEAD_KERNELS)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), *sys.path]),
+               NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+
+    def run():
+        r = subprocess.run([sys.executable, "-c", _AHEAD_RUN], env=env, cwd=tmp_path, capture_output=True,
+                           text=True, timeout=300)
+        assert r.returncode == 0, r.stderr[-2000:]
+        return r.stdout.split()
+
+    if jit._cpus() > 1:
+        assert run() == ["1", "1", "0", "True", "4.0", "1"]      # the aside share loaded by the kernel's compile
+    else:
+        assert run() == ["0", "1", "1", "True", "4.0", "0"]      # one CPU: both shares compiled here
+    assert run() == ["0", "0", "0", "True", "4.0", "0"]          # cached: nothing ahead, the kernel loaded
+
+
+def _assert_shares_are_callee_types(kernel, sig, here, aside, monkeypatch):
+    """Every job of the shares is a call ``kernel`` makes when compiled for ``sig``: an uncached copy of the
+    kernel is compiled here, each share's dispatcher recording the argument types the copy's typing asks it for
+    (the callee then loaded from the cache or compiled)."""
+    import numba
+    from numba import types as nt
+
+    requested = {}
+    jobs = [*here, *aside]
+    for dispatcher, _ in jobs:
+        def recording(args, kws, d=dispatcher, inner=dispatcher.get_call_template):
+            requested.setdefault(d, set()).add(tuple(nt.unliteral(a) for a in args))
+            return inner(args, kws)
+        monkeypatch.setattr(dispatcher, "get_call_template", recording)
+    numba.njit(kernel.py_func).compile(sig)
+    for dispatcher, args in jobs:
+        assert jit._signature(args) in requested.get(dispatcher, ()), dispatcher.py_func.__name__
+
+
+def test_the_contact_kernels_shares_have_its_callees_types(monkeypatch):
+    """:func:`~exudyn_wheelrail.contact.kernel.compile_shares`: every job is a specialization the kernel's region
+    solve calls (compiled for the region solve's own signature, the one the kernel calls it with)."""
+    import numpy as np
+
+    from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
+    from exudyn_wheelrail.contact import kernel as K
+
+    import numba
+
+    contact = WheelsetContact(WheelRailPair("S1002", "UIC60", inclination="1/40"))
+    args = (contact.nodes, contact.meta, contact.mono, contact.curve_ids, np.zeros((2, 3)), contact.warm,
+            contact.params, contact.out, contact.scan)
+    region = []                     # the region solve's signature, as the kernel calls it
+    monkeypatch.setattr(K._solve_region, "get_call_template",
+                        lambda a, kw, inner=K._solve_region.get_call_template: region.append(a) or inner(a, kw))
+    numba.njit(K.evaluate_wheels.py_func).compile(jit._signature(args))
+    monkeypatch.undo()
+    assert region
+    _assert_shares_are_callee_types(K._solve_region, tuple(region[0]), *K.compile_shares(*args), monkeypatch)
+
+
+def test_the_connector_calls_shares_have_its_callees_types(monkeypatch):
+    """:func:`~exudyn_wheelrail.multibody.connector_core.compile_shares`: every job is a specialization the
+    connector's force call calls, for the arguments the connector passes."""
+    import exudyn as exu
+
+    from exudyn_wheelrail.contact import WheelRailPair
+    from exudyn_wheelrail.multibody import connector as C
+    from exudyn_wheelrail.multibody import connector_core
+    from exudyn_wheelrail.rolling_stock.vehicle_builder import build_vehicle
+
+    mbs = exu.SystemContainer().AddSystem()
+    model = build_vehicle(mbs, "single_wheelset", speed_m_s=20.0)
+    pair = WheelRailPair("S1002", "UIC60", inclination="1/40")
+    C.place_on_rails(mbs, model, pair)
+    contact = C.add_wheel_rail_contact(mbs, [model.wheelsets[0].node], pair, speed_m_s=20.0)
+    shares = connector_core.compile_shares(contact._f, contact._f, 0.0, contact._model, contact._state,
+                                           contact._work, contact._f, contact.results)
+    _assert_shares_are_callee_types(connector_core.contact_forces_core, jit._signature(contact._core_args()),
+                                    *shares, monkeypatch)

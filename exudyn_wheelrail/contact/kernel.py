@@ -540,3 +540,24 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan
                 drop[F_DN_DDELTA] = 0.0
                 drop[F_SEMI_A] = 0.0
                 drop[F_SEMI_B] = 0.0
+
+
+def compile_shares(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN):
+    """The callees of :func:`evaluate_wheels` (through :func:`_solve_region`) as the two shares of
+    :func:`~exudyn_wheelrail.jit.compile_ahead`, for the types of the call ``evaluate_wheels(nodes, meta, mono,
+    curve_ids, poses, warm, params, out, scan)``: this process's — the scan's starts, Newton, the output — and the
+    other's — the concave search (vertical overlap, normal-penetration ascent).  The arguments stand in for those
+    the kernel hands each callee: the same types (a curve or row index an integer, a coordinate a float, the
+    scratch rows arrays of one dimension), not their values."""
+    i, x = 0, 0.0
+    row = np.empty(MAX_STARTS)
+    points = scan[0]
+    here = [(_scan_starts, (nodes, meta, mono, i, i, x, x, x, x, x, x, i, i, row, row, points)),
+            (_newton_candidate, (nodes, meta, i, i, x, x, x, x, x, x, x, x, x, x, params)),
+            (_fill_at, (out, i, i, i, x, x, x, x, x, x, x, x, x, x, x, nodes, meta, i, i, x, x, x, x, i, params)),
+            (_fill, (out, i, i, i, x, x, nodes, meta, i, i, x, x, x, x, i, params)),
+            (nearest_by_normal_distance, (nodes, meta, i, i, x, x, x, x, x, x, i, x)),
+            (normal_foot, (nodes, meta, i, x, x, x))]
+    aside = [(vertical_overlap_search, (nodes, meta, mono, i, i, x, x, x, x, x, x, i, i, True)),
+             (normal_penetration_ascent, (nodes, meta, i, i, x, x, x, x, x, x, x, x, x))]
+    return here, aside

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..jit import compile_ahead
 from ..validation import poisson_ratio, youngs_modulus
 from . import kernel as K
 from .normal import E_STEEL as E_STEEL_PA
@@ -106,6 +107,7 @@ class WheelsetContact:
         self.warm = np.full((n_wheels, 2, K.N_WARM), np.nan)
         self.out = np.zeros((n_wheels, K.N_SLOTS, K.N_FIELDS))
         self._side_poses = np.zeros((n_wheels, 3))
+        self._first_call = True
         #: last evaluated wheelset poses (y, z, roll); nominal height at start
         self.poses = np.tile([0.0, pair.nominal_axle_height_m(), 0.0], (self.n_wheelsets, 1))
 
@@ -149,6 +151,11 @@ class WheelsetContact:
     def evaluate(self, poses) -> np.ndarray:
         """Raw kernel output (2n, N_SLOTS, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
         poses = self.checked_poses(poses)
+        if self._first_call:            # a first run: the kernel's callees compiled on two cores
+            self._first_call = False
+            args = (self.nodes, self.meta, self.mono, self.curve_ids, self._side_poses, self.warm, self.params,
+                    self.out, self.scan)
+            compile_ahead(K.evaluate_wheels, args, *K.compile_shares(*args))
         K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self._fill_side_poses(poses), self.warm,
                           self.params, self.out, self.scan)
         self.poses[:] = poses

@@ -89,10 +89,11 @@ from ..contact.wheelset import WheelsetContact
 from ..creep.fastsim import DEFAULT_NX, DEFAULT_NY
 from ..creep.registry import CREEP_AB_CLAMPED, CREEP_LAWS, combined_elastic_constants, creep_model  # noqa: F401
 from ..creep.registry import creep_forces as _creep  # noqa: F401  (the compiled creep dispatch, importable here)
+from ..jit import compile_ahead
 from ..structures.bridge_exudyn import ExudynBridge
 from ..structures.deck_kinematics import DECK_GROUND_VY, DECK_GROUND_Y, N_DECK_STATE, deck_arrays
 from ..validation import finite, poisson_ratio, youngs_modulus
-from .connector_core import contact_forces_core, contact_jacobian_core
+from .connector_core import compile_shares, contact_forces_core, contact_jacobian_core
 from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, N_FRAME, W_WHEELSET,
                         WS_HALF_GAUGE, compiled_for, contact_data, geometry_tuple, model_tuple, state_tuple,
                         vehicle_tuple, work_arrays)
@@ -295,8 +296,12 @@ class WheelRailContact:
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.results = np.zeros((2 * n_ws, N_SLOTS, N_RES))
-        # the compiled force call for exactly the argument types forces() passes: no type dispatch per call
-        self._forces_core = compiled_for(contact_forces_core, self._f, self._f, 0.0, self._data, self._f, self.results)
+        # the compiled force call for exactly the argument types forces() passes, at the first call (on a first run
+        # its callees are compiled on two cores meanwhile, while the model is assembled)
+        self._compiling = compile_ahead(contact_forces_core, self._core_args(),
+                                        *compile_shares(self._f, self._f, 0.0, self._model, self._state, self._work,
+                                                        self._f, self.results))
+        self._forces_core = self._first_forces_core
         self.n_calls = 0
         self.n_reused = 0
         self._held = None               # the evaluation kept by evaluate_state() for the next forces() call
@@ -310,6 +315,17 @@ class WheelRailContact:
         obj = ObjectGenericODE2(**kwargs)
         self.object = mbs.AddObject(obj)
         self._exu = exu
+
+    def _core_args(self) -> tuple:
+        """Arguments of the types the force call is compiled for (those :meth:`forces` passes)."""
+        return self._f, self._f, 0.0, self._data, self._f, self.results
+
+    def _first_forces_core(self, *args):
+        """The first force call: compiles (or loads) the compiled call for exactly the argument types forces()
+        passes — no type dispatch per call after — and makes it the connector's."""
+        self._compiling.wait()
+        self._forces_core = compiled_for(contact_forces_core, *self._core_args())
+        return self._forces_core(*args)
 
     @property
     def speed_m_s(self) -> float:
@@ -469,6 +485,7 @@ class WheelRailContact:
                 semi_analytic_jacobian(q, q_t, self._data, self._f, self.results, float(fODE2), float(fODE2_t),
                                        self._jac, *blocks)
                 return self._jac
+        self._compiling.wait()          # a first run: the force call's callees in the cache before it compiles
         contact_jacobian_core(*self._args(q, q_t, t), self._f, self.results, float(fODE2), float(fODE2_t),
                               self._jac, 1e-7, 1e-7, 1e-5)
         # the differences (also the semi-analytic one's answer to a fast-turning normal, contact_jacobian): the

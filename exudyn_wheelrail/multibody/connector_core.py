@@ -42,7 +42,7 @@ from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F
                               RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_PHI, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS,
                               RES_S_TRACK, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
 from ..creep.registry import creep_forces
-from ..jit import compiled
+from ..jit import compiled, is_compiled
 from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, SC_AT, SC_AY, SC_AZ,
                                           SC_DELTA_G, SC_DN, SC_DN_G, SC_N, SC_N_G, SC_RATIO, deck_state_under,
                                           pose_relative_to_rails, project_shapes, rail_material_velocity,
@@ -59,7 +59,7 @@ from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, 
                         WS_Y_RAIL, WS_YAW, WS_Z_RAIL)
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
 
-__all__ = ["contact_forces_core", "contact_jacobian_core", "wheelset_poses", "wheel_forces"]
+__all__ = ["contact_forces_core", "contact_jacobian_core", "compile_shares", "wheelset_poses", "wheel_forces"]
 
 
 @compiled
@@ -546,6 +546,24 @@ def series_compliance(state, work, final):
             ow[F_SEMI_B] *= root
             ow[F_PENETRATION] *= c[SC_RATIO]
     return again
+
+
+def compile_shares(q, q_t, t, model, state, work, f_out, res):
+    """:func:`contact_forces_core`'s callees as the two shares of :func:`~exudyn_wheelrail.jit.compile_ahead`, for
+    the types of the call ``contact_forces_core(q, q_t, t, contact_data(model, state, work), f_out, res)``, about
+    even: the other process gets the contact geometry (the search kernel, the largest part) and this one the poses
+    and the forces (creepages, creep law, deck) — or, with the search kernel compiled already (a static equilibrium
+    found before with the same contact), the other process the forces and this one the rest.  The arguments are
+    those the call hands each callee."""
+    _, _, _, _, _, residual, _ = model[MODEL_DECK]
+    nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
+    search = (nodes, meta, mono, curve_ids, state[ST_SIDE_POSES], state[ST_WARM], params, state[ST_OUT], scan)
+    poses = (wheelset_poses, (q, q_t, t, model, state, work))
+    forces = (wheel_forces, (q, q_t, model, state, work, f_out, res))
+    geometry = (contact_geometry, (q, model, state, work, model[MODEL_GEOMETRY][GEO_TABLE], residual))
+    if is_compiled(K.evaluate_wheels, search):
+        return [poses, geometry], [forces]
+    return [poses, forces], [geometry]
 
 
 @compiled
