@@ -40,6 +40,8 @@ import os
 import pickle
 import subprocess
 import sys
+import tempfile
+import warnings
 from functools import cache, partial
 from pathlib import Path
 
@@ -58,8 +60,11 @@ __all__ = ["compiled", "compile_ahead", "is_compiled", "Pending", "COMPILE_NOTIC
 
 #: the lock file of a cache folder's indexes (module docstring)
 INDEX_LOCK_NAME = "exudyn_wheelrail-index.lock"
-#: how long :func:`compile_ahead` waits for its second process [s] before it compiles what is missing itself
-COMPILE_AHEAD_TIMEOUT_S = 900.0
+#: how long :meth:`Pending.wait` waits for the second process of :func:`compile_ahead` [s] (its share takes ~15 s
+#: on an idle 2-core machine); then it is stopped and the kernel's own compilation compiles what is missing
+COMPILE_AHEAD_TIMEOUT_S = 300.0
+#: hexadecimal digits of a cache data file's name digest (:class:`_KeyedDataFile`)
+DATA_NAME_DIGITS = 20
 
 #: the line shown on a terminal when a process first compiles a kernel of the package
 COMPILE_NOTICE = ("compiling the package's numba kernels (first run after an install or an update only; later runs "
@@ -112,39 +117,65 @@ def package_source_digest() -> bytes:
 
 @contextlib.contextmanager
 def _index_lock(folder):
-    """Exclusive lock of the cache folder ``folder``'s indexes (module docstring); a no-op without ``fcntl``."""
-    if fcntl is None:
-        yield
-        return
-    with open(os.path.join(folder, INDEX_LOCK_NAME), "a+b") as f:
-        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+    """Exclusive lock of the cache folder ``folder``'s indexes (module docstring).  Without ``fcntl``, or where the
+    lock file cannot be opened or locked (a file system without locks, a lock file of another user), unlocked."""
+    fd = None
+    if fcntl is not None:
         try:
-            yield
-        finally:
-            fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+            fd = os.open(os.path.join(folder, INDEX_LOCK_NAME), os.O_RDONLY | os.O_CREAT, 0o666)
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:
+            if fd is not None:
+                os.close(fd)
+            fd = None
+    try:
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)                # closing releases the lock
 
 
 class _KeyedDataFile(IndexDataCacheFile):
     """numba's index and data files of one kernel, safe when several processes add entries at once (module
-    docstring): each data file named by a digest of its key, written first; the index updated under the lock."""
+    docstring): each data file named by a digest of its source version and key, written first; the index updated
+    under the lock.  The data files of an index of another source version are removed when this version's index
+    replaces it (numba reused their numbered names instead)."""
 
     def __init__(self, cache_path, filename_base, source_stamp):
         super().__init__(cache_path=cache_path, filename_base=filename_base, source_stamp=source_stamp)
         self._filename_base = filename_base
 
     def key_name(self, key) -> str:
-        """The data file's name of index key ``key``: the kernel's file base and a digest of the key's text (the
-        signature's type names, the machine's description, the bytecode's hashes: stable between processes)."""
-        return "%s.%s.nbc" % (self._filename_base, hashlib.sha256(repr(key).encode()).hexdigest()[:20])
+        """The data file's name of index key ``key``: the kernel's file base and a digest of the source version and
+        the key's text (the signature's type names, the machine's description, the bytecode's hashes: the same in
+        every process)."""
+        text = repr((self._source_stamp, key)).encode()
+        return "%s.%s.nbc" % (self._filename_base, hashlib.sha256(text).hexdigest()[:DATA_NAME_DIGITS])
 
     def save(self, key, data):
         name = self.key_name(key)
         self._save_data(name, data)
         with _index_lock(self._cache_path):
+            stale = self._stale_names()
             overloads = self._load_index()
             if overloads.get(key) != name:
                 overloads[key] = name
                 self._save_index(overloads)
+            for old in stale - {name}:
+                with contextlib.suppress(OSError):
+                    os.unlink(self._data_path(old))
+
+    def _stale_names(self) -> set:
+        """The data files named by the index on disk when it is of another source version (else none)."""
+        try:
+            with open(self._index_path, "rb") as f:
+                version = pickle.load(f)
+                stamp, overloads = pickle.loads(f.read())
+        except Exception:               # none, unreadable, of another numba: nothing known to remove
+            return set()
+        if version != self._version or stamp == self._source_stamp:
+            return set()
+        return {v for v in overloads.values() if isinstance(v, str) and v.startswith(self._filename_base + ".")}
 
     def has(self, key) -> bool:
         """Whether the index (of this source version) has an entry ``key``."""
@@ -207,52 +238,83 @@ def _cpus() -> int:
 class Pending:
     """The second process of :func:`compile_ahead`, still compiling (or none)."""
 
-    def __init__(self, proc=None):
+    def __init__(self, proc=None, errors=None):
         self._proc = proc
+        self._errors = errors
 
     def wait(self) -> None:
         """Returns when the second process has ended (its share in the cache), at most
-        :data:`COMPILE_AHEAD_TIMEOUT_S` later (then it is stopped: what it has not compiled, the kernel's
-        compilation compiles)."""
-        proc, self._proc = self._proc, None
+        :data:`COMPILE_AHEAD_TIMEOUT_S` later (then it is stopped: what it has not compiled, the kernel's own
+        compilation compiles).  A process that failed says so (a first run then takes longer,
+        nothing else changes: a ``RuntimeWarning``); an interrupt stops it."""
+        proc = self._proc
         if proc is None:
             return
         try:
             proc.wait(timeout=COMPILE_AHEAD_TIMEOUT_S)
-        except subprocess.TimeoutExpired:
+        except BaseException:           # the time limit, or an interrupt: stop it
             proc.kill()
             proc.wait()
+            if not isinstance(sys.exc_info()[1], subprocess.TimeoutExpired):
+                raise
+        finally:
+            self._proc = None
+        if proc.returncode not in (0, -9) and self._errors is not None:
+            self._errors.seek(0)
+            tail = self._errors.read().decode(errors="replace").strip().splitlines()[-1:]
+            warnings.warn(f"the second process compiling kernels ahead failed (exit {proc.returncode}: "
+                          f"{tail[0] if tail else 'no message'}); they compile here", RuntimeWarning, stacklevel=2)
+        if self._errors is not None:
+            self._errors.close()
+
+
+def _second_process(missing) -> Pending:
+    """:func:`compile_ahead`'s second process for the jobs ``missing`` (started), or None where none can be
+    started: no interpreter to start (an embedded or frozen Python), or the start failed."""
+    if not sys.executable or getattr(sys, "frozen", False):
+        return None
+    try:
+        jobs = [(d.py_func.__module__, d.py_func.__qualname__, sig) for d, sig in missing]
+        payload = pickle.dumps({"path": list(sys.path), "jit": __file__, "jobs": pickle.dumps(jobs)})
+        errors = tempfile.TemporaryFile()
+        # -P: nothing of the working folder shadows a module before the parent's import path is in place
+        proc = subprocess.Popen([sys.executable, "-P", "-c", _SECOND_PROCESS % {"module": __name__}],
+                                stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=errors)
+    except Exception:
+        return None
+    try:
+        proc.stdin.write(payload)
+        proc.stdin.close()
+    except OSError:                     # it ended early: the wait reports it
+        pass
+    return Pending(proc, errors)
 
 
 def compile_ahead(kernel, args, here, aside=()) -> Pending:
     """Before the first call ``kernel(*args)``: when that specialization is in neither this process nor the cache,
     start a second process compiling the kernel's callees of ``aside`` into the cache and compile those of
     ``here`` in this process (module docstring).  Each job is ``(dispatcher, args)``, compiled for exactly the
-    types of ``args`` (those the kernel hands the callee).  With one CPU, or when all of ``aside`` is cached, both
-    shares are compiled here.  Returns the second process: its ``wait()`` before the kernel's first call (the
-    kernel's compilation then loads both shares from the cache; this process may do other work meanwhile).  A
-    second process that fails leaves its share to the kernel's compilation (as without this function).  Without a
-    compiler (``NUMBA_DISABLE_JIT=1``) nothing."""
+    types of ``args`` (those the kernel hands the callee).  With one CPU, when all of ``aside`` is cached, or where
+    no second process can be started, both shares are compiled here.  Returns the second process: call its
+    ``wait()`` before the kernel's first call (the kernel's compilation then loads both shares from the cache; this
+    process may do other work meanwhile).  Without a compiler (``NUMBA_DISABLE_JIT=1``) nothing."""
     if not isinstance(kernel, CPUDispatcher) or _is_cached(kernel, _signature(args)):
         return Pending()
     here = [(d, _signature(a)) for d, a in here if isinstance(d, CPUDispatcher)]
     aside = [(d, _signature(a)) for d, a in aside if isinstance(d, CPUDispatcher)]
     missing = [(d, sig) for d, sig in aside if not _is_cached(d, sig)]
-    pending = Pending()
-    if missing and _cpus() > 1:
-        jobs = [(d.py_func.__module__, d.py_func.__qualname__, sig) for d, sig in missing]
-        proc = subprocess.Popen([sys.executable, "-c", _SECOND_PROCESS], stdin=subprocess.PIPE,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        pending = Pending(proc)
-        try:
-            proc.stdin.write(pickle.dumps({"path": list(sys.path), "jobs": pickle.dumps(jobs)}))
-            proc.stdin.close()
-        except OSError:                 # the process ended early: its jobs are compiled by the kernel's call
-            pass
+    pending = _second_process(missing) if missing and _cpus() > 1 else None
+    if pending is not None:
         missing = []
-    for d, sig in here + missing:
-        d.compile(sig)
-    return pending
+    try:
+        for d, sig in here + missing:
+            d.compile(sig)
+    except BaseException:
+        if pending is not None and pending._proc is not None:
+            pending._proc.kill()
+            pending._proc.wait()
+        raise
+    return pending if pending is not None else Pending()
 
 
 def compile_jobs(jobs: bytes) -> None:
@@ -265,10 +327,12 @@ def compile_jobs(jobs: bytes) -> None:
         target.compile(sig)
 
 
-#: the second process's program: the parent's import path first (the package as the parent imported it), then
+#: the second process's program: the parent's import path (the package as the parent imported it, checked), then
 #: :func:`compile_jobs`
 _SECOND_PROCESS = ("import pickle, sys\n"
                    "payload = pickle.load(sys.stdin.buffer)\n"
-                   "sys.path[:0] = payload['path']\n"
-                   "from exudyn_wheelrail.jit import compile_jobs\n"
-                   "compile_jobs(payload['jobs'])\n")
+                   "sys.path[:] = payload['path']\n"
+                   "import %(module)s as jit\n"
+                   "if jit.__file__ != payload['jit']:\n"
+                   "    sys.exit('another copy of the package: ' + jit.__file__)\n"
+                   "jit.compile_jobs(payload['jobs'])\n")

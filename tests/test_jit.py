@@ -300,11 +300,78 @@ def test_compile_ahead_compiles_the_share_set_aside_in_a_second_process(tmp_path
     assert run() == ["0", "0", "0", "True", "4.0", "0"]          # cached: nothing ahead, the kernel loaded
 
 
+def test_a_new_source_versions_entries_replace_the_old_ones_files(tmp_path):
+    """Data files are named by source version and key: the new version's entry of the same key gets another file,
+    and the old version's files go when the new version's index replaces the old one (nothing piles up)."""
+    def files(stamp):
+        return jit._KeyedDataFile(cache_path=str(tmp_path), filename_base="kernel-1.py311", source_stamp=stamp)
+
+    old, new = files("old source"), files("new source")
+    old.save("key-float64", b"old code")
+    old.save("key-int64", b"old code for int64")
+    assert len(list(tmp_path.glob("*.nbc"))) == 2
+    new.save("key-float64", b"new code")
+    assert [p.name for p in tmp_path.glob("*.nbc")] == [new.key_name("key-float64")]
+    assert new.load("key-float64") == b"new code" and new.load("key-int64") is None
+    assert old.load("key-float64") is None          # the old version's index is gone
+
+
+def test_the_index_lock_excludes_a_second_holder(tmp_path):
+    """The cache index's lock (POSIX): a second holder gets it only after the first released it."""
+    import threading
+    import time
+
+    if jit.fcntl is None:
+        pytest.skip("no fcntl: the index is written unlocked")
+    order, held = [], threading.Event()
+
+    def first():
+        with jit._index_lock(str(tmp_path)):
+            held.set()
+            time.sleep(0.2)
+            order.append("first released")
+
+    thread = threading.Thread(target=first)
+    thread.start()
+    held.wait()
+    with jit._index_lock(str(tmp_path)):
+        order.append("second holds")
+    thread.join()
+    assert order == ["first released", "second holds"]
+
+
+def test_the_contact_waits_for_the_second_process_before_its_first_call(monkeypatch):
+    """The contact's first evaluation waits for the second process before it calls the kernel (the kernel's
+    compilation must find the share set aside in the cache), and no later evaluation starts another."""
+    import numpy as np
+
+    from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
+    from exudyn_wheelrail.contact import kernel as K
+    from exudyn_wheelrail.contact import wheelset
+
+    events = []
+
+    class Waited:
+        def wait(self):
+            events.append("wait")
+
+    def ahead(kernel, args, here, aside):
+        events.append("ahead")
+        return Waited()
+
+    monkeypatch.setattr(wheelset, "compile_ahead", ahead)
+    monkeypatch.setattr(K, "evaluate_wheels", lambda *a: events.append("kernel"))
+    contact = WheelsetContact(WheelRailPair("S1002", "UIC60", inclination="1/40"))
+    pose = np.array([[0.0, contact.pair.nominal_axle_height_m(), 0.0]])
+    contact.evaluate(pose)
+    contact.evaluate(pose)
+    assert events == ["ahead", "wait", "kernel", "kernel"]
+
+
 def _assert_shares_are_callee_types(kernel, sig, here, aside, monkeypatch):
     """Every job of the shares is a call ``kernel`` makes when compiled for ``sig``: an uncached copy of the
     kernel is compiled here, each share's dispatcher recording the argument types the copy's typing asks it for
     (the callee then loaded from the cache or compiled)."""
-    import numba
     from numba import types as nt
 
     requested = {}
@@ -314,7 +381,7 @@ def _assert_shares_are_callee_types(kernel, sig, here, aside, monkeypatch):
             requested.setdefault(d, set()).add(tuple(nt.unliteral(a) for a in args))
             return inner(args, kws)
         monkeypatch.setattr(dispatcher, "get_call_template", recording)
-    numba.njit(kernel.py_func).compile(sig)
+    njit(kernel.py_func).compile(sig)
     for dispatcher, args in jobs:
         assert jit._signature(args) in requested.get(dispatcher, ()), dispatcher.py_func.__name__
 
@@ -327,15 +394,13 @@ def test_the_contact_kernels_shares_have_its_callees_types(monkeypatch):
     from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
     from exudyn_wheelrail.contact import kernel as K
 
-    import numba
-
     contact = WheelsetContact(WheelRailPair("S1002", "UIC60", inclination="1/40"))
     args = (contact.nodes, contact.meta, contact.mono, contact.curve_ids, np.zeros((2, 3)), contact.warm,
             contact.params, contact.out, contact.scan)
     region = []                     # the region solve's signature, as the kernel calls it
     monkeypatch.setattr(K._solve_region, "get_call_template",
                         lambda a, kw, inner=K._solve_region.get_call_template: region.append(a) or inner(a, kw))
-    numba.njit(K.evaluate_wheels.py_func).compile(jit._signature(args))
+    njit(K.evaluate_wheels.py_func).compile(jit._signature(args))
     monkeypatch.undo()
     assert region
     _assert_shares_are_callee_types(K._solve_region, tuple(region[0]), *K.compile_shares(*args), monkeypatch)

@@ -151,11 +151,11 @@ class WheelsetContact:
     def evaluate(self, poses) -> np.ndarray:
         """Raw kernel output (2n, N_SLOTS, N_FIELDS) for wheelset poses (n, 3) = (y, z, roll); side frames."""
         poses = self.checked_poses(poses)
-        if self._first_call:            # a first run: the kernel's callees compiled on two cores
+        if self._first_call:            # a first run: the kernel's callees compiled in two processes, if it can
             self._first_call = False
             args = (self.nodes, self.meta, self.mono, self.curve_ids, self._side_poses, self.warm, self.params,
                     self.out, self.scan)
-            compile_ahead(K.evaluate_wheels, args, *K.compile_shares(*args))
+            compile_ahead(K.evaluate_wheels, args, *K.compile_shares(*args)).wait()
         K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self._fill_side_poses(poses), self.warm,
                           self.params, self.out, self.scan)
         self.poses[:] = poses

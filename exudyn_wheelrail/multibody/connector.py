@@ -296,8 +296,8 @@ class WheelRailContact:
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.results = np.zeros((2 * n_ws, N_SLOTS, N_RES))
-        # the compiled force call for exactly the argument types forces() passes, at the first call (on a first run
-        # its callees are compiled on two cores meanwhile, while the model is assembled)
+        # the compiled force call for exactly the argument types forces() passes, at the first call; on a first run
+        # one share of its callees is compiled here, the other in a second process while the model is assembled
         self._compiling = compile_ahead(contact_forces_core, self._core_args(),
                                         *compile_shares(self._f, self._f, 0.0, self._model, self._state, self._work,
                                                         self._f, self.results))
