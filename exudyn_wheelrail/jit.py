@@ -63,6 +63,9 @@ INDEX_LOCK_NAME = "exudyn_wheelrail-index.lock"
 #: how long :meth:`Pending.wait` waits for the second process of :func:`compile_ahead` [s] (its share takes ~15 s
 #: on an idle 2-core machine); then it is stopped and the kernel's own compilation compiles what is missing
 COMPILE_AHEAD_TIMEOUT_S = 300.0
+#: the environment variable that, set to ``0``, keeps :func:`compile_ahead` in one process (e.g. in each worker of
+#: a parallel test run, whose workers already share the CPUs)
+COMPILE_AHEAD_ENV = "EXUDYN_WHEELRAIL_COMPILE_AHEAD"
 #: hexadecimal digits of a cache data file's name digest (:class:`_KeyedDataFile`)
 DATA_NAME_DIGITS = 20
 
@@ -294,8 +297,9 @@ def compile_ahead(kernel, args, here, aside=()) -> Pending:
     """Before the first call ``kernel(*args)``: when that specialization is in neither this process nor the cache,
     start a second process compiling the kernel's callees of ``aside`` into the cache and compile those of
     ``here`` in this process (module docstring).  Each job is ``(dispatcher, args)``, compiled for exactly the
-    types of ``args`` (those the kernel hands the callee).  With one CPU, when all of ``aside`` is cached, or where
-    no second process can be started, both shares are compiled here.  Returns the second process: call its
+    types of ``args`` (those the kernel hands the callee).  With one CPU, when all of ``aside`` is cached, where no
+    second process can be started, or with :data:`COMPILE_AHEAD_ENV` ``=0``, both shares are compiled here.
+    Returns the second process: call its
     ``wait()`` before the kernel's first call (the kernel's compilation then loads both shares from the cache; this
     process may do other work meanwhile).  Without a compiler (``NUMBA_DISABLE_JIT=1``) nothing."""
     if not isinstance(kernel, CPUDispatcher) or _is_cached(kernel, _signature(args)):
@@ -303,7 +307,8 @@ def compile_ahead(kernel, args, here, aside=()) -> Pending:
     here = [(d, _signature(a)) for d, a in here if isinstance(d, CPUDispatcher)]
     aside = [(d, _signature(a)) for d, a in aside if isinstance(d, CPUDispatcher)]
     missing = [(d, sig) for d, sig in aside if not _is_cached(d, sig)]
-    pending = _second_process(missing) if missing and _cpus() > 1 else None
+    parallel = _cpus() > 1 and os.environ.get(COMPILE_AHEAD_ENV, "1") != "0"
+    pending = _second_process(missing) if missing and parallel else None
     if pending is not None:
         missing = []
     try:

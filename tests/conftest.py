@@ -20,10 +20,19 @@ The long validations (the paper's full runs, the long fuzz runs of ``tests/stres
 ``validation`` and left out of the default run: ``python -m pytest -m validation`` runs them all.
 Tests set only what is specific to them (example count, health checks, ``deadline=None`` for compiled code whose
 first call compiles); randomness and the database are the profile's.
+
+In a parallel run (pytest-xdist, one worker per CPU) a first compilation stays in its worker's process
+(``jit.COMPILE_AHEAD_ENV=0``): the workers already use every CPU, and a second compiling process per worker would
+only compete with them.
 """
 import os
 
 from hypothesis import settings
+
+from exudyn_wheelrail.jit import COMPILE_AHEAD_ENV
+
+if int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")) > 1:
+    os.environ.setdefault(COMPILE_AHEAD_ENV, "0")
 
 settings.register_profile("repro", derandomize=True, database=None, deadline=None, print_blob=True)
 settings.register_profile("wide", derandomize=False, deadline=None, print_blob=True)

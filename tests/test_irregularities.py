@@ -7,6 +7,7 @@ track) for a cross level; the defect shapes' closed forms and finite differences
 conventions.py."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import exudyn as exu
@@ -277,6 +278,51 @@ def test_scenario_track_entries_build_the_same_irregularity(tmp_path):
     for name in ("alignment_m", "level_m", "cross_level_m", "gauge_m"):
         # the same components evaluated by the same code: bit-equality
         assert np.array_equal(getattr(got, name), getattr(want, name))
+
+
+def test_a_faded_spectrum_entry_rises_from_zero_to_the_table():
+    """``fade_in_m``: the generated table times the raised cosine from ``start_m`` — zero (with its slope) before,
+    the table's own values from ``start_m + fade_in_m`` on (the same samples, bit for bit: the weight is exactly 1
+    there), the raised cosine in between (checked at the middle, weight 1/2, within the spline's rounding)."""
+    from exudyn_wheelrail.scenarios.build import build_track
+    from exudyn_wheelrail.scenarios.spec import validate_scenario
+    from exudyn_wheelrail.track.irregularities import FadedIn
+    from exudyn_wheelrail.track.spectra import SpectralIrregularity
+    entry = {"type": "spectrum", "spectrum": "german_low", "seed": 3, "length_m": 200.0, "start_m": 10.0}
+    plain = build_track(validate_scenario(_scenario([entry]))).irregularity
+    faded = build_track(validate_scenario(_scenario([{**entry, "fade_in_m": 40.0}]))).irregularity
+    assert isinstance(faded, FadedIn) and isinstance(plain, SpectralIrregularity)
+    assert (faded.s_from_m, faded.s_to_m) == (10.0, 50.0)
+    before, after = np.linspace(-5.0, 10.0, 31), np.linspace(50.0, 210.0, 321)
+    for name in ("alignment_m", "level_m", "cross_level_m", "gauge_m"):
+        assert np.all(getattr(channel_values(faded, before), name) == 0.0)
+        assert np.array_equal(getattr(channel_values(faded, after), name), getattr(channel_values(plain, after), name))
+    mid = np.array([faded.s_m[np.argmin(np.abs(faded.s_m - 30.0))]])       # a sample, weight (1 - cos(pi u))/2
+    u = (mid[0] - 10.0) / 40.0
+    w = 0.5 * (1.0 - np.cos(np.pi * u))
+    for name in ("alignment_m", "level_m"):
+        want = w * getattr(channel_values(plain, mid), name)[0]
+        assert getattr(channel_values(faded, mid), name)[0] == pytest.approx(want, rel=1e-12, abs=1e-18)
+
+
+def test_the_curving_spectrum_is_the_scenarios_track_entry():
+    """The curving case's spectrum and seed reach the run as the scenario's ``spectrum`` track entry (faded in
+    from the start to the circular curve), and build the irregularity :func:`spectral_irregularity` gives (the same
+    code on the same inputs: bit for bit)."""
+    from exudyn_wheelrail.scenarios.build import build_track
+    from exudyn_wheelrail.scenarios.curving import CurvingCase, curving_scenario, spectral_irregularity
+    from exudyn_wheelrail.scenarios.spec import validate_scenario
+    case = CurvingCase("manchester_vehicle1", radius_m=1000.0, cant_m=0.1, speed_km_h=100.0,
+                       irregularity_spectrum="german_low", seed=2)
+    scn = validate_scenario(curving_scenario(case))
+    (entry,) = scn["track"]
+    assert entry["type"] == "spectrum" and entry["start_m"] == 0.0 and entry["fade_in_m"] > 0.0
+    built = build_track(scn).irregularity
+    ref = spectral_irregularity(dataclasses.replace(case, irregularity_spectrum=None, seed=None), "german_low", 2)
+    assert repr(built) == repr(ref)
+    s = np.linspace(-5.0, entry["length_m"], 4001)
+    for name in ("alignment_m", "level_m", "cross_level_m", "gauge_m"):
+        assert np.array_equal(getattr(channel_values(built, s), name), getattr(channel_values(ref, s), name))
 
 
 @pytest.mark.parametrize("entry, message", [

@@ -282,14 +282,15 @@ print(len(started), here_now, aside_now, aside_cached, value, k.leaf_aside.stats
 def test_compile_ahead_compiles_the_share_set_aside_in_a_second_process(tmp_path):
     """On an empty cache: one second process compiles the share set aside into the cache (not this process), this
     process compiles its own share, and the kernel then loads the other share from the cache and gives the right
-    value.  Run again: the kernel is cached, so no process is started and nothing is compiled ahead."""
+    value.  Run again: the kernel is cached, so no process is started and nothing is compiled ahead.  With
+    ``COMPILE_AHEAD_ENV=0`` on an empty cache: no process, both shares compiled here."""
     (tmp_path / "ahead_kernels.py").write_text(_AHEAD_KERNELS)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), *sys.path]),
-               NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+               NUMBA_CACHE_DIR=str(tmp_path / "cache"), **{jit.COMPILE_AHEAD_ENV: "1"})
 
-    def run():
-        r = subprocess.run([sys.executable, "-c", _AHEAD_RUN], env=env, cwd=tmp_path, capture_output=True,
-                           text=True, timeout=300)
+    def run(**extra):
+        r = subprocess.run([sys.executable, "-c", _AHEAD_RUN], env={**env, **extra}, cwd=tmp_path,
+                           capture_output=True, text=True, timeout=300)
         assert r.returncode == 0, r.stderr[-2000:]
         return r.stdout.split()
 
@@ -298,6 +299,8 @@ def test_compile_ahead_compiles_the_share_set_aside_in_a_second_process(tmp_path
     else:
         assert run() == ["0", "1", "1", "True", "4.0", "0"]      # one CPU: both shares compiled here
     assert run() == ["0", "0", "0", "True", "4.0", "0"]          # cached: nothing ahead, the kernel loaded
+    one_process = {"NUMBA_CACHE_DIR": str(tmp_path / "cache-one"), jit.COMPILE_AHEAD_ENV: "0"}
+    assert run(**one_process) == ["0", "1", "1", "True", "4.0", "0"]   # kept in one process: both here
 
 
 def test_a_new_source_versions_entries_replace_the_old_ones_files(tmp_path):

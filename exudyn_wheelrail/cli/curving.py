@@ -2,7 +2,6 @@
 lateral shift, angle of attack per wheelset)."""
 from __future__ import annotations
 
-import dataclasses
 
 from ..scenarios.defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
 from ..standards import DEFAULT_BAND_M, TRACK_SPECTRA
@@ -12,7 +11,7 @@ from .common import add_progress_argument, progress_bar
 #: the command line's option of each field of a curving case (errors name the option)
 CURVING_OPTIONS = {"radius_m": "--radius-m", "cant_m": "--cant-m", "speed_km_h": "--speed-kmh",
                    "transition_m": "--transition-m", "direction": "--direction", "vehicle": "--vehicle",
-                   "irregularity": "--irregularity-spectrum"}
+                   "irregularity": "--irregularity-spectrum", "seed": "--seed"}
 
 
 def add_curving_parser(sub) -> None:
@@ -55,37 +54,28 @@ def add_curving_parser(sub) -> None:
 def _check_curving(args) -> None:
     """Every option of ``curving`` before any work (the vehicle read, the radius against its wheelbase); the
     :class:`~exudyn_wheelrail.scenarios.curving.CurvingCase` goes to ``args.curving``."""
-    from ..scenarios.curving import CurvingCase, CurvingInputError, check_curving_case, spectral_irregularity
+    from ..scenarios.curving import CurvingCase, CurvingInputError, check_curving_case
     output_dir("--out", args.out)
     case = CurvingCase(args.vehicle, radius_m=args.radius_m, cant_m=args.cant_m, speed_km_h=args.speed_kmh,
-                       transition_m=args.transition_m, direction=args.direction)
-    if args.irregularity_spectrum is None and args.seed is not None:
-        raise ValueError("--seed: given without --irregularity-spectrum (it seeds the generated irregularity)")
-    if args.irregularity_spectrum is not None:
-        if args.seed is None:
-            raise ValueError(f"--seed: missing (required with --irregularity-spectrum {args.irregularity_spectrum})")
-        if args.seed < 0:
-            raise ValueError(f"--seed: {args.seed}: expected a non-negative integer")
+                       transition_m=args.transition_m, direction=args.direction,
+                       irregularity_spectrum=args.irregularity_spectrum, seed=args.seed)
     try:
         args.curving_vehicle = check_curving_case(case)
-        if args.irregularity_spectrum is not None:
-            irregularity = spectral_irregularity(case, args.irregularity_spectrum, args.seed,
-                                                 vehicle=args.curving_vehicle)
-            case = dataclasses.replace(case, irregularity=irregularity)
-            check_curving_case(case, args.curving_vehicle)
     except CurvingInputError as exc:
         raise ValueError(f"{CURVING_OPTIONS.get(exc.option, exc.option)}: {exc.problem}") from None
     args.curving = case
 
 
 def cmd_curving(args):
-    from ..scenarios.curving import run_curving
+    from ..scenarios.curving import run_curving, spectrum_component
     case = args.curving
     v = args.curving_vehicle
     print(f"curving: {v.name}, R = {case.radius_m:g} m {case.direction}, cant {case.cant_m * 1000:g} mm, "
           f"{case.speed_km_h:g} km/h, transition {case.transition_length_m:g} m")
-    if case.irregularity is not None:
-        print(f"irregularity: {case.irregularity!r}")
+    if case.irregularity_spectrum is not None:
+        c = spectrum_component(case, case.irregularity_spectrum, case.seed, v)
+        print(f"irregularity: spectrum {c['spectrum']}, seed {c['seed']}, generated over {c['length_m']:g} m from "
+              f"s = {c['start_m']:g} m, faded in over {c['fade_in_m']:g} m")
     result = run_curving(case, out_dir=args.out, progress=progress_bar(args))
     s = result.summary
     print(f"status: {s['status_text']}")

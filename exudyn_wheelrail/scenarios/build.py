@@ -45,12 +45,11 @@ from ..track.flexible import add_flexible_track
 from ..track.irregularities import IsolatedDefect
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
-from ..track.spectra import SpectralIrregularity
 from .curve_setup import LAYOUT_MARGIN_M, CurvingInputError, check_start_undisplaced, entry_layout
 from .deck import deck_probes, en1990_cutoff_Hz, support_motion
 from .flexible_track import (flexible_track_modes, flexible_track_probes, flexible_track_window,
                              start_on_flexible_track)
-from .spec import ScenarioError, as_scenario, features_end_m
+from .spec import ScenarioError, as_scenario, features_end_m, spectrum_table
 from .spec_layout import warn_creep_step
 
 __all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "build_layout", "vehicle_data",
@@ -76,9 +75,7 @@ def build_track(scn: dict, irregularity=None):
         elif comp["type"] == "measured":
             parts.append(read_irregularity_csv(comp["file"]))
         elif comp["type"] == "spectrum":
-            parts.append(SpectralIrregularity(comp["spectrum"], comp["length_m"], comp["seed"], band_m=comp["band_m"],
-                                              step_m=comp["step_m"], channels=comp["channels"],
-                                              start_m=comp["start_m"], scale=comp["scale"]))
+            parts.append(spectrum_table(comp))
         elif comp["type"] == "defect":
             parts.append(IsolatedDefect(comp["shape"], comp["position_m"], comp["length_m"], comp["depth_m"],
                                         rail=comp["rail"], direction=comp["direction"]))

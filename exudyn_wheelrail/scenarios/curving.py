@@ -36,16 +36,18 @@ value; the run is called steady when the means of ΣY over the two halves of the
 the wheelsets, by less than :data:`~exudyn_wheelrail.analysis.curving.STEADY_TOLERANCE` of ``m max(|a_nc|, 0.3 m/s²)``
 (:func:`~exudyn_wheelrail.analysis.curving.steady_state`).
 
-Track irregularities (``CurvingCase.irregularity``): any :class:`~exudyn_wheelrail.track.rigid.Irregularity`
+Track irregularities (``CurvingCase.irregularity``, or ``irregularity_spectrum`` and ``seed``): any
+:class:`~exudyn_wheelrail.track.rigid.Irregularity`
 (per-rail channels, :mod:`exudyn_wheelrail.track.irregularities`) displaces the rails of the layout, relative to
 the local track frame at each wheelset's s.  The vehicle starts in equilibrium on the undisplaced straight, so the
 irregularity must vanish, with its slopes, under every wheelset at t = 0 (checked before any work).
 :func:`spectral_irregularity` generates one from a standard spectrum (:mod:`exudyn_wheelrail.track.spectra`) over
-the run's distance and fades it in (:class:`FadedIn`, a raised cosine) from the leading wheelset's start to the
-start of the circular curve, so the steady part runs over the full standard irregularity.  The steady values are
-then the means over the averaging window of the response to it.  The irregularity reaches the build as an object
-(:func:`~.build.build_scenario`'s ``irregularity``), the command line's faded spectrum as any other: a scenario's
-``spectrum`` track component has no fade-in, so it is not written into the spec.
+the run's distance and fades it in (:class:`~exudyn_wheelrail.track.irregularities.FadedIn`, a raised cosine)
+from the leading wheelset's start to the start of the circular curve, so the steady part runs over the full
+standard irregularity.  The steady values are then the means over the averaging window of the response to it.  A
+spectrum and seed of the case (the command line's ``--irregularity-spectrum``, ``--seed``) are written into the
+scenario as its ``spectrum`` track component with that fade-in (:func:`spectrum_component`); an irregularity
+object reaches the build as :func:`~.build.build_scenario`'s Python-only ``irregularity``.
 """
 from __future__ import annotations
 
@@ -62,9 +64,9 @@ from ..rolling_stock.vehicle_data import VehicleData, load_vehicle
 from ..simulation import status as S
 from ..simulation.presets import PRESETS
 from ..simulation.settings import RunSettings
-from ..track.irregularities import ChannelTable
+from ..track.irregularities import FadedIn
 from ..track.layout import MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
-from ..track.spectra import DEFAULT_BAND_M, SpectralIrregularity
+from ..track.spectra import DEFAULT_BAND_M, SPECTRA, SpectralIrregularity
 from .build import ScenarioModel, build_scenario
 from .curve_setup import (CREEP_STEP_FACTOR, CURVE_READ_M, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
                           check_curve, check_start_undisplaced, creep_limited_step_s, creep_step_limit_s)
@@ -76,7 +78,7 @@ __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_c
            "curving_scenario", "build_curving", "run_curving", "CURVING_TIMESERIES", "LEAD_IN_M", "SETTLE_M",
            "SETTLE_S", "WINDOW_M", "WINDOW_S",
            "MAX_TRANSITION_M", "MAX_SPEED_KM_H", "MIN_SPEED_KM_H", "MAX_RADIUS_M", "DEFAULT_RAMP", "CREEP_STEP_FACTOR",
-           "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity",
+           "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity", "spectrum_component",
            "irregularity_fade_m", "MIN_FADE_M", "START_TOLERANCE_M"]
 
 # LEAD_IN_M (straight track ahead of the leading wheelset at t = 0) and the default transition (the cant ramp
@@ -114,6 +116,10 @@ class CurvingCase:
     #: an :class:`~exudyn_wheelrail.track.rigid.Irregularity` of the rails (None: a perfect track); zero under
     #: the wheelsets at t = 0 (module docstring; :func:`spectral_irregularity`)
     irregularity: object = None
+    #: or the name of a standard spectrum (:data:`~exudyn_wheelrail.track.spectra.SPECTRA`) and its ``seed``: the
+    #: irregularity of :func:`spectral_irregularity`, written into the scenario as its ``spectrum`` track component
+    irregularity_spectrum: str | None = None
+    seed: int | None = None
 
     @property
     def speed_m_s(self) -> float:
@@ -174,35 +180,21 @@ def check_curving_case(case: CurvingCase, vehicle=None):
             raise CurvingInputError("vehicle", str(exc).splitlines()[0] if str(exc) else repr(exc)) from None
     check_curve(R, h, lt, vehicle)
     if case.irregularity is not None:
+        if case.irregularity_spectrum is not None:
+            raise CurvingInputError("irregularity", "give an irregularity or a spectrum with its seed, not both")
         check_start_undisplaced(case.irregularity, vehicle)
+    if case.irregularity_spectrum is None and case.seed is not None:
+        raise CurvingInputError("seed", f"{case.seed!r}: given without a spectrum (it seeds the generated "
+                                        "irregularity)")
+    if case.irregularity_spectrum is not None:
+        if case.irregularity_spectrum not in SPECTRA:
+            raise CurvingInputError("irregularity", f"{case.irregularity_spectrum!r}: expected one of "
+                                                    f"{', '.join(SPECTRA)}")
+        if case.seed is None:
+            raise CurvingInputError("seed", f"missing (required with the spectrum {case.irregularity_spectrum})")
+        if isinstance(case.seed, bool) or not isinstance(case.seed, int) or case.seed < 0:
+            raise CurvingInputError("seed", f"{case.seed!r}: expected a non-negative integer")
     return vehicle
-
-
-class FadedIn(ChannelTable):
-    """The channels of ``table`` (a :class:`~exudyn_wheelrail.track.irregularities.ChannelTable`, e.g. a
-    :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`) times the raised cosine
-    ``w(s) = (1 - cos(π u))/2``, ``u = (s - s_from)/(s_to - s_from)`` clipped to [0, 1]: zero (with its slope) up to
-    ``s_from_m``, the table's own from ``s_to_m`` on; re-interpolated at the table's samples.  The table must start
-    at or before ``s_from_m``.  ``seed`` is the table's (None if it has none)."""
-
-    def __init__(self, table, s_from_m: float, s_to_m: float):
-        if not isinstance(table, ChannelTable):
-            raise ValueError(f"FadedIn: {table!r}: expected a ChannelTable (sampled channels)")
-        if not (math.isfinite(s_from_m) and math.isfinite(s_to_m) and s_to_m > s_from_m):
-            raise ValueError(f"FadedIn: s_from_m = {s_from_m!r}, s_to_m = {s_to_m!r}: expected finite s_from_m < "
-                             "s_to_m")
-        if table.s_m[0] > s_from_m:
-            raise ValueError(f"FadedIn: {table!r} starts at s = {table.s_m[0]:g} m, after s_from_m = {s_from_m:g} m "
-                             "(it is held constant before its start, not zero)")
-        u = np.clip((table.s_m - s_from_m) / (s_to_m - s_from_m), 0.0, 1.0)
-        w = 0.5 * (1.0 - np.cos(math.pi * u))
-        self.source = table
-        self.seed = getattr(table, "seed", None)
-        self.s_from_m, self.s_to_m = float(s_from_m), float(s_to_m)
-        super().__init__(table.s_m, {k: w * v for k, v in table.channels.items()}, name=f"{table.name} faded in")
-
-    def __repr__(self):
-        return f"FadedIn({self.source!r}, s_from_m={self.s_from_m:g}, s_to_m={self.s_to_m:g})"
 
 
 def irregularity_fade_m(case: CurvingCase) -> tuple[float, float]:
@@ -211,19 +203,29 @@ def irregularity_fade_m(case: CurvingCase) -> tuple[float, float]:
     return 0.0, max(LEAD_IN_M + case.transition_length_m, MIN_FADE_M)
 
 
+def spectrum_component(case: CurvingCase, spectrum, seed: int, vehicle=None, **options) -> dict:
+    """The scenario's ``spectrum`` track component (:mod:`.spec`) of :func:`spectral_irregularity`: generated from
+    s = 0 over the run's distance (at least the band's longest wavelength) and faded in
+    (:func:`irregularity_fade_m`)."""
+    if vehicle is None:
+        vehicle = _vehicle(case)
+    dist = curving_distances(case, vehicle)
+    band = options.get("band_m", DEFAULT_BAND_M)
+    length = max(dist["total_m"] + LAYOUT_MARGIN_M, float(max(band)))
+    s_from, s_to = irregularity_fade_m(case)
+    return {"type": "spectrum", "spectrum": spectrum, "seed": seed, "length_m": length, "start_m": s_from,
+            "fade_in_m": s_to - s_from, **options}
+
+
 def spectral_irregularity(case: CurvingCase, spectrum, seed: int, vehicle=None, **options) -> FadedIn:
     """An irregularity of ``spectrum`` (a name of :data:`~exudyn_wheelrail.track.spectra.SPECTRA`) and ``seed``
     for ``case``: generated from s = 0 over the run's distance (at least the band's longest wavelength; ``options``
     as :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`: ``band_m``, ``step_m``, ``channels``,
     ``scale``; their defaults are the spectra module's) and faded in (:func:`irregularity_fade_m`).  Raises
     ``ValueError`` for a bad spectrum, seed or option."""
-    if vehicle is None:
-        vehicle = _vehicle(case)
-    dist = curving_distances(case, vehicle)
-    band = options.get("band_m", DEFAULT_BAND_M)
-    length = max(dist["total_m"] + LAYOUT_MARGIN_M, float(max(band)))
-    table = SpectralIrregularity(spectrum, length, seed, start_m=0.0, **options)
-    return FadedIn(table, *irregularity_fade_m(case))
+    comp = spectrum_component(case, spectrum, seed, vehicle, **options)
+    table = SpectralIrregularity(spectrum, comp["length_m"], seed, start_m=comp["start_m"], **options)
+    return FadedIn(table, comp["start_m"], comp["start_m"] + comp["fade_in_m"])
 
 
 def curving_distances(case: CurvingCase, vehicle) -> dict:
@@ -261,12 +263,14 @@ def curving_scenario(case: CurvingCase, vehicle=None) -> dict:
               "start_m": LEAD_IN_M}
     if case.transition_m is not None:
         layout["transition_m"] = float(case.transition_m)
+    track = {} if case.irregularity_spectrum is None else {
+        "track": [spectrum_component(case, case.irregularity_spectrum, case.seed, vehicle)]}
     return {"schema_version": 2,
             "scenario": {"name": "curving", "description": f"steady curving: {vehicle.name}, R = {case.radius_m:g} m "
                                                            f"{case.direction}, cant {case.cant_m:g} m, "
                                                            f"{case.speed_km_h:g} km/h"},
             "vehicle": {**_vehicle_entry(case, vehicle), "speed_km_h": float(case.speed_km_h), "start_s_m": 0.0},
-            "layout": layout,
+            "layout": layout, **track,
             "contact": {**preset.contact, "friction": float(case.friction)},
             "run": {**preset.run, "dt_s": creep_limited_step_s(vehicle, case.speed_m_s, RunSettings(**preset.run).dt_s),
                     "duration_s": dist["duration_s"]},
@@ -318,8 +322,9 @@ def curving_summary(case: CurvingCase, h: ScenarioModel, ts: dict, outcome) -> d
                "balance_speed_km_h": curve["balance_speed_km_h"],
                "distances_m": dist, "solver": h.run.solver, "dt_s": h.run.dt_s,
                "solve_seconds": outcome.solve_seconds, "t_end_s": outcome.t_end_s}
-    if case.irregularity is not None:
-        irr = case.irregularity
+    irregular = case.irregularity is not None or case.irregularity_spectrum is not None
+    if irregular:
+        irr = h.track.irregularity          # the case's, or its spectrum's as built from the scenario
         summary["irregularity"] = {"description": repr(irr), "seed": getattr(irr, "seed", None)}
         if isinstance(irr, FadedIn):
             summary["irregularity"]["faded_in_m"] = [irr.s_from_m, irr.s_to_m]
@@ -340,7 +345,7 @@ def curving_summary(case: CurvingCase, h: ScenarioModel, ts: dict, outcome) -> d
                                 f"{sum(st['steady_drift_N']):.4g} N summed over the wheelsets (tolerance "
                                 f"{st['steady_tolerance_N']:.4g} N): the values are means of a drifting run; run a "
                                 "longer curve or check the vehicle's damping"]
-            if case.irregularity is not None:
+            if irregular:
                 summary["notes"].append("over track irregularities the halves differ also by the response to them "
                                         "(the drift tolerance is set for a perfect track)")
     else:

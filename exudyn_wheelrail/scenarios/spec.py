@@ -19,7 +19,7 @@ from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
 from ..simulation.solvers import METHODS
 from ..structures.bridge_exudyn import FORMULATIONS
-from ..track.irregularities import CHANNELS, DEFECT_SHAPES, RAILS
+from ..track.irregularities import CHANNELS, DEFECT_SHAPES, RAILS, FadedIn
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import SampledIrregularity
 from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrregularity
@@ -30,7 +30,7 @@ from .spec_layout import layout_combination_error, layout_run_settings, normalis
 
 __all__ = ["SCHEMA_VERSION", "V1_MOVED", "TRACK_TYPES", "DIRECTIONS", "UNLOADING_GROUP", "STRUCTURE_GROUPS",
            "TIMESERIES_GROUPS", "FORMATS", "NAMED_X", "CRITERIA_VEHICLES", "DEFAULT_FLOOR_HEIGHT_M", "QUANTITIES",
-           "ScenarioError", "load_scenario", "validate_scenario", "features_end_m", "as_scenario"]
+           "ScenarioError", "load_scenario", "validate_scenario", "features_end_m", "as_scenario", "spectrum_table"]
 
 SCHEMA_VERSION = 2
 #: keys of ``schema_version = 1`` files (and overrides) -> their place in version 2
@@ -389,11 +389,23 @@ def _track_table(kind: str, path):
     return read_irregularity_csv(path)
 
 
+def spectrum_table(comp: dict):
+    """The irregularity of a normalised ``spectrum`` track component: the generated table
+    (:class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`), with ``fade_in_m`` faded in from zero at its
+    start over that length (:class:`~exudyn_wheelrail.track.irregularities.FadedIn`; e.g. under a vehicle that
+    starts on the undisplaced track of a curve).  Raises ``ValueError`` for a bad spectrum, seed or option."""
+    table = SpectralIrregularity(comp["spectrum"], comp["length_m"], comp["seed"], band_m=comp["band_m"],
+                                 step_m=comp["step_m"], channels=comp["channels"], start_m=comp["start_m"],
+                                 scale=comp["scale"])
+    fade = comp.get("fade_in_m", 0.0)
+    return FadedIn(table, comp["start_m"], comp["start_m"] + fade) if fade > 0.0 else table
+
+
 def _spectrum_component(c: _Check, comp, key: str) -> dict:
     """A ``spectrum`` track component: irregularities generated from a standard PSD
     (:class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`)."""
     c.table(comp, key, required=("type", "spectrum", "seed", "length_m"),
-            optional=("band_m", "step_m", "start_m", "channels", "scale"))
+            optional=("band_m", "step_m", "start_m", "channels", "scale", "fade_in_m"))
     band = c.array(comp.get("band_m", list(DEFAULT_BAND_M)), f"{key}.band_m")
     if len(band) != 2:
         raise c.error(f"{key}.band_m", f"expected [lambda_min_m, lambda_max_m], got {band!r}")
@@ -407,10 +419,10 @@ def _spectrum_component(c: _Check, comp, key: str) -> dict:
            "start_m": c.number(comp.get("start_m", 0.0), f"{key}.start_m"),
            "channels": [c.string(v, f"{key}.channels", tuple(CHANNELS)) for v in channels],
            "scale": c.number(comp.get("scale", 1.0), f"{key}.scale", lo=0.0, lo_open=False)}
+    if "fade_in_m" in comp:
+        out["fade_in_m"] = c.number(comp["fade_in_m"], f"{key}.fade_in_m", lo=0.0)
     try:
-        SpectralIrregularity(out["spectrum"], out["length_m"], out["seed"], band_m=out["band_m"],
-                             step_m=out["step_m"], channels=out["channels"], start_m=out["start_m"],
-                             scale=out["scale"])
+        spectrum_table(out)
     except ValueError as exc:
         raise c.error(key, str(exc)) from None
     return out

@@ -16,6 +16,8 @@ difference channel (± its amplitude).
 
 * :class:`ChannelTable` — sampled channels (measured or generated), cubic splines with zero end slopes, held
   constant outside the table; :meth:`ChannelTable.from_rails` from left/right rail values;
+* :class:`FadedIn` — a table's channels faded in from zero (with their slopes) by a raised cosine, e.g. for a
+  vehicle that starts on the undisplaced track;
 * :class:`IsolatedDefect` — one local defect of one rail (or both), vertical or lateral:
 
   - ``"bump"``: ``d (1 - cos(2π u/L))/2`` on ``u = s - s0 ∈ [0, L]`` (C1; a positive depth is a dip, z down),
@@ -27,6 +29,8 @@ difference channel (± its amplitude).
   ``s0`` is ``position_m`` for the bump (its start) and the centre ``s_c`` for the cusp and the dipped joint.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -48,7 +52,7 @@ from .rigid import (
 )
 from ..validation import finite
 
-__all__ = ["CHANNELS", "RAILS", "DEFECT_SHAPES", "ChannelValues", "ChannelTable", "IsolatedDefect",
+__all__ = ["CHANNELS", "RAILS", "DEFECT_SHAPES", "ChannelValues", "ChannelTable", "FadedIn", "IsolatedDefect",
            "channel_values", "rail_values"]
 
 #: the four channels by name, in the order of :func:`~exudyn_wheelrail.track.rigid.irregularity_channels_at`
@@ -190,3 +194,30 @@ class IsolatedDefect(Irregularity):
     def __repr__(self):
         return (f"IsolatedDefect({self.shape!r}, position_m={self.position_m}, length_m={self.length_m}, "
                 f"depth_m={self.depth_m}, rail={self.rail!r}, direction={self.direction!r})")
+
+
+class FadedIn(ChannelTable):
+    """The channels of ``table`` (a :class:`ChannelTable`, e.g. a
+    :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`) times the raised cosine
+    ``w(s) = (1 - cos(π u))/2``, ``u = (s - s_from)/(s_to - s_from)`` clipped to [0, 1]: zero (with its slope) up to
+    ``s_from_m``, the table's own from ``s_to_m`` on; re-interpolated at the table's samples.  The table must start
+    at or before ``s_from_m``.  ``seed`` is the table's (None if it has none)."""
+
+    def __init__(self, table, s_from_m: float, s_to_m: float):
+        if not isinstance(table, ChannelTable):
+            raise ValueError(f"FadedIn: {table!r}: expected a ChannelTable (sampled channels)")
+        if not (math.isfinite(s_from_m) and math.isfinite(s_to_m) and s_to_m > s_from_m):
+            raise ValueError(f"FadedIn: s_from_m = {s_from_m!r}, s_to_m = {s_to_m!r}: expected finite s_from_m < "
+                             "s_to_m")
+        if table.s_m[0] > s_from_m:
+            raise ValueError(f"FadedIn: {table!r} starts at s = {table.s_m[0]:g} m, after s_from_m = {s_from_m:g} m "
+                             "(it is held constant before its start, not zero)")
+        u = np.clip((table.s_m - s_from_m) / (s_to_m - s_from_m), 0.0, 1.0)
+        w = 0.5 * (1.0 - np.cos(math.pi * u))
+        self.source = table
+        self.seed = getattr(table, "seed", None)
+        self.s_from_m, self.s_to_m = float(s_from_m), float(s_to_m)
+        super().__init__(table.s_m, {k: w * v for k, v in table.channels.items()}, name=f"{table.name} faded in")
+
+    def __repr__(self):
+        return f"FadedIn({self.source!r}, s_from_m={self.s_from_m:g}, s_to_m={self.s_to_m:g})"
