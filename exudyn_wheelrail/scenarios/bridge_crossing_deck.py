@@ -17,12 +17,9 @@ __all__ = ["deck_section", "elements_per_span", "DeckModes", "deck_modes", "vert
 def deck_section(case: BridgeCrossing):
     """The :class:`~exudyn_wheelrail.structures.beam.DeckSection` of every span: ``m``, ``EI_y`` from ``f1`` of
     the first span, ``EI_z`` (:attr:`BridgeCrossing.EI_z_Nm2`: from the lateral frequency, else
-    :data:`LATERAL_EI_RATIO` ``EI_y``); the torsional (``GJ = EI_y``, ``I_p = m (2 m)²``) and axial
-    (``EA = 1e3 EI_y / m²``) values are placeholders of the right order that do not act on the bending modes (beam
-    axis = shear centre = centre of mass, rail height 0)."""
-    EI = case.EI_Nm2
-    return DeckSection(m_kg_m=case.mass_kg_m, EI_y_Nm2=EI, EI_z_Nm2=case.EI_z_Nm2, GJ_Nm2=EI, EA_N=1e3 * EI,
-                       Ip_kgm2_m=case.mass_kg_m * 4.0)
+    :data:`LATERAL_EI_RATIO` ``EI_y``), the torsional and axial values placeholders
+    (:meth:`~exudyn_wheelrail.structures.beam.DeckSection.bending_only`; rail height 0)."""
+    return DeckSection.bending_only(case.mass_kg_m, case.EI_Nm2, case.EI_z_Nm2)
 
 
 def elements_per_span(case: BridgeCrossing) -> int:

@@ -18,13 +18,17 @@ from ..analysis.curving import CURVING_GROUP
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
 from ..simulation.solvers import METHODS
+from ..structures.beam import DeckSection
 from ..structures.bridge_exudyn import FORMULATIONS
+from ..structures.load_models import flexural_rigidity_Nm2
 from ..track.irregularities import CHANNELS, DEFECT_SHAPES, RAILS, FadedIn
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import SampledIrregularity
 from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrregularity
 from ..validation import Quantity, read_toml
+from .bridge_crossing_case import F1_HZ, MASS_KG_M
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
+from .defaults import LATERAL_EI_RATIO
 from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
 from .spec_layout import layout_combination_error, layout_run_settings, normalise_layout
 
@@ -68,6 +72,8 @@ QUANTITIES = {
     "track.*.length_m": Quantity("length of an isolated defect or a generated irregularity", "m", 0.01, 100000.0),
     "structure.spans_m": Quantity("bridge span length", "m", 1.0, 1000.0),
     "structure.rail_height_m": Quantity("height of the rail top above the deck's beam axis", "m", 0.0, 10.0),
+    "structure.mass_kg_m": MASS_KG_M,
+    "structure.f1_Hz": F1_HZ,
     "structure.support_motion.peak_acceleration_m_s2": Quantity("peak ground acceleration", "m/s²", 0.0, 10.0),
     "structure.support_motion.frequency_Hz": Quantity("ground-motion frequency", "Hz", 0.1, 20.0),
     "structure.support_motion.ramp_cycles": Quantity("ramp length of the ground-motion burst in periods", "", 0.0,
@@ -431,15 +437,39 @@ def _spectrum_component(c: _Check, comp, key: str) -> dict:
 _SECTION_KEYS = ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2", "GJ_Nm2", "EA_N", "Ip_kgm2_m")
 
 
+def _frequency_section(c: _Check, st, first_span_m: float) -> dict:
+    """The section of a deck given by its mass and first bending frequencies (``mass_kg_m``, ``f1_Hz`` of the first
+    span, optional ``lateral_f1_Hz``, else ``EI_z =`` :data:`~.defaults.LATERAL_EI_RATIO` ``EI_y``), the torsional
+    and axial values placeholders (:meth:`~exudyn_wheelrail.structures.beam.DeckSection.bending_only`): the
+    section of the ``bridge-crossing`` command's deck."""
+    m = c.plausible(c.number(st["mass_kg_m"], "structure.mass_kg_m", lo=0.0), "structure.mass_kg_m",
+                    "structure.mass_kg_m")
+    f1 = c.plausible(c.number(st["f1_Hz"], "structure.f1_Hz", lo=0.0), "structure.f1_Hz", "structure.f1_Hz")
+    EI = flexural_rigidity_Nm2(first_span_m, m, f1)
+    if "lateral_f1_Hz" in st:
+        f_lat = c.plausible(c.number(st["lateral_f1_Hz"], "structure.lateral_f1_Hz", lo=0.0),
+                            "structure.lateral_f1_Hz", "structure.f1_Hz")
+        EI_z = flexural_rigidity_Nm2(first_span_m, m, f_lat)
+    else:
+        EI_z = LATERAL_EI_RATIO * EI
+    sec = DeckSection.bending_only(m, EI, EI_z)
+    return {k: getattr(sec, k) for k in _SECTION_KEYS}
+
+
 def _structure(c: _Check, st) -> dict:
-    c.table(st, "structure", required=("spans_m", "start_m", "damping_ratio", "rail_height_m", "section"),
-            optional=("continuous", "elements_per_span", "formulation", "modes_cutoff_Hz", "track_form",
-                      "support_motion"))
+    c.table(st, "structure", required=("spans_m", "start_m", "damping_ratio", "rail_height_m"),
+            optional=("section", "mass_kg_m", "f1_Hz", "lateral_f1_Hz", "continuous", "elements_per_span",
+                      "formulation", "modes_cutoff_Hz", "track_form", "support_motion"))
     spans = st["spans_m"]
     if isinstance(spans, (int, float)) and not isinstance(spans, bool):
         spans = [spans]
     spans = c.array(spans, "structure.spans_m", min_length=1)
-    sec = c.table(st["section"], "structure.section", required=_SECTION_KEYS)
+    by_frequency = [k for k in ("mass_kg_m", "f1_Hz", "lateral_f1_Hz") if k in st]
+    if "section" in st and by_frequency:
+        raise c.error("structure", f"give the section or the deck's mass and frequencies ({', '.join(by_frequency)}),"
+                                   " not both")
+    if "section" not in st and not {"mass_kg_m", "f1_Hz"} <= set(by_frequency):
+        raise c.error("structure", "missing the section ([structure.section]) or the deck's mass_kg_m and f1_Hz")
     cut = st.get("modes_cutoff_Hz", "en1990")
     if isinstance(cut, str):
         cut = c.string(cut, "structure.modes_cutoff_Hz", ("en1990",))
@@ -457,7 +487,12 @@ def _structure(c: _Check, st) -> dict:
            "formulation": c.string(st.get("formulation", "modal"), "structure.formulation", FORMULATIONS),
            "modes_cutoff_Hz": cut,
            "track_form": c.string(st.get("track_form", TRACK_FORMS[0]), "structure.track_form", TRACK_FORMS),
-           "section": {k: c.number(sec[k], f"structure.section.{k}", lo=0.0) for k in _SECTION_KEYS}}
+           "section": None}
+    if "section" in st:
+        sec = c.table(st["section"], "structure.section", required=_SECTION_KEYS)
+        out["section"] = {k: c.number(sec[k], f"structure.section.{k}", lo=0.0) for k in _SECTION_KEYS}
+    else:
+        out["section"] = _frequency_section(c, st, out["spans_m"][0])
     if "support_motion" in st:
         out["support_motion"] = _support_motion(c, st["support_motion"])
     return out

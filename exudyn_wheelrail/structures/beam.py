@@ -62,6 +62,14 @@ class DeckSection:
         for f in ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2", "GJ_Nm2", "EA_N", "Ip_kgm2_m"):
             object.__setattr__(self, f, checked_number(f"DeckSection.{f}", getattr(self, f), positive=True))
 
+    @classmethod
+    def bending_only(cls, m_kg_m: float, EI_y_Nm2: float, EI_z_Nm2: float) -> "DeckSection":
+        """A section known only by its mass and bending stiffnesses (a deck given by its frequencies): the
+        torsional (``GJ = EI_y``, ``I_p = m (2 m)²``) and axial (``EA = 1e3 EI_y / m²``) values are placeholders of
+        the right order that act on no bending mode (the beam axis is shear centre and centre of mass)."""
+        return cls(m_kg_m=m_kg_m, EI_y_Nm2=EI_y_Nm2, EI_z_Nm2=EI_z_Nm2, GJ_Nm2=EI_y_Nm2, EA_N=1e3 * EI_y_Nm2,
+                   Ip_kgm2_m=m_kg_m * 4.0)
+
     # analytic references for a simply supported span of length L (Euler–Bernoulli, St Venant torsion)
     def vertical_frequency_Hz(self, L_m: float, n: int = 1) -> float:
         """``f_n = n²π/(2L²) √(EI_y/m)`` of a simply supported span."""
