@@ -468,8 +468,12 @@ def _structure(c: _Check, st) -> dict:
     if "section" in st and by_frequency:
         raise c.error("structure", f"give the section or the deck's mass and frequencies ({', '.join(by_frequency)}),"
                                    " not both")
-    if "section" not in st and not {"mass_kg_m", "f1_Hz"} <= set(by_frequency):
-        raise c.error("structure", "missing the section ([structure.section]) or the deck's mass_kg_m and f1_Hz")
+    if "section" not in st and not by_frequency:
+        raise c.error("structure.section", "missing (or give the deck's mass_kg_m and f1_Hz)")
+    for k in ("mass_kg_m", "f1_Hz"):
+        if by_frequency and k not in st:
+            raise c.error(f"structure.{k}", "missing (a deck given by its mass and frequency needs mass_kg_m and "
+                                            "f1_Hz)")
     cut = st.get("modes_cutoff_Hz", "en1990")
     if isinstance(cut, str):
         cut = c.string(cut, "structure.modes_cutoff_Hz", ("en1990",))
