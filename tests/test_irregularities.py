@@ -281,11 +281,14 @@ def test_scenario_track_entries_build_the_same_irregularity(tmp_path):
 
 
 def test_a_faded_spectrum_entry_rises_from_zero_to_the_table():
-    """``fade_in_m``: the generated table times the raised cosine from ``start_m`` — zero (with its slope) before,
-    the table's own values from ``start_m + fade_in_m`` on (the same samples, bit for bit: the weight is exactly 1
-    there), the raised cosine in between (checked at the middle, weight 1/2, within the spline's rounding)."""
+    """``fade_in_m``: the generated table times the raised cosine ``w = (1 - cos(π u))/2`` from ``start_m`` — zero,
+    with its slope, before and at ``start_m``; at the table's samples inside the fade ``w`` times the table's value
+    (checked at u = 1/4, w = 0.146, where a linear ramp would give 0.25, and u = 1/2); the table's own values from
+    ``start_m + fade_in_m`` on, bit for bit at the samples (w = 1 exactly) and, between samples 5 m beyond, within
+    1e-9 of the table's amplitude (the clamped spline reaches back to the fade through ~20 samples, each passing
+    on about a quarter).  ``fade_in_m = 0`` is no fade; longer than ``length_m`` an error."""
     from exudyn_wheelrail.scenarios.build import build_track
-    from exudyn_wheelrail.scenarios.spec import validate_scenario
+    from exudyn_wheelrail.scenarios.spec import ScenarioError, validate_scenario
     from exudyn_wheelrail.track.irregularities import FadedIn
     from exudyn_wheelrail.track.spectra import SpectralIrregularity
     entry = {"type": "spectrum", "spectrum": "german_low", "seed": 3, "length_m": 200.0, "start_m": 10.0}
@@ -293,16 +296,29 @@ def test_a_faded_spectrum_entry_rises_from_zero_to_the_table():
     faded = build_track(validate_scenario(_scenario([{**entry, "fade_in_m": 40.0}]))).irregularity
     assert isinstance(faded, FadedIn) and isinstance(plain, SpectralIrregularity)
     assert (faded.s_from_m, faded.s_to_m) == (10.0, 50.0)
-    before, after = np.linspace(-5.0, 10.0, 31), np.linspace(50.0, 210.0, 321)
-    for name in ("alignment_m", "level_m", "cross_level_m", "gauge_m"):
-        assert np.all(getattr(channel_values(faded, before), name) == 0.0)
-        assert np.array_equal(getattr(channel_values(faded, after), name), getattr(channel_values(plain, after), name))
-    mid = np.array([faded.s_m[np.argmin(np.abs(faded.s_m - 30.0))]])       # a sample, weight (1 - cos(pi u))/2
-    u = (mid[0] - 10.0) / 40.0
-    w = 0.5 * (1.0 - np.cos(np.pi * u))
-    for name in ("alignment_m", "level_m"):
-        want = w * getattr(channel_values(plain, mid), name)[0]
-        assert getattr(channel_values(faded, mid), name)[0] == pytest.approx(want, rel=1e-12, abs=1e-18)
+    names = ("alignment_m", "level_m", "cross_level_m", "gauge_m")
+    before = channel_values(faded, np.linspace(-5.0, 10.0, 31))
+    for name in names:
+        assert np.all(getattr(before, name) == 0.0)
+        assert np.all(getattr(before, "d_" + name[:-2]) == 0.0)
+    for u in (0.25, 0.5):
+        s_u = np.array([10.0 + 40.0 * u])                    # a sample (step 0.25 m)
+        w = 0.5 * (1.0 - np.cos(np.pi * u))
+        for name in names:
+            assert getattr(channel_values(faded, s_u), name)[0] == pytest.approx(
+                w * getattr(channel_values(plain, s_u), name)[0], rel=1e-12, abs=1e-18)
+    samples = np.arange(50.0, 210.0, 0.25)
+    between = np.arange(55.0, 210.0, 0.25) + 0.1
+    scale = max(np.max(np.abs(getattr(channel_values(plain, samples), n))) for n in names)
+    for name in names:
+        assert np.array_equal(getattr(channel_values(faded, samples), name),
+                              getattr(channel_values(plain, samples), name))
+        assert np.max(np.abs(getattr(channel_values(faded, between), name)
+                             - getattr(channel_values(plain, between), name))) <= 1e-9 * scale
+    none = build_track(validate_scenario(_scenario([{**entry, "fade_in_m": 0.0}]))).irregularity
+    assert isinstance(none, SpectralIrregularity)
+    with pytest.raises(ScenarioError, match=r"track\.0\.fade_in_m: 300 m is longer than the generated length_m"):
+        validate_scenario(_scenario([{**entry, "fade_in_m": 300.0}]))
 
 
 def test_the_curving_spectrum_is_the_scenarios_track_entry():
@@ -310,19 +326,47 @@ def test_the_curving_spectrum_is_the_scenarios_track_entry():
     from the start to the circular curve), and build the irregularity :func:`spectral_irregularity` gives (the same
     code on the same inputs: bit for bit)."""
     from exudyn_wheelrail.scenarios.build import build_track
-    from exudyn_wheelrail.scenarios.curving import CurvingCase, curving_scenario, spectral_irregularity
+    from exudyn_wheelrail.rolling_stock.vehicle_data import load_vehicle
+    from exudyn_wheelrail.scenarios.curving import (CurvingCase, curving_distances, curving_scenario,
+                                                    irregularity_fade_m, spectral_irregularity)
     from exudyn_wheelrail.scenarios.spec import validate_scenario
     case = CurvingCase("manchester_vehicle1", radius_m=1000.0, cant_m=0.1, speed_km_h=100.0,
                        irregularity_spectrum="german_low", seed=2)
     scn = validate_scenario(curving_scenario(case))
     (entry,) = scn["track"]
-    assert entry["type"] == "spectrum" and entry["start_m"] == 0.0 and entry["fade_in_m"] > 0.0
+    assert entry["type"] == "spectrum" and entry["start_m"] == 0.0
+    assert entry["fade_in_m"] == irregularity_fade_m(case)[1]            # to the start of the circular curve
+    run_m = curving_distances(case, load_vehicle("manchester_vehicle1"))["total_m"]
+    assert entry["length_m"] >= run_m                                     # generated over the whole run
     built = build_track(scn).irregularity
     ref = spectral_irregularity(dataclasses.replace(case, irregularity_spectrum=None, seed=None), "german_low", 2)
     assert repr(built) == repr(ref)
     s = np.linspace(-5.0, entry["length_m"], 4001)
     for name in ("alignment_m", "level_m", "cross_level_m", "gauge_m"):
         assert np.array_equal(getattr(channel_values(built, s), name), getattr(channel_values(ref, s), name))
+
+
+@pytest.mark.parametrize("fields, option, words", [
+    ({"irregularity_spectrum": "german_low"}, "seed", "missing"),
+    ({"seed": 1}, "seed", "without a spectrum"),
+    ({"irregularity_spectrum": "german_low", "seed": True}, "seed", "non-negative integer"),
+    ({"irregularity_spectrum": "german_low", "seed": -2}, "seed", "non-negative integer"),
+    ({"irregularity_spectrum": "german_low", "seed": 1.5}, "seed", "non-negative integer"),
+    ({"irregularity_spectrum": "ballast", "seed": 1}, "irregularity_spectrum", "expected one of"),
+])
+def test_a_curving_case_checks_its_spectrum_and_seed(fields, option, words):
+    """The curving case's spectrum and seed, checked before any work: the error names the field; a NumPy integer
+    seed is a seed; an irregularity object and a spectrum together are refused."""
+    from exudyn_wheelrail.scenarios.curving import CurvingCase, CurvingInputError, check_curving_case
+    from exudyn_wheelrail.track.rigid import Harmonic
+    base = dict(vehicle="manchester_vehicle1", radius_m=1000.0, cant_m=0.1, speed_km_h=100.0)
+    with pytest.raises(CurvingInputError) as err:
+        check_curving_case(CurvingCase(**base, **fields))
+    assert err.value.option == option and words in err.value.problem
+    check_curving_case(CurvingCase(**base, irregularity_spectrum="german_low", seed=np.int64(4)))
+    with pytest.raises(CurvingInputError, match="not both"):
+        check_curving_case(CurvingCase(**base, irregularity=Harmonic(0.001, 50.0), irregularity_spectrum="german_low",
+                                       seed=1))
 
 
 @pytest.mark.parametrize("entry, message", [

@@ -2,7 +2,6 @@
 lateral shift, angle of attack per wheelset)."""
 from __future__ import annotations
 
-
 from ..scenarios.defaults import DEFAULT_MIN_TRANSITION_M, DEFAULT_RAMP, LEAD_IN_M
 from ..standards import DEFAULT_BAND_M, TRACK_SPECTRA
 from ..validation import output_dir
@@ -11,7 +10,8 @@ from .common import add_progress_argument, progress_bar
 #: the command line's option of each field of a curving case (errors name the option)
 CURVING_OPTIONS = {"radius_m": "--radius-m", "cant_m": "--cant-m", "speed_km_h": "--speed-kmh",
                    "transition_m": "--transition-m", "direction": "--direction", "vehicle": "--vehicle",
-                   "irregularity": "--irregularity-spectrum", "seed": "--seed"}
+                   "irregularity": "--irregularity-spectrum", "irregularity_spectrum": "--irregularity-spectrum",
+                   "seed": "--seed"}
 
 
 def add_curving_parser(sub) -> None:

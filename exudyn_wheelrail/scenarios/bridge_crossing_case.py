@@ -9,9 +9,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..simulation.solvers import RESOLUTION_LIMIT, SOLVERS
-from ..structures.load_models import AxleTrain, flexural_rigidity_Nm2
+from ..structures.load_models import AxleTrain
 from ..validation import Quantity
-from .deck import TRACK_FORMS
+from .deck import TRACK_FORMS, bending_stiffness_Nm2
 from .defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, LOAD_MODELS, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
                        SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
 
@@ -150,15 +150,13 @@ class BridgeCrossing:
 
     @property
     def EI_Nm2(self) -> float:
-        return flexural_rigidity_Nm2(self.span_m, self.mass_kg_m, self.f1_Hz)
+        return bending_stiffness_Nm2(self.span_m, self.mass_kg_m, self.f1_Hz)[0]
 
     @property
     def EI_z_Nm2(self) -> float:
         """Lateral bending stiffness: from ``lateral_f1_Hz`` on the first span, else :data:`LATERAL_EI_RATIO`
-        ``EI_y``."""
-        if self.lateral_f1_Hz is None:
-            return LATERAL_EI_RATIO * self.EI_Nm2
-        return flexural_rigidity_Nm2(self.span_m, self.mass_kg_m, self.lateral_f1_Hz)
+        ``EI_y`` (:func:`~.deck.bending_stiffness_Nm2`)."""
+        return bending_stiffness_Nm2(self.span_m, self.mass_kg_m, self.f1_Hz, self.lateral_f1_Hz)[1]
 
     @property
     def chain_m(self) -> tuple:

@@ -100,6 +100,5 @@ def vertical_modes(case: BridgeCrossing):
 def en1990_cutoff_Hz(case: BridgeCrossing, span: int = 0) -> float:
     """EN 1990 A2.4.4.2.1(4)P: modes up to max(30 Hz, 1.5 f1, f3) (``f3 = 9 f1``) of span ``span`` (0-based)."""
     sec = deck_section(case)
-    return span_cutoff_Hz((case.chain_m[span],), {f: getattr(sec, f) for f in ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2",
-                                                                                "GJ_Nm2", "EA_N", "Ip_kgm2_m")})
+    return span_cutoff_Hz((case.chain_m[span],), sec)
 

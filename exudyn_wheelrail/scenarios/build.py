@@ -38,7 +38,6 @@ from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
 from ..simulation.exudyn_settings import run_solver_settings
 from ..simulation.recorder import Recorder, vehicle_probes
 from ..simulation.settings import DURATION_AUTO, MAX_STEPS, ContactSettings, RunSettings, SettingsError
-from ..structures.beam import DeckSection
 from ..structures.bridge import BridgeModel
 from ..structures.bridge_exudyn import add_bridge
 from ..track.flexible import add_flexible_track
@@ -46,7 +45,7 @@ from ..track.irregularities import IsolatedDefect
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
 from .curve_setup import LAYOUT_MARGIN_M, CurvingInputError, check_start_undisplaced, entry_layout
-from .deck import deck_probes, en1990_cutoff_Hz, support_motion
+from .deck import deck_probes, en1990_cutoff_Hz, structure_section, support_motion
 from .flexible_track import (flexible_track_modes, flexible_track_probes, flexible_track_window,
                              start_on_flexible_track)
 from .spec import ScenarioError, as_scenario, features_end_m, spectrum_table
@@ -90,13 +89,13 @@ def build_track(scn: dict, irregularity=None):
 
 def build_bridge_modes(structure: dict):
     """``(BridgeModel, BridgeModes, f_cut_Hz)`` of a normalised ``[structure]`` table."""
-    sec = DeckSection(**structure["section"])
+    sec = structure_section(structure)
     model = BridgeModel(tuple(structure["spans_m"]), sec, continuous=structure["continuous"],
                         damping_ratio=structure["damping_ratio"], rail_height_m=structure["rail_height_m"],
                         start_m=structure["start_m"], elements_per_span=structure["elements_per_span"])
     cut = structure["modes_cutoff_Hz"]
     if cut == "en1990":
-        cut = en1990_cutoff_Hz(structure["spans_m"], structure["section"])
+        cut = en1990_cutoff_Hz(structure["spans_m"], sec)
         f_max = MODES_CUTOFF_MARGIN * cut
     else:
         f_max = float(cut)

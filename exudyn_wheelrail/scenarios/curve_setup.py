@@ -126,7 +126,8 @@ def check_start_undisplaced(irregularity, vehicle, s_leading_m: float = 0.0) -> 
                     "irregularity", f"{irregularity!r}: the {what}{name} is {vals[j]:.3g} {unit} under a wheelset "
                                     f"at t = 0 (s = {s0[j]:g} m); the vehicle starts on the undisplaced straight "
                                     f"(s <= {s_leading_m:g} m): start the irregularity ahead of the leading wheelset "
-                                    "or fade it in (FadedIn, spectral_irregularity)")
+                                    "or fade it in (a spectrum track entry's fade_in_m; in Python FadedIn or "
+                                    "spectral_irregularity)")
 
 
 def entry_layout(radius_m: float, cant_m: float, transition_m: float, direction: str, transition_start_m: float,

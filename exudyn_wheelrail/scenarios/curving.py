@@ -52,6 +52,7 @@ object reaches the build as :func:`~.build.build_scenario`'s Python-only ``irreg
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -66,19 +67,21 @@ from ..simulation.presets import PRESETS
 from ..simulation.settings import RunSettings
 from ..track.irregularities import FadedIn
 from ..track.layout import MAX_RADIUS_M, MAX_TRANSITION_M, curve_quantities
-from ..track.spectra import DEFAULT_BAND_M, SPECTRA, SpectralIrregularity
+from ..track.spectra import DEFAULT_BAND_M, SPECTRA
 from .build import ScenarioModel, build_scenario
 from .curve_setup import (CREEP_STEP_FACTOR, CURVE_READ_M, LAYOUT_MARGIN_M, START_TOLERANCE_M, CurvingInputError,
                           check_curve, check_start_undisplaced, creep_limited_step_s, creep_step_limit_s)
 from .defaults import DEFAULT_RAMP, LEAD_IN_M, default_transition_m
 from .outputs import write_csv, write_json
 from .run import run_events, run_model
+from .spec import spectrum_table
 
 __all__ = ["CurvingCase", "CurvingResult", "CurvingInputError", "check_curving_case", "curving_distances",
            "curving_scenario", "build_curving", "run_curving", "CURVING_TIMESERIES", "LEAD_IN_M", "SETTLE_M",
            "SETTLE_S", "WINDOW_M", "WINDOW_S",
            "MAX_TRANSITION_M", "MAX_SPEED_KM_H", "MIN_SPEED_KM_H", "MAX_RADIUS_M", "DEFAULT_RAMP", "CREEP_STEP_FACTOR",
-           "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity", "spectrum_component",
+           "creep_step_limit_s", "curving_summary", "write_outputs", "FadedIn", "spectral_irregularity",
+           "spectrum_component",
            "irregularity_fade_m", "MIN_FADE_M", "START_TOLERANCE_M"]
 
 # LEAD_IN_M (straight track ahead of the leading wheelset at t = 0) and the default transition (the cant ramp
@@ -188,11 +191,15 @@ def check_curving_case(case: CurvingCase, vehicle=None):
                                         "irregularity)")
     if case.irregularity_spectrum is not None:
         if case.irregularity_spectrum not in SPECTRA:
-            raise CurvingInputError("irregularity", f"{case.irregularity_spectrum!r}: expected one of "
-                                                    f"{', '.join(SPECTRA)}")
+            raise CurvingInputError("irregularity_spectrum", f"{case.irregularity_spectrum!r}: expected one of "
+                                                             f"{', '.join(SPECTRA)}")
         if case.seed is None:
             raise CurvingInputError("seed", f"missing (required with the spectrum {case.irregularity_spectrum})")
-        if isinstance(case.seed, bool) or not isinstance(case.seed, int) or case.seed < 0:
+        try:
+            seed = None if isinstance(case.seed, bool) else operator.index(case.seed)
+        except TypeError:
+            seed = None
+        if seed is None or seed < 0:
             raise CurvingInputError("seed", f"{case.seed!r}: expected a non-negative integer")
     return vehicle
 
@@ -223,9 +230,7 @@ def spectral_irregularity(case: CurvingCase, spectrum, seed: int, vehicle=None, 
     as :class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`: ``band_m``, ``step_m``, ``channels``,
     ``scale``; their defaults are the spectra module's) and faded in (:func:`irregularity_fade_m`).  Raises
     ``ValueError`` for a bad spectrum, seed or option."""
-    comp = spectrum_component(case, spectrum, seed, vehicle, **options)
-    table = SpectralIrregularity(spectrum, comp["length_m"], seed, start_m=comp["start_m"], **options)
-    return FadedIn(table, comp["start_m"], comp["start_m"] + comp["fade_in_m"])
+    return spectrum_table(spectrum_component(case, spectrum, seed, vehicle, **options))
 
 
 def curving_distances(case: CurvingCase, vehicle) -> dict:

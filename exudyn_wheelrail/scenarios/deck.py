@@ -49,11 +49,13 @@ import numpy as np
 
 from ..standards import EN1990_DECK_ACCELERATION_LIMITS_M_S2, TRACK_FORMS
 from ..structures.beam import DeckSection
+from ..structures.load_models import flexural_rigidity_Nm2
 from ..structures.support_motion import SmoothHarmonicSupportMotion
+from .defaults import LATERAL_EI_RATIO
 
 __all__ = ["DECK_GROUPS", "TRACK_FORMS", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "CHECK_POINTS_X_OVER_L",
            "PLATEAU_AUTO", "support_motion_default", "en1990_cutoff_Hz", "support_motion", "deck_probes",
-           "deck_summary", "deck_scalars"]
+           "deck_summary", "deck_scalars", "bending_stiffness_Nm2", "structure_section"]
 
 #: column groups of the deck beyond the recorder's ``deck`` group (module docstring), in the order they are written
 DECK_GROUPS = ("deck_acceleration", "deck_wheelsets", "deck_lateral")
@@ -71,10 +73,30 @@ def support_motion_default(name: str):
     return inspect.signature(SmoothHarmonicSupportMotion.__init__).parameters[name].default
 
 
-def en1990_cutoff_Hz(spans_m, section: dict) -> float:
+def bending_stiffness_Nm2(span_m: float, mass_kg_m: float, f1_Hz: float, lateral_f1_Hz=None) -> tuple:
+    """``(EI_y, EI_z)`` of a deck of mass ``m`` per length whose simply supported span ``L`` has the first vertical
+    bending frequency ``f1``: ``EI_y = m (2 L² f1/π)²``; ``EI_z`` the same of ``lateral_f1_Hz``, else
+    :data:`~.defaults.LATERAL_EI_RATIO` ``EI_y`` (the bridge crossing's deck and a scenario's deck given by its
+    frequencies)."""
+    EI = flexural_rigidity_Nm2(span_m, mass_kg_m, f1_Hz)
+    if lateral_f1_Hz is None:
+        return EI, LATERAL_EI_RATIO * EI
+    return EI, flexural_rigidity_Nm2(span_m, mass_kg_m, lateral_f1_Hz)
+
+
+def structure_section(st: dict) -> DeckSection:
+    """The section of a normalised ``[structure]``: its ``section``, or the bending-only section of its
+    ``mass_kg_m`` and ``f1_Hz`` (and ``lateral_f1_Hz``) for its first span
+    (:func:`bending_stiffness_Nm2`, :meth:`~exudyn_wheelrail.structures.beam.DeckSection.bending_only`)."""
+    if st.get("section") is not None:
+        return DeckSection(**st["section"])
+    EI_y, EI_z = bending_stiffness_Nm2(st["spans_m"][0], st["mass_kg_m"], st["f1_Hz"], st.get("lateral_f1_Hz"))
+    return DeckSection.bending_only(st["mass_kg_m"], EI_y, EI_z)
+
+
+def en1990_cutoff_Hz(spans_m, sec: DeckSection) -> float:
     """EN 1990 A2.4.4.2.1(4)P: modes up to max(30 Hz, 1.5 f1, f3), the largest over the spans, with the simply
-    supported Euler–Bernoulli bending frequencies ``f_n = n²π/(2L²) √(EI_y/m)`` of each span."""
-    sec = DeckSection(**section)
+    supported Euler–Bernoulli bending frequencies ``f_n = n²π/(2L²) √(EI_y/m)`` of each span (section ``sec``)."""
     return max(max(30.0, 1.5 * sec.vertical_frequency_Hz(L), sec.vertical_frequency_Hz(L, 3)) for L in spans_m)
 
 
@@ -176,11 +198,11 @@ def _moving_force_mid_span_m(h, t) -> np.ndarray:
 def deck_summary(h, ts: dict) -> tuple[dict, list]:
     """``summary["deck"]`` (module docstring) of a run with a structure and a time series; and notes."""
     st = h.scenario["structure"]
-    sec = DeckSection(**st["section"])
+    sec = structure_section(st)
     t = ts["time_s"]
     notes = []
     simply_supported = not st["continuous"]
-    cut_en1990 = en1990_cutoff_Hz(st["spans_m"], st["section"])
+    cut_en1990 = en1990_cutoff_Hz(st["spans_m"], sec)
     to_cutoff = st["modes_cutoff_Hz"] == "en1990" or float(st["modes_cutoff_Hz"]) >= cut_en1990
     moving = _moving_force_mid_span_m(h, t) if len(t) > 1 else None
     motion = h.support_motion

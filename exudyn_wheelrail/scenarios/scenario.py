@@ -74,7 +74,8 @@ dotted overrides with the old keys are moved the same way.
     ``y_left``, ``z_right``, ``z_left``, each with its unit ``_m`` or ``_mm`` (:mod:`exudyn_wheelrail.track.measured`).
     ``type = "spectrum"``: generated from a standard PSD (:mod:`exudyn_wheelrail.track.spectra`: ``spectrum`` =
     "fra_class_1" … "fra_class_6", "german_low", "german_high"), ``seed`` (required), ``length_m``, optional
-    ``band_m`` ([3, 150]), ``step_m``, ``start_m``, ``channels`` (all four), ``scale`` (1).
+    ``band_m`` ([3, 150]), ``step_m``, ``start_m``, ``channels`` (all four), ``scale`` (1), ``fade_in_m`` (0: none;
+    a raised-cosine fade from zero at ``start_m`` over that length, :class:`~..track.irregularities.FadedIn`).
     ``type = "defect"``: an isolated defect of one rail or both (:class:`~..track.irregularities.IsolatedDefect`):
     ``shape`` ("bump" | "cusp" | "dipped_joint"), ``position_m``, ``length_m``, ``depth_m``, optional ``rail``
     ("right" | "left" | "both"), ``direction`` ("vertical" | "lateral").  Full example:
@@ -117,7 +118,11 @@ entered with :func:`~..structures.bridge_exudyn.add_bridge`):
     with the simply supported Euler–Bernoulli bending frequencies f_n = n²π/(2L²)√(EI_y/m) — EN 1990
     A2.4.4.2.1(4)P; modes up to 1.01 times the cut-off are kept, because the FE frequencies lie slightly above
     those values), and the table ``[structure.section]``: ``m_kg_m``, ``EI_y_Nm2`` (vertical bending),
-    ``EI_z_Nm2`` (lateral), ``GJ_Nm2``, ``EA_N``, ``Ip_kgm2_m`` (all required, > 0; one section for all spans).
+    ``EI_z_Nm2`` (lateral), ``GJ_Nm2``, ``EA_N``, ``Ip_kgm2_m`` (all required, > 0; one section for all spans) —
+    or, in its place, the deck by its mass and frequencies as the ``bridge-crossing`` command gives it:
+    ``mass_kg_m``, ``f1_Hz`` (the first span's simply supported first vertical frequency; one section for all
+    spans), optional ``lateral_f1_Hz`` (:func:`~.deck.structure_section`; torsion and axial stiffness are then
+    placeholders whose torsion modes below the cut-off move the rails too).
     ``track_form`` ("ballasted" (default) | "direct_fastening"): the EN 1990 A2.4.4.2.1(4)P deck-acceleration
     limit the check's verdict applies (3.5 / 5 m/s²; :mod:`.deck`).
     The deck carries the vehicle only: its dead load is not modelled (the record is relative to the loaded

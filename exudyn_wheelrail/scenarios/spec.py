@@ -18,9 +18,7 @@ from ..analysis.curving import CURVING_GROUP
 from ..simulation.recorder import GROUPS
 from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError, settings_from_mapping
 from ..simulation.solvers import METHODS
-from ..structures.beam import DeckSection
 from ..structures.bridge_exudyn import FORMULATIONS
-from ..structures.load_models import flexural_rigidity_Nm2
 from ..track.irregularities import CHANNELS, DEFECT_SHAPES, RAILS, FadedIn
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import SampledIrregularity
@@ -28,13 +26,13 @@ from ..track.spectra import DEFAULT_BAND_M, DEFAULT_STEP_M, SPECTRA, SpectralIrr
 from ..validation import Quantity, read_toml
 from .bridge_crossing_case import F1_HZ, MASS_KG_M
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
-from .defaults import LATERAL_EI_RATIO
 from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
 from .spec_layout import layout_combination_error, layout_run_settings, normalise_layout
 
 __all__ = ["SCHEMA_VERSION", "V1_MOVED", "TRACK_TYPES", "DIRECTIONS", "UNLOADING_GROUP", "STRUCTURE_GROUPS",
            "TIMESERIES_GROUPS", "FORMATS", "NAMED_X", "CRITERIA_VEHICLES", "DEFAULT_FLOOR_HEIGHT_M", "QUANTITIES",
-           "ScenarioError", "load_scenario", "validate_scenario", "features_end_m", "as_scenario", "spectrum_table"]
+           "ScenarioError", "load_scenario", "validate_scenario", "features_end_m", "as_scenario", "spectrum_table",
+           "SPECTRUM_OPTIONS"]
 
 SCHEMA_VERSION = 2
 #: keys of ``schema_version = 1`` files (and overrides) -> their place in version 2
@@ -74,6 +72,7 @@ QUANTITIES = {
     "structure.rail_height_m": Quantity("height of the rail top above the deck's beam axis", "m", 0.0, 10.0),
     "structure.mass_kg_m": MASS_KG_M,
     "structure.f1_Hz": F1_HZ,
+    "structure.lateral_f1_Hz": F1_HZ,
     "structure.support_motion.peak_acceleration_m_s2": Quantity("peak ground acceleration", "m/s²", 0.0, 10.0),
     "structure.support_motion.frequency_Hz": Quantity("ground-motion frequency", "Hz", 0.1, 20.0),
     "structure.support_motion.ramp_cycles": Quantity("ramp length of the ground-motion burst in periods", "", 0.0,
@@ -395,16 +394,23 @@ def _track_table(kind: str, path):
     return read_irregularity_csv(path)
 
 
+#: the options of a ``spectrum`` track component handed to the generator (the spectra module's defaults where absent)
+SPECTRUM_OPTIONS = ("band_m", "step_m", "start_m", "channels", "scale")
+
+
 def spectrum_table(comp: dict):
-    """The irregularity of a normalised ``spectrum`` track component: the generated table
-    (:class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`), with ``fade_in_m`` faded in from zero at its
-    start over that length (:class:`~exudyn_wheelrail.track.irregularities.FadedIn`; e.g. under a vehicle that
-    starts on the undisplaced track of a curve).  Raises ``ValueError`` for a bad spectrum, seed or option."""
-    table = SpectralIrregularity(comp["spectrum"], comp["length_m"], comp["seed"], band_m=comp["band_m"],
-                                 step_m=comp["step_m"], channels=comp["channels"], start_m=comp["start_m"],
-                                 scale=comp["scale"])
-    fade = comp.get("fade_in_m", 0.0)
-    return FadedIn(table, comp["start_m"], comp["start_m"] + fade) if fade > 0.0 else table
+    """The irregularity of a ``spectrum`` track component (normalised, or as :func:`~.curving.spectrum_component`
+    writes it): the generated table (:class:`~exudyn_wheelrail.track.spectra.SpectralIrregularity`, the options of
+    :data:`SPECTRUM_OPTIONS` given), faded in from zero at its start over ``fade_in_m`` when that is > 0
+    (:class:`~exudyn_wheelrail.track.irregularities.FadedIn`; e.g. under a vehicle that starts on the undisplaced
+    track of a curve).  Raises ``ValueError`` for a bad spectrum, seed or option."""
+    table = SpectralIrregularity(comp["spectrum"], comp["length_m"], comp["seed"],
+                                 **{k: comp[k] for k in SPECTRUM_OPTIONS if k in comp})
+    fade = comp.get("fade_in_m")
+    if not fade:
+        return table
+    start = table.s_m[0]
+    return FadedIn(table, start, start + fade)
 
 
 def _spectrum_component(c: _Check, comp, key: str) -> dict:
@@ -426,7 +432,10 @@ def _spectrum_component(c: _Check, comp, key: str) -> dict:
            "channels": [c.string(v, f"{key}.channels", tuple(CHANNELS)) for v in channels],
            "scale": c.number(comp.get("scale", 1.0), f"{key}.scale", lo=0.0, lo_open=False)}
     if "fade_in_m" in comp:
-        out["fade_in_m"] = c.number(comp["fade_in_m"], f"{key}.fade_in_m", lo=0.0)
+        out["fade_in_m"] = c.number(comp["fade_in_m"], f"{key}.fade_in_m", lo=0.0, lo_open=False)
+        if out["fade_in_m"] > out["length_m"]:
+            raise c.error(f"{key}.fade_in_m", f"{out['fade_in_m']:g} m is longer than the generated length_m = "
+                                              f"{out['length_m']:g} m (it would never reach its full amplitude)")
     try:
         spectrum_table(out)
     except ValueError as exc:
@@ -437,23 +446,19 @@ def _spectrum_component(c: _Check, comp, key: str) -> dict:
 _SECTION_KEYS = ("m_kg_m", "EI_y_Nm2", "EI_z_Nm2", "GJ_Nm2", "EA_N", "Ip_kgm2_m")
 
 
-def _frequency_section(c: _Check, st, first_span_m: float) -> dict:
-    """The section of a deck given by its mass and first bending frequencies (``mass_kg_m``, ``f1_Hz`` of the first
-    span, optional ``lateral_f1_Hz``, else ``EI_z =`` :data:`~.defaults.LATERAL_EI_RATIO` ``EI_y``), the torsional
-    and axial values placeholders (:meth:`~exudyn_wheelrail.structures.beam.DeckSection.bending_only`): the
-    section of the ``bridge-crossing`` command's deck."""
-    m = c.plausible(c.number(st["mass_kg_m"], "structure.mass_kg_m", lo=0.0), "structure.mass_kg_m",
-                    "structure.mass_kg_m")
-    f1 = c.plausible(c.number(st["f1_Hz"], "structure.f1_Hz", lo=0.0), "structure.f1_Hz", "structure.f1_Hz")
-    EI = flexural_rigidity_Nm2(first_span_m, m, f1)
+def _frequency_form(c: _Check, st) -> dict:
+    """A deck given by its mass and bending frequencies instead of a section: ``mass_kg_m`` and ``f1_Hz`` (the
+    simply supported first vertical frequency of the first span, ``spans_m[0]``: the one section of every span has
+    the ``EI_y`` that gives it there), optional ``lateral_f1_Hz`` (else ``EI_z =``
+    :data:`~.defaults.LATERAL_EI_RATIO` ``EI_y``); the section is :func:`~.deck.structure_section`'s."""
+    out = {"mass_kg_m": c.plausible(c.number(st["mass_kg_m"], "structure.mass_kg_m", lo=0.0), "structure.mass_kg_m",
+                                    "structure.mass_kg_m"),
+           "f1_Hz": c.plausible(c.number(st["f1_Hz"], "structure.f1_Hz", lo=0.0), "structure.f1_Hz",
+                                "structure.f1_Hz")}
     if "lateral_f1_Hz" in st:
-        f_lat = c.plausible(c.number(st["lateral_f1_Hz"], "structure.lateral_f1_Hz", lo=0.0),
-                            "structure.lateral_f1_Hz", "structure.f1_Hz")
-        EI_z = flexural_rigidity_Nm2(first_span_m, m, f_lat)
-    else:
-        EI_z = LATERAL_EI_RATIO * EI
-    sec = DeckSection.bending_only(m, EI, EI_z)
-    return {k: getattr(sec, k) for k in _SECTION_KEYS}
+        out["lateral_f1_Hz"] = c.plausible(c.number(st["lateral_f1_Hz"], "structure.lateral_f1_Hz", lo=0.0),
+                                           "structure.lateral_f1_Hz", "structure.lateral_f1_Hz")
+    return out
 
 
 def _structure(c: _Check, st) -> dict:
@@ -490,13 +495,12 @@ def _structure(c: _Check, st) -> dict:
            "elements_per_span": c.integer(st.get("elements_per_span", 20), "structure.elements_per_span", 2, 1000),
            "formulation": c.string(st.get("formulation", "modal"), "structure.formulation", FORMULATIONS),
            "modes_cutoff_Hz": cut,
-           "track_form": c.string(st.get("track_form", TRACK_FORMS[0]), "structure.track_form", TRACK_FORMS),
-           "section": None}
+           "track_form": c.string(st.get("track_form", TRACK_FORMS[0]), "structure.track_form", TRACK_FORMS)}
     if "section" in st:
         sec = c.table(st["section"], "structure.section", required=_SECTION_KEYS)
         out["section"] = {k: c.number(sec[k], f"structure.section.{k}", lo=0.0) for k in _SECTION_KEYS}
     else:
-        out["section"] = _frequency_section(c, st, out["spans_m"][0])
+        out.update(_frequency_form(c, st))
     if "support_motion" in st:
         out["support_motion"] = _support_motion(c, st["support_motion"])
     return out

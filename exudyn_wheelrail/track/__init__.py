@@ -4,8 +4,8 @@ sleepers and ballast).  The rigid straight track with whole-track irregularities
 :mod:`exudyn_wheelrail.track.rigid`."""
 
 from .layout import Curve, Straight, TrackLayout, Transition  # noqa: E402,F401  (the track layout)
-from .irregularities import (ChannelTable, IsolatedDefect, channel_values,  # noqa: E402,F401  (per-rail channels)
-                             rail_values)
+from .irregularities import (ChannelTable, FadedIn, IsolatedDefect,  # noqa: E402,F401  (per-rail channels)
+                             channel_values, rail_values)
 from .measured import read_irregularity_csv  # noqa: E402,F401  (measured irregularity files)
 from .spectra import SPECTRA, SpectralIrregularity, TrackSpectrum  # noqa: E402,F401  (standard spectra)
 from .flexible_parameters import DEFAULT_TRACK_FILE, TrackFileError, TrackParameters  # noqa: E402,F401
