@@ -97,6 +97,22 @@ def test_combinations_refused_with_one_line_naming_both():
                            "run": {"duration_s": 0.1}, "outputs": {"timeseries": ["curving"]}})
 
 
+def test_auto_duration_runs_the_whole_vehicle_through_the_transition():
+    """``run.duration_s = "auto"`` with a curve and no other track feature: the curve's end is the end of its
+    transition (the circular curve has none), so the run lasts until the trailing wheelset is ``run_out_m`` past it:
+    ``(start_m + transition_m - vehicle.start_s_m + extent + run_out_m) / V``."""
+    from exudyn_wheelrail.scenarios.build import scenario_run_settings
+    from exudyn_wheelrail.scenarios.spec import features_end_m
+    scn = validate_scenario(_scn(run={"duration_s": "auto", "run_out_m": 12.0}))
+    assert features_end_m(scn) == LEAD_IN_M + 40.0
+    vehicle = load_vehicle(VEHICLE)
+    x = vehicle.wheelset_x_m()
+    run, coverage = scenario_run_settings(scn, vehicle)
+    want = (LEAD_IN_M + 40.0 - scn["vehicle"]["start_s_m"] + float(max(x) - min(x)) + 12.0) / (100.0 / 3.6)
+    assert coverage["t_passage_s"] == pytest.approx(want, rel=1e-12)
+    assert run.duration_s == pytest.approx(want, rel=1e-12)
+
+
 def test_explicit_step_is_the_curving_commands():
     """Without run.dt_s an explicit solver gets the curving command's step (1 ms, or its largest whole fraction
     within the creep limit); a longer given step is a warning; an implicit solver keeps its step."""

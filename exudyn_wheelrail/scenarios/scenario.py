@@ -163,8 +163,8 @@ entered with :func:`~..structures.bridge_exudyn.add_bridge`):
     connector's Jacobian — the RTRI paper's scheme; "rk44": explicit RK44 with Lie-group integration;
     "generalized_alpha", "explicit_midpoint", "rk33", "rk67"), ``dt_s`` (1e-3), ``duration_s`` (a time > 0, or
     ``"auto"`` (default): until the trailing wheelset is ``run_out_m`` past the end of the last track feature — the
-    end of the last span deflection (with its transition), sampled table or deck; harmonic components have no
-    end), ``run_out_m`` (10), ``newton_tolerance`` (1e-4, implicit solvers), ``record`` (true), ``record_every``
+    end of the last span deflection (with its transition), sampled table, generated spectrum, isolated defect, deck
+    or a curve's transition (the circular curve has no end, nor have harmonic components), ``run_out_m`` (10), ``newton_tolerance`` (1e-4, implicit solvers), ``record`` (true), ``record_every``
     (1: every step), ``progress`` (false: the command line's ``--no-progress`` decides there).  A run of n =
     ceil(duration/dt) steps has n/record_every + 1 rows (the states at t = 0, record_every dt, …).
 

@@ -260,8 +260,8 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
                                                "run.solver = 'newmark'")
     if run.duration_s == DURATION_AUTO and features_end_m(out) is None:
         raise c.error("run.duration_s", "'auto' needs a track feature with an end (a span deflection, a sampled "
-                                        "table or a structure); harmonic components run along the whole track: "
-                                        "give a time in s")
+                                        "table, a structure or a curve's transition); harmonic components run along "
+                                        "the whole track: give a time in s")
     if contact.wheel_rail == "springs" and run.record:
         raise c.error("contact.wheel_rail", "'springs' (the cost baseline) records nothing: set run.record = false")
     # ----------------------------------------------------------------------------------------- [outputs]
@@ -607,7 +607,8 @@ def _outputs(c: _Check, o, vehicle, has_structure: bool, has_flexible_track: boo
 
 
 def features_end_m(scn: dict) -> float | None:
-    """Track distance where the last track feature with an end ends (None if there is none)."""
+    """Track distance where the last track feature with an end ends (None if there is none); a curve's
+    (``[layout]``) is the end of its transition, where the circular curve starts (it has no end)."""
     ends = []
     for comp in scn.get("track", []):
         if comp["type"] == "span_deflection":
@@ -621,6 +622,8 @@ def features_end_m(scn: dict) -> float | None:
     if "structure" in scn:
         st = scn["structure"]
         ends.append(st["start_m"] + sum(st["spans_m"]))
+    if "layout" in scn:
+        ends.append(scn["layout"]["start_m"] + scn["layout"]["transition_m"])
     return max(ends) if ends else None
 
 
