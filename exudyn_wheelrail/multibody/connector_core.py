@@ -551,10 +551,10 @@ def series_compliance(state, work, final):
 def compile_shares(q, q_t, t, model, state, work, f_out, res):
     """:func:`contact_forces_core`'s callees as the two shares of :func:`~exudyn_wheelrail.jit.compile_ahead`, for
     the types of the call ``contact_forces_core(q, q_t, t, contact_data(model, state, work), f_out, res)``, about
-    even: the other process gets the contact geometry (the search kernel, the largest part) and this one the poses
-    and the forces (creepages, creep law, deck) — or, with the search kernel compiled already (a static equilibrium
-    found before with the same contact), the other process the forces and this one the rest.  The arguments are
-    those the call hands each callee."""
+    even: this process compiles the contact geometry (the search kernel, the largest part, which a static
+    equilibrium found while the model is assembled needs next) and the other the poses and the forces
+    (creepages, creep law, deck) — or, with the search kernel compiled already, this process the poses and the
+    geometry and the other the forces.  The arguments are those the call hands each callee."""
     _, _, _, _, _, residual, _ = model[MODEL_DECK]
     nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
     search = (nodes, meta, mono, curve_ids, state[ST_SIDE_POSES], state[ST_WARM], params, state[ST_OUT], scan)
@@ -563,7 +563,7 @@ def compile_shares(q, q_t, t, model, state, work, f_out, res):
     geometry = (contact_geometry, (q, model, state, work, model[MODEL_GEOMETRY][GEO_TABLE], residual))
     if is_compiled(K.evaluate_wheels, search):
         return [poses, geometry], [forces]
-    return [poses, forces], [geometry]
+    return [geometry], [poses, forces]
 
 
 @compiled
