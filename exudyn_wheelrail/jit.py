@@ -255,11 +255,11 @@ class Pending:
             return
         try:
             proc.wait(timeout=COMPILE_AHEAD_TIMEOUT_S)
-        except BaseException:           # the time limit, or an interrupt: stop it
-            proc.kill()
-            proc.wait()
-            if not isinstance(sys.exc_info()[1], subprocess.TimeoutExpired):
-                raise
+        except subprocess.TimeoutExpired:
+            self.stop()
+        except BaseException:           # an interrupt
+            self.stop()
+            raise
         finally:
             self._proc = None
         if proc.returncode not in (0, -9) and self._errors is not None:
@@ -269,6 +269,13 @@ class Pending:
                           f"{tail[0] if tail else 'no message'}); they compile here", RuntimeWarning, stacklevel=2)
         if self._errors is not None:
             self._errors.close()
+
+    def stop(self) -> None:
+        """Stop the second process if it still runs (what it has not compiled, the kernel's own compilation
+        compiles)."""
+        if self._proc is not None and self._proc.poll() is None:
+            self._proc.kill()
+            self._proc.wait()
 
 
 def _second_process(missing) -> Pending:
@@ -302,7 +309,7 @@ def compile_ahead(kernel, args, here, aside=()) -> Pending:
     Returns the second process: call its
     ``wait()`` before the kernel's first call (the kernel's compilation then loads both shares from the cache; this
     process may do other work meanwhile).  Without a compiler (``NUMBA_DISABLE_JIT=1``) nothing."""
-    if not isinstance(kernel, CPUDispatcher) or _is_cached(kernel, _signature(args)):
+    if is_compiled(kernel, args):
         return Pending()
     here = [(d, _signature(a)) for d, a in here if isinstance(d, CPUDispatcher)]
     aside = [(d, _signature(a)) for d, a in aside if isinstance(d, CPUDispatcher)]
@@ -315,9 +322,8 @@ def compile_ahead(kernel, args, here, aside=()) -> Pending:
         for d, sig in here + missing:
             d.compile(sig)
     except BaseException:
-        if pending is not None and pending._proc is not None:
-            pending._proc.kill()
-            pending._proc.wait()
+        if pending is not None:
+            pending.stop()
         raise
     return pending if pending is not None else Pending()
 

@@ -358,13 +358,18 @@ def test_the_curving_spectrum_is_the_scenarios_track_entry():
 def test_a_curving_case_checks_its_spectrum_and_seed(fields, option, words):
     """The curving case's spectrum and seed, checked before any work: the error names the field; a NumPy integer
     seed is a seed; an irregularity object and a spectrum together are refused."""
-    from exudyn_wheelrail.scenarios.curving import CurvingCase, CurvingInputError, check_curving_case
+    from exudyn_wheelrail.scenarios.curving import (CurvingCase, CurvingInputError, check_curving_case,
+                                                    curving_scenario)
+    from exudyn_wheelrail.scenarios.spec import validate_scenario
     from exudyn_wheelrail.track.rigid import Harmonic
     base = dict(vehicle="manchester_vehicle1", radius_m=1000.0, cant_m=0.1, speed_km_h=100.0)
     with pytest.raises(CurvingInputError) as err:
         check_curving_case(CurvingCase(**base, **fields))
     assert err.value.option == option and words in err.value.problem
-    check_curving_case(CurvingCase(**base, irregularity_spectrum="german_low", seed=np.int64(4)))
+    numpy_seed = CurvingCase(**base, irregularity_spectrum="german_low", seed=np.int64(4))
+    check_curving_case(numpy_seed)
+    (entry,) = validate_scenario(curving_scenario(numpy_seed))["track"]    # the spec takes it as the integer 4
+    assert entry["seed"] == 4 and type(entry["seed"]) is int
     with pytest.raises(CurvingInputError, match="not both"):
         check_curving_case(CurvingCase(**base, irregularity=Harmonic(0.001, 50.0), irregularity_spectrum="german_low",
                                        seed=1))

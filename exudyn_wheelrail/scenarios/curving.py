@@ -213,15 +213,16 @@ def irregularity_fade_m(case: CurvingCase) -> tuple[float, float]:
 def spectrum_component(case: CurvingCase, spectrum, seed: int, vehicle=None, **options) -> dict:
     """The scenario's ``spectrum`` track component (:mod:`.spec`) of :func:`spectral_irregularity`: generated from
     s = 0 over the run's distance (at least the band's longest wavelength) and faded in
-    (:func:`irregularity_fade_m`)."""
+    (:func:`irregularity_fade_m`); the seed as a Python integer (the spec's, whatever integer type it was given
+    as)."""
     if vehicle is None:
         vehicle = _vehicle(case)
     dist = curving_distances(case, vehicle)
     band = options.get("band_m", DEFAULT_BAND_M)
     length = max(dist["total_m"] + LAYOUT_MARGIN_M, float(max(band)))
     s_from, s_to = irregularity_fade_m(case)
-    return {"type": "spectrum", "spectrum": spectrum, "seed": seed, "length_m": length, "start_m": s_from,
-            "fade_in_m": s_to - s_from, **options}
+    return {"type": "spectrum", "spectrum": spectrum, "seed": operator.index(seed), "length_m": length,
+            "start_m": s_from, "fade_in_m": s_to - s_from, **options}
 
 
 def spectral_irregularity(case: CurvingCase, spectrum, seed: int, vehicle=None, **options) -> FadedIn:
