@@ -38,9 +38,7 @@ import hashlib
 import importlib
 import os
 import pickle
-import subprocess
 import sys
-import tempfile
 import warnings
 from functools import cache, partial
 from pathlib import Path
@@ -50,6 +48,8 @@ from numba import njit, types
 from numba.core import event
 from numba.core.caching import FunctionCache, IndexDataCacheFile
 from numba.core.registry import CPUDispatcher
+
+from .processes import SecondProcess, cpus, start_python
 
 try:                                   # POSIX: the cache index's lock
     import fcntl
@@ -232,72 +232,42 @@ def _is_cached(dispatcher, sig) -> bool:
     return isinstance(cache_, _PackageSourceCache) and cache_.has_overload(sig, dispatcher.targetctx)
 
 
-def _cpus() -> int:
-    """The CPUs this process may run on."""
-    affinity = getattr(os, "sched_getaffinity", None)
-    return len(affinity(0)) if affinity is not None else (os.cpu_count() or 1)
-
-
 class Pending:
     """The second process of :func:`compile_ahead`, still compiling (or none)."""
 
-    def __init__(self, proc=None, errors=None):
-        self._proc = proc
-        self._errors = errors
+    def __init__(self, second: SecondProcess | None = None):
+        self._second = second
 
     def wait(self) -> None:
         """Returns when the second process has ended (its share in the cache), at most
         :data:`COMPILE_AHEAD_TIMEOUT_S` later (then it is stopped: what it has not compiled, the kernel's own
         compilation compiles).  A process that failed says so (a first run then takes longer,
         nothing else changes: a ``RuntimeWarning``); an interrupt stops it."""
-        proc = self._proc
-        if proc is None:
+        second, self._second = self._second, None
+        if second is None:
             return
-        try:
-            proc.wait(timeout=COMPILE_AHEAD_TIMEOUT_S)
-        except subprocess.TimeoutExpired:
-            self.stop()
-        except BaseException:           # an interrupt
-            self.stop()
-            raise
-        finally:
-            self._proc = None
-        if proc.returncode not in (0, -9) and self._errors is not None:
-            self._errors.seek(0)
-            tail = self._errors.read().decode(errors="replace").strip().splitlines()[-1:]
-            warnings.warn(f"the second process compiling kernels ahead failed (exit {proc.returncode}: "
-                          f"{tail[0] if tail else 'no message'}); they compile here", RuntimeWarning, stacklevel=2)
-        if self._errors is not None:
-            self._errors.close()
+        code = second.wait(COMPILE_AHEAD_TIMEOUT_S)
+        if code not in (0, -9, None):
+            warnings.warn(f"the second process compiling kernels ahead failed (exit {code}: "
+                          f"{second.error_line()}); they compile here", RuntimeWarning, stacklevel=2)
+        second.discard_errors()
 
     def stop(self) -> None:
         """Stop the second process if it still runs (what it has not compiled, the kernel's own compilation
         compiles)."""
-        if self._proc is not None and self._proc.poll() is None:
-            self._proc.kill()
-            self._proc.wait()
+        if self._second is not None:
+            self._second.stop()
 
 
-def _second_process(missing) -> Pending:
-    """:func:`compile_ahead`'s second process for the jobs ``missing`` (started), or None where none can be
-    started: no interpreter to start (an embedded or frozen Python), or the start failed."""
-    if not sys.executable or getattr(sys, "frozen", False):
+def _second_process(missing) -> Pending | None:
+    """:func:`compile_ahead`'s second process for the jobs ``missing`` (started, its input complete), or None where
+    none can be started (:func:`~exudyn_wheelrail.processes.start_python`)."""
+    jobs = [(d.py_func.__module__, d.py_func.__qualname__, sig) for d, sig in missing]
+    second = start_python(_SECOND_PROCESS % {"module": __name__}, {"jit": __file__, "jobs": pickle.dumps(jobs)})
+    if second is None:
         return None
-    try:
-        jobs = [(d.py_func.__module__, d.py_func.__qualname__, sig) for d, sig in missing]
-        payload = pickle.dumps({"path": list(sys.path), "jit": __file__, "jobs": pickle.dumps(jobs)})
-        errors = tempfile.TemporaryFile()
-        # -P: nothing of the working folder shadows a module before the parent's import path is in place
-        proc = subprocess.Popen([sys.executable, "-P", "-c", _SECOND_PROCESS % {"module": __name__}],
-                                stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=errors)
-    except Exception:
-        return None
-    try:
-        proc.stdin.write(payload)
-        proc.stdin.close()
-    except OSError:                     # it ended early: the wait reports it
-        pass
-    return Pending(proc, errors)
+    second.close_input()
+    return Pending(second)
 
 
 def compile_ahead(kernel, args, here, aside=()) -> Pending:
@@ -314,7 +284,7 @@ def compile_ahead(kernel, args, here, aside=()) -> Pending:
     here = [(d, _signature(a)) for d, a in here if isinstance(d, CPUDispatcher)]
     aside = [(d, _signature(a)) for d, a in aside if isinstance(d, CPUDispatcher)]
     missing = [(d, sig) for d, sig in aside if not _is_cached(d, sig)]
-    parallel = _cpus() > 1 and os.environ.get(COMPILE_AHEAD_ENV, "1") != "0"
+    parallel = cpus() > 1 and os.environ.get(COMPILE_AHEAD_ENV, "1") != "0"
     pending = _second_process(missing) if missing and parallel else None
     if pending is not None:
         missing = []
@@ -340,10 +310,7 @@ def compile_jobs(jobs: bytes) -> None:
 
 #: the second process's program: the parent's import path (the package as the parent imported it, checked), then
 #: :func:`compile_jobs`
-_SECOND_PROCESS = ("import pickle, sys\n"
-                   "payload = pickle.load(sys.stdin.buffer)\n"
-                   "sys.path[:] = payload['path']\n"
-                   "import %(module)s as jit\n"
-                   "if jit.__file__ != payload['jit']:\n"
+_SECOND_PROCESS = ("import %(module)s as jit\n"
+                   "if jit.__file__ != head['jit']:\n"
                    "    sys.exit('another copy of the package: ' + jit.__file__)\n"
-                   "jit.compile_jobs(payload['jobs'])\n")
+                   "jit.compile_jobs(head['jobs'])\n")

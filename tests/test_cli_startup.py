@@ -13,7 +13,7 @@ import numpy as np
 from exudyn_wheelrail import contact_defaults
 from exudyn_wheelrail.cli import build_parser
 from exudyn_wheelrail.cli.common import ProgressLines, show_progress
-from exudyn_wheelrail.scenarios.plots import decimated
+from exudyn_wheelrail.scenarios.drawing import decimated
 from exudyn_wheelrail.simulation.presets import PRESETS, apply_preset
 from exudyn_wheelrail.simulation.recorder import ProgressBar
 from exudyn_wheelrail.simulation.settings import ContactSettings, RunSettings

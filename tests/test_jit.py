@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 from numba import njit
 
-from exudyn_wheelrail import jit
+from exudyn_wheelrail import jit, processes
 
 
 def _pair(decorate):
@@ -123,27 +123,44 @@ def test_the_none_branches_compile_and_give_the_rigid_values():
     assert connector_core._frame_rate(None, None, 10.0, 30.0, 0.0, np.zeros(8)) == (0.0, 0.0, 0.0)
 
 
+_OPTIONAL_KERNELS = r"""
+from exudyn_wheelrail import jit
+
+
 @jit.compiled
-def _only_with_data(x):
+def only_with_data(x):
     return 2.0 * x
 
 
 @jit.compiled
-def _if_else_on_optional(x, data):
+def if_else_on_optional(x, data):
     if data is None:
         y = x
     else:
-        y = _only_with_data(x)
+        y = only_with_data(x)
     return y
+"""
+
+_OPTIONAL_RUN = r"""
+import optional_kernels as k
+assert k.if_else_on_optional(3.0, None) == 3.0
+print(len(k.only_with_data.signatures))
+assert k.if_else_on_optional(3.0, 1.0) == 6.0
+print(len(k.only_with_data.signatures))
+"""
 
 
-def test_the_branch_of_a_present_argument_is_not_compiled_when_it_is_none():
+def test_the_branch_of_a_present_argument_is_not_compiled_when_it_is_none(tmp_path):
     """The form the kernels use for optional data (an ``if``/``else`` on ``x is None`` of an argument): called with
-    ``None``, the other branch's callee is never compiled; called with data, it is."""
-    assert _if_else_on_optional(3.0, None) == 3.0
-    assert _only_with_data.signatures == []
-    assert _if_else_on_optional(3.0, 1.0) == 6.0
-    assert len(_only_with_data.signatures) == 1
+    ``None``, the other branch's callee is never compiled; called with data, it is.  On an empty cache of its own
+    (a cached caller would load its callee's code built in, and compile nothing either way)."""
+    (tmp_path / "optional_kernels.py").write_text(_OPTIONAL_KERNELS)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), *sys.path]),
+               NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    r = subprocess.run([sys.executable, "-c", _OPTIONAL_RUN], env=env, cwd=tmp_path, capture_output=True,
+                       text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert r.stdout.split() == ["0", "1"]
 
 
 _RIGID_RUN_COMPILES = r"""
@@ -264,11 +281,11 @@ def top(x):
 
 _AHEAD_RUN = r"""
 import os, sys
-from exudyn_wheelrail import jit
+from exudyn_wheelrail import jit, processes
 import ahead_kernels as k
 started = []
-popen = jit.subprocess.Popen
-jit.subprocess.Popen = lambda *a, **kw: started.append(1) or popen(*a, **kw)
+popen = processes.subprocess.Popen
+processes.subprocess.Popen = lambda *a, **kw: started.append(1) or popen(*a, **kw)
 pending = jit.compile_ahead(k.top, (1.0,), [(k.leaf_here, (1.0,))], [(k.leaf_aside, (1.0,))])
 here_now = len(k.leaf_here.signatures)
 aside_now = len(k.leaf_aside.signatures)
@@ -294,7 +311,7 @@ def test_compile_ahead_compiles_the_share_set_aside_in_a_second_process(tmp_path
         assert r.returncode == 0, r.stderr[-2000:]
         return r.stdout.split()
 
-    if jit._cpus() > 1:
+    if processes.cpus() > 1:
         assert run() == ["1", "1", "0", "True", "4.0", "1"]      # the aside share loaded by the kernel's compile
     else:
         assert run() == ["0", "1", "1", "True", "4.0", "0"]      # one CPU: both shares compiled here

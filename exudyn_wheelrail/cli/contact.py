@@ -116,7 +116,7 @@ def plot_sweep(sweep, path, title=""):
     """Contact-geometry functions on one page (Δr, contact positions, angles, roll, ellipse)."""
     import numpy as np
 
-    from ..scenarios.plots import pyplot
+    from ..scenarios.drawing import pyplot
     plt = pyplot()
     rows = sweep.rows
     fig, ax = plt.subplots(2, 3, figsize=(14, 8))

@@ -4,6 +4,7 @@ explorer's window)."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import json
 from pathlib import Path
@@ -166,6 +167,8 @@ def _cmd_rtri_car_bodies(args, run, contact, delta, lt):
 
 
 def cmd_rtri(args):
+    from ..scenarios import rtri_figures
+    from ..scenarios.drawing import FigureProcess
     from ..scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
     delta, lt = _rtri_deviation(args)
     run, contact, preset = args.settings
@@ -180,9 +183,11 @@ def cmd_rtri(args):
     if args.view:
         from ..interactive.view3d import RtriView
         view = RtriView(realtime_factor=args.view_speed)
-    result = run_rtri(case, progress=print, view=view, progress_bar=progress_bar(args))
-    result.summary["preset"] = preset
-    paths = write_rtri_outputs(result, args.out, plots=not args.no_plots)
+    # the figures' process imports the plotting library on the second CPU while this one builds and solves
+    with FigureProcess(rtri_figures) if not args.no_plots else contextlib.nullcontext() as figures:
+        result = run_rtri(case, progress=print, view=view, progress_bar=progress_bar(args))
+        result.summary["preset"] = preset
+        paths = write_rtri_outputs(result, args.out, plots=not args.no_plots, figures=figures)
     _print_rtri_summary(result.summary)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
     return result.summary["status_detail"]["exit_code"]

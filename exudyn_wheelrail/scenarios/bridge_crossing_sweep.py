@@ -17,7 +17,7 @@ from .bridge_crossing_loads import resolve_load_model
 from .bridge_crossing_run import run_bridge_crossing
 from .deck import EN1990_DECK_ACCELERATION_LIMITS_M_S2
 from .outputs import write_json
-from .plots import pyplot
+from .drawing import pyplot
 from .sweep import resolve_executor
 
 __all__ = ["SWEEP_COLUMNS", "SpeedSweepResult", "sweep_case", "speed_sweep", "plot_speed_sweep"]

@@ -9,38 +9,10 @@ import numpy as np
 from ..analysis import comfort, safety
 from ..analysis.safety import prudhomme_limit_N
 from .deck import CHECK_POINTS_X_OVER_L, EN1990_DECK_ACCELERATION_LIMITS_M_S2
+from .drawing import pyplot
 from .result import ScenarioResult
 
-__all__ = ["FIGURES", "group_figure", "save_group_figure", "pyplot", "decimated", "MAX_LINE_POINTS"]
-
-#: most points of a drawn line (:func:`decimated`)
-MAX_LINE_POINTS = 4000
-
-
-def pyplot():
-    """``matplotlib.pyplot`` on the Agg renderer (files only, no window)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def decimated(x, y, max_points: int = MAX_LINE_POINTS):
-    """``(x, y)`` of a line to draw: unchanged up to ``max_points`` points; a longer series is cut into
-    ``max_points / 2`` consecutive slices and each is drawn by its smallest and largest sample, in their order — the
-    envelope at a resolution finer than the figure's pixel columns, every peak kept."""
-    x, y = np.asarray(x), np.asarray(y)
-    n = y.size
-    if n <= max_points:
-        return x, y
-    m = max_points // 2
-    k = -(-n // m)                                        # samples per slice (the last one padded with its end)
-    rows = np.pad(y, (0, m * k - n), mode="edge").reshape(m, k)
-    first = np.arange(m) * k
-    i_min, i_max = first + np.argmin(rows, axis=1), first + np.argmax(rows, axis=1)
-    idx = np.minimum(np.column_stack([np.minimum(i_min, i_max), np.maximum(i_min, i_max)]).ravel(), n - 1)
-    return x[idx], y[idx]
-
+__all__ = ["FIGURES", "group_figure", "save_group_figure"]
 
 # ----------------------------------------------------------------------------------------------------- plots
 # What a plot shows (one quantity per axis, its unit in the label) and how the lines are named: wheelset j

@@ -10,7 +10,8 @@ summary (:mod:`.rtri_run`) or from the sweep's rows (:mod:`.rtri_sweep`):
 * :func:`plot_carbody_comparison` — the car-body accelerations of the rigid and the flexible car body side by side
   (Fig. 5 style: lateral above each bogie and mid-car, and the vertical ones, where the bending modes act).
 
-Figs. 5 and 6 shade the time each leading wheelset of a bogie runs on the deviation and circle the passage peak
+The module imports NumPy, :mod:`.drawing` and :mod:`.rtri_result` only: a second process that draws the figures
+(:class:`~.drawing.FigureProcess`) imports it while the run is built.  Figs. 5 and 6 shade the time each leading wheelset of a bogie runs on the deviation and circle the passage peak
 (``summary["peaks_passage"]``: what ``rtri`` prints and the validation report tabulates).  Every title states that
 the inputs are substitutes.
 """
@@ -18,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .plots import decimated, pyplot
+from .drawing import decimated, pyplot
 from .rtri_result import AVERAGE_WINDOW_S, RtriResult
 
 __all__ = ["plot_fig5", "plot_fig6", "plot_fig7", "plot_carbody_comparison"]

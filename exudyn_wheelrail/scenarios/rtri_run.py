@@ -69,6 +69,7 @@ from ..rolling_stock.flexible_body import highest_mode_rad_s
 from ..simulation import status as S
 from ..simulation.settings import RunSettings
 from ..simulation.solvers import METHODS, undamped_step_problem
+from .drawing import FigureProcess
 from .rtri_case import RtriCase, case_assumptions_table, vehicle_extent_m
 from .rtri_figures import plot_fig5, plot_fig6
 from .rtri_result import AVERAGE_WINDOW_S, RtriResult
@@ -381,17 +382,26 @@ def _comfort(ts: dict, dt_s: float, case: RtriCase) -> dict:
 
 
 # ================================================================================================ outputs
-def write_rtri_outputs(result: RtriResult, out_dir, plots: bool = True) -> dict:
+def write_rtri_outputs(result: RtriResult, out_dir, plots: bool = True, figures: FigureProcess | None = None) -> dict:
     """Write ``timeseries.csv``, ``summary.json`` and (``plots``) the Fig. 5/6 PNGs into ``out_dir``; returns the
-    paths."""
+    paths.  ``figures``: a :class:`~.drawing.FigureProcess` of :mod:`.rtri_figures` started before the run (the
+    figures are drawn there while the tables are written); ``None``: drawn here."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = {"timeseries": out / "timeseries.csv", "summary": out / "summary.json"}
-    write_csv(paths["timeseries"], result.timeseries)
-    write_json(paths["summary"], result.summary)
+    jobs = []
     if plots and result.timeseries and len(result.timeseries["time_s"]) > 1:
         paths["fig5"] = out / "fig5_carbody_acceleration.png"
         paths["fig6"] = out / "fig6_lateral_force.png"
-        plot_fig5(result, paths["fig5"])
-        plot_fig6(result, paths["fig6"])
+        drawn = RtriResult(result.timeseries, result.summary)        # what the figures read
+        jobs = [(plot_fig5, (drawn, paths["fig5"])), (plot_fig6, (drawn, paths["fig6"]))]
+    if figures is not None:
+        figures.draw(jobs)
+    write_csv(paths["timeseries"], result.timeseries)
+    write_json(paths["summary"], result.summary)
+    if figures is not None:
+        figures.wait()
+    else:
+        for function, args in jobs:
+            function(*args)
     return paths

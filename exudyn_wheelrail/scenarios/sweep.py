@@ -60,7 +60,7 @@ from pathlib import Path
 
 from .outputs import write_json
 from .overrides import apply_overrides, set_dotted
-from .plots import pyplot
+from .drawing import pyplot
 from .run import run_scenario
 from .spec import ScenarioError, as_scenario
 

@@ -1,0 +1,128 @@
+"""Figures drawn by a second process (:class:`exudyn_wheelrail.scenarios.drawing.FigureProcess`) and the second
+process itself (:mod:`exudyn_wheelrail.processes`):
+
+* a figure drawn aside is the file drawn here, byte for byte (the same function, data and plotting library: one code
+  path), and it is drawn by another process;
+* a second process that dies leaves its figures to be drawn here, with a warning; one whose input is already closed
+  has them drawn here at once; with one CPU none is started;
+* only functions of the module the process imported are accepted;
+* a second process's failure is reported by its exit code and the last line of its error output; without an
+  interpreter to start, none is started.
+"""
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+from exudyn_wheelrail import processes
+from exudyn_wheelrail.scenarios import drawing
+from exudyn_wheelrail.scenarios.drawing import FigureProcess
+
+_FIGURES = '''
+import os
+import numpy as np
+from exudyn_wheelrail.scenarios.drawing import pyplot
+
+
+def line(path, y):
+    """A line with a title and a legend (text, a path and the PNG encoder: what the package's figures use), and the
+    drawing process's id beside the figure."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.plot(np.arange(len(y)), y, label="y")
+    ax.set_title("a figure")
+    ax.legend()
+    fig.savefig(path, dpi=60)
+    plt.close(fig)
+    with open(str(path) + ".pid", "w") as fh:
+        fh.write(str(os.getpid()))
+
+
+def dies_unless_in(pid, path, y):
+    """Ends its process (exit code 3) unless it runs in process ``pid``, where it draws :func:`line`."""
+    if os.getpid() != pid:
+        os._exit(3)
+    line(path, y)
+'''
+
+
+@pytest.fixture
+def figures_module(tmp_path, monkeypatch):
+    (tmp_path / "figures_for_test.py").write_text(_FIGURES)
+    monkeypatch.syspath_prepend(str(tmp_path))      # the second process gets this process's import path
+    module = importlib.import_module("figures_for_test")
+    yield module
+    sys.modules.pop("figures_for_test", None)
+
+
+def _pid(path) -> int:
+    return int(Path(str(path) + ".pid").read_text())
+
+
+def test_a_figure_drawn_aside_is_the_file_drawn_here(figures_module, tmp_path):
+    y = [0.0, 1.0, 0.5, 2.0]
+    with FigureProcess(figures_module) as figures:
+        assert figures.aside == (processes.cpus() > 1)
+        figures.draw([(figures_module.line, (tmp_path / "aside.png", y))])
+        figures.wait()
+    figures_module.line(tmp_path / "here.png", y)
+    assert (tmp_path / "aside.png").read_bytes() == (tmp_path / "here.png").read_bytes()
+    if processes.cpus() > 1:
+        assert _pid(tmp_path / "aside.png") != os.getpid()
+
+
+def test_a_second_process_that_dies_leaves_its_figures_drawn_here(figures_module, tmp_path):
+    if processes.cpus() < 2:
+        pytest.skip("one CPU: no second process")
+    path = tmp_path / "fig.png"
+    with FigureProcess(figures_module) as figures:
+        figures.draw([(figures_module.dies_unless_in, (os.getpid(), path, [1.0, 2.0]))])
+        with pytest.warns(RuntimeWarning, match=r"drawing the figures failed \(exit 3"):
+            figures.wait()
+    assert path.stat().st_size > 0 and _pid(path) == os.getpid()
+
+
+def test_figures_for_a_process_that_has_ended_are_drawn_here_at_once(figures_module, tmp_path):
+    if processes.cpus() < 2:
+        pytest.skip("one CPU: no second process")
+    path = tmp_path / "fig.png"
+    with FigureProcess(figures_module) as figures:
+        figures._second.proc.kill()               # the process ends before it is given its figures
+        figures._second.proc.wait()
+        figures.draw([(figures_module.line, (path, [1.0, 2.0]))])
+        assert _pid(path) == os.getpid()          # drawn here, before the wait
+        with pytest.warns(RuntimeWarning, match=r"drawing the figures failed \(exit -9"):
+            figures.wait()
+
+
+def test_with_one_cpu_the_figures_are_drawn_here(figures_module, tmp_path, monkeypatch):
+    monkeypatch.setattr(drawing, "cpus", lambda: 1)
+    path = tmp_path / "fig.png"
+    with FigureProcess(figures_module) as figures:
+        assert not figures.aside
+        figures.draw([(figures_module.line, (path, [1.0, 2.0]))])
+        figures.wait()
+    assert _pid(path) == os.getpid()
+
+
+def test_only_functions_of_the_module_given_are_drawn(figures_module, tmp_path, monkeypatch):
+    monkeypatch.setattr(drawing, "cpus", lambda: 1)
+    with FigureProcess(figures_module) as figures, pytest.raises(ValueError, match="is not a function of "
+                                                                                    "figures_for_test"):
+        figures.draw([(drawing.decimated, ([0.0], [0.0]))])
+
+
+def test_a_second_process_reports_its_exit_code_and_last_error_line():
+    second = processes.start_python("raise SystemExit('no ' + head['what'])\n", {"what": "figures"})
+    assert second is not None
+    assert second.wait(60.0) == 1
+    assert second.error_line() == "no figures"
+
+
+def test_no_second_process_without_an_interpreter_to_start(monkeypatch):
+    monkeypatch.setattr(processes.sys, "executable", "")
+    assert processes.start_python("pass\n", {}) is None
