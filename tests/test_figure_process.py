@@ -3,8 +3,10 @@ process itself (:mod:`exudyn_wheelrail.processes`):
 
 * a figure drawn aside is the file drawn here, byte for byte (the same function, data and plotting library: one code
   path), and it is drawn by another process;
-* a second process that dies leaves its figures to be drawn here, with a warning; one whose input is already closed
-  has them drawn here at once; with one CPU none is started;
+* the two processes share the figures, each drawn once; the command's own process joins in only where it gains
+  time (the plotting library's import counted);
+* a second process that dies, before or while drawing, leaves its figures to be drawn here, with a warning; with one
+  CPU none is started;
 * only functions of the module the process imported are accepted;
 * a second process's failure is reported by its exit code and the last line of its error output; without an
   interpreter to start, none is started.
@@ -20,7 +22,7 @@ import pytest
 
 from exudyn_wheelrail import processes
 from exudyn_wheelrail.scenarios import drawing
-from exudyn_wheelrail.scenarios.drawing import FigureProcess
+from exudyn_wheelrail.scenarios.drawing import FigureProcess, pyplot
 
 _FIGURES = '''
 import os
@@ -40,6 +42,13 @@ def line(path, y):
     plt.close(fig)
     with open(str(path) + ".pid", "w") as fh:
         fh.write(str(os.getpid()))
+
+
+def logged_line(path, y):
+    """:func:`line`, the drawing process's id appended to a log beside the figure (one line per drawing)."""
+    line(path, y)
+    with open(str(path) + ".log", "a") as fh:
+        fh.write(str(os.getpid()) + "\\n")
 
 
 def dies_unless_in(pid, path, y):
@@ -63,9 +72,10 @@ def _pid(path) -> int:
     return int(Path(str(path) + ".pid").read_text())
 
 
-def test_a_figure_drawn_aside_is_the_file_drawn_here(figures_module, tmp_path):
+def test_a_figure_drawn_aside_is_the_file_drawn_here(figures_module, tmp_path, monkeypatch):
     y = [0.0, 1.0, 0.5, 2.0]
-    with FigureProcess(figures_module) as figures:
+    monkeypatch.setattr(drawing, "joins", lambda unclaimed, has_library: False)   # the other process draws it
+    with FigureProcess(figures_module.__name__) as figures:
         assert figures.aside == (processes.cpus() > 1)
         figures.draw([(figures_module.line, (tmp_path / "aside.png", y))])
         figures.wait()
@@ -75,34 +85,59 @@ def test_a_figure_drawn_aside_is_the_file_drawn_here(figures_module, tmp_path):
         assert _pid(tmp_path / "aside.png") != os.getpid()
 
 
-def test_a_second_process_that_dies_leaves_its_figures_drawn_here(figures_module, tmp_path):
+def test_a_second_process_that_dies_leaves_its_figures_drawn_here(figures_module, tmp_path, monkeypatch):
     if processes.cpus() < 2:
         pytest.skip("one CPU: no second process")
     path = tmp_path / "fig.png"
-    with FigureProcess(figures_module) as figures:
+    monkeypatch.setattr(drawing, "claim", lambda folder, k: False)    # this process claims none: the other does
+    with FigureProcess(figures_module.__name__) as figures:
         figures.draw([(figures_module.dies_unless_in, (os.getpid(), path, [1.0, 2.0]))])
         with pytest.warns(RuntimeWarning, match=r"drawing the figures failed \(exit 3"):
             figures.wait()
     assert path.stat().st_size > 0 and _pid(path) == os.getpid()
 
 
-def test_figures_for_a_process_that_has_ended_are_drawn_here_at_once(figures_module, tmp_path):
+def test_figures_for_a_process_that_has_ended_are_drawn_here(figures_module, tmp_path):
     if processes.cpus() < 2:
         pytest.skip("one CPU: no second process")
     path = tmp_path / "fig.png"
-    with FigureProcess(figures_module) as figures:
+    with FigureProcess(figures_module.__name__) as figures:
         figures._second.proc.kill()               # the process ends before it is given its figures
         figures._second.proc.wait()
         figures.draw([(figures_module.line, (path, [1.0, 2.0]))])
-        assert _pid(path) == os.getpid()          # drawn here, before the wait
         with pytest.warns(RuntimeWarning, match=r"drawing the figures failed \(exit -9"):
             figures.wait()
+    assert _pid(path) == os.getpid()
+
+
+def test_the_two_processes_share_the_figures_each_drawn_once(figures_module, tmp_path):
+    """Seven figures: each drawn exactly once (the drawing process logged beside it), the second process's a run
+    from the first, this process's a run from the last."""
+    if processes.cpus() < 2:
+        pytest.skip("one CPU: no second process")
+    pyplot()                                      # this process has the plotting library: it joins in
+    paths = [tmp_path / f"fig{k}.png" for k in range(7)]
+    with FigureProcess(figures_module.__name__) as figures:
+        figures.draw([(figures_module.logged_line, (p, [1.0, float(k)])) for k, p in enumerate(paths)])
+        figures.wait()
+    drawers = [Path(str(p) + ".log").read_text().split() for p in paths]
+    assert all(len(d) == 1 for d in drawers), drawers                  # each once
+    here = [d == [str(os.getpid())] for d in drawers]
+    assert here == sorted(here)                                         # a run from the first, a run from the last
+
+
+def test_this_process_joins_in_only_where_it_gains_time():
+    """Without the plotting library, this process's first figure ends about two figures' time later (the import,
+    the figure); the second process needs at most one (its current figure) plus one per unclaimed figure: this one
+    joins from three unclaimed figures on (not for the two of rtri), with the library from one on."""
+    assert [drawing.joins(u, False) for u in range(5)] == [False, False, False, True, True]
+    assert [drawing.joins(u, True) for u in range(3)] == [False, True, True]
 
 
 def test_with_one_cpu_the_figures_are_drawn_here(figures_module, tmp_path, monkeypatch):
     monkeypatch.setattr(drawing, "cpus", lambda: 1)
     path = tmp_path / "fig.png"
-    with FigureProcess(figures_module) as figures:
+    with FigureProcess(figures_module.__name__) as figures:
         assert not figures.aside
         figures.draw([(figures_module.line, (path, [1.0, 2.0]))])
         figures.wait()
@@ -111,7 +146,7 @@ def test_with_one_cpu_the_figures_are_drawn_here(figures_module, tmp_path, monke
 
 def test_only_functions_of_the_module_given_are_drawn(figures_module, tmp_path, monkeypatch):
     monkeypatch.setattr(drawing, "cpus", lambda: 1)
-    with FigureProcess(figures_module) as figures, pytest.raises(ValueError, match="is not a function of "
+    with FigureProcess(figures_module.__name__) as figures, pytest.raises(ValueError, match="is not a function of "
                                                                                     "figures_for_test"):
         figures.draw([(drawing.decimated, ([0.0], [0.0]))])
 

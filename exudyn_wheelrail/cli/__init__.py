@@ -32,6 +32,7 @@ building the parser and every ``--help`` load no numerical code.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import gc
 import warnings
 
@@ -58,6 +59,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _figures(args):
+    """The figures' second process of a command that draws figures (its parser names their module,
+    ``figures_module``; not with ``--no-plots``), started first thing: it imports the plotting library and the
+    figure module on another CPU while this process checks the input, builds and solves
+    (:class:`~exudyn_wheelrail.scenarios.drawing.FigureProcess`).  A context giving ``None`` for other commands."""
+    module = getattr(args, "figures_module", None)
+    if module is None or getattr(args, "no_plots", False):
+        return contextlib.nullcontext()
+    from ..scenarios.drawing import FigureProcess
+    return FigureProcess(module)
+
+
 def main(argv=None) -> int:
     """Run a command; bad input gives one line ``error: <what>: <problem>`` on stderr and exit code 2 (module
     docstring), an unusual value one line ``warning: ...``; any other failure (``RuntimeError``: e.g. a creep table
@@ -76,11 +89,12 @@ def main(argv=None) -> int:
         warnings.simplefilter("always", InputWarning)
         args = build_parser().parse_args(argv)
         try:
-            args.check(args)           # cheap checks of every option before any work
-            if process:
-                gc.freeze()
-                gc.enable()
-            return args.func(args)
+            with _figures(args) as args.figures:
+                args.check(args)       # cheap checks of every option before any work
+                if process:
+                    gc.freeze()
+                    gc.enable()
+                return args.func(args)
         except ValueError as exc:      # bad input: an option, a key of a file, a value out of range
             print_line("error", exc)
             return EXIT_BAD_INPUT

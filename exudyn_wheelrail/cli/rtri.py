@@ -4,7 +4,6 @@ explorer's window)."""
 from __future__ import annotations
 
 import argparse
-import contextlib
 import dataclasses
 import json
 from pathlib import Path
@@ -167,8 +166,6 @@ def _cmd_rtri_car_bodies(args, run, contact, delta, lt):
 
 
 def cmd_rtri(args):
-    from ..scenarios import rtri_figures
-    from ..scenarios.drawing import FigureProcess
     from ..scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
     delta, lt = _rtri_deviation(args)
     run, contact, preset = args.settings
@@ -183,11 +180,9 @@ def cmd_rtri(args):
     if args.view:
         from ..interactive.view3d import RtriView
         view = RtriView(realtime_factor=args.view_speed)
-    # the figures' process imports the plotting library on the second CPU while this one builds and solves
-    with FigureProcess(rtri_figures) if not args.no_plots else contextlib.nullcontext() as figures:
-        result = run_rtri(case, progress=print, view=view, progress_bar=progress_bar(args))
-        result.summary["preset"] = preset
-        paths = write_rtri_outputs(result, args.out, plots=not args.no_plots, figures=figures)
+    result = run_rtri(case, progress=print, view=view, progress_bar=progress_bar(args))
+    result.summary["preset"] = preset
+    paths = write_rtri_outputs(result, args.out, plots=not args.no_plots, figures=args.figures)
     _print_rtri_summary(result.summary)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
     return result.summary["status_detail"]["exit_code"]
@@ -289,7 +284,7 @@ def add_rtri_parser(sub) -> None:
                         "window stays open after the solve until closed (Q/Escape); solve_seconds then include it")
     r.add_argument("--view-speed", type=float, default=0.25,
                    help="with --view: simulated time per wall-clock time (default 0.25, slow motion)")
-    r.set_defaults(func=cmd_rtri, check=_check_rtri)
+    r.set_defaults(func=cmd_rtri, check=_check_rtri, figures_module="exudyn_wheelrail.scenarios.rtri_figures")
 
 
 def add_rtri_sweep_parser(sub) -> None:

@@ -21,7 +21,7 @@ def cmd_run_scenario(args):
     print(f"scenario {scn['scenario']['name']}: {veh.get('name') or veh.get('file') or veh.get('consist')}, "
           f"{scn['vehicle']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
           f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")
-    result = run_scenario(scn, args.out, progress=progress_bar(args))
+    result = run_scenario(scn, args.out, progress=progress_bar(args), figures=args.figures)
     s = result.summary
     print_status(s)
     sc = s["scalars"]
@@ -85,7 +85,7 @@ def add_run_parser(sub) -> None:
                     type=lambda t: key_values(t, "--set", many=False),
                     help="override a value by its dotted key, repeatable (run.duration_s=0.5, "
                          "track.0.amplitude_m=0.005)")
-    sr.set_defaults(func=cmd_run_scenario, check=_check_run)
+    sr.set_defaults(func=cmd_run_scenario, check=_check_run, figures_module="exudyn_wheelrail.scenarios.plots")
 
 
 def add_sweep_parser(sub) -> None:

@@ -1,21 +1,25 @@
 r"""How the package's figures are drawn: :func:`pyplot` (on the Agg renderer, files only), :func:`decimated` (a long
 series reduced to what the figure's pixels can show, every peak kept), and :class:`FigureProcess`: figures drawn by
-a second process that a command starts before it builds and solves its run, so that the plotting library is
-imported on the machine's second CPU meanwhile and the figures are drawn while this process writes its tables.
+a second process that a command starts before it checks its input, builds and solves its run, so that the plotting
+library and the figure module are imported on the machine's second CPU meanwhile; once the run's data exist, the
+second process starts on the figures while this one writes its tables, and this one then draws from the other end.
 This module imports NumPy and the standard library only: the second process imports it, the figure module it is
 given and the plotting library, nothing of the run."""
 from __future__ import annotations
 
 import importlib
+import os
 import pickle
+import shutil
 import sys
+import tempfile
 import warnings
 
 import numpy as np
 
 from ..processes import cpus, start_python
 
-__all__ = ["pyplot", "decimated", "MAX_LINE_POINTS", "FigureProcess", "FIGURE_PROCESS_TIMEOUT_S"]
+__all__ = ["pyplot", "decimated", "MAX_LINE_POINTS", "FigureProcess", "FIGURE_PROCESS_TIMEOUT_S", "JOIN_UNCLAIMED", "joins", "claim"]
 
 #: most points of a drawn line (:func:`decimated`)
 MAX_LINE_POINTS = 4000
@@ -52,19 +56,32 @@ FIGURE_PROCESS_TIMEOUT_S = 120.0
 
 
 class FigureProcess:
-    """Figures drawn by a second process (module docstring).  ``module``: the figure functions' module (imported by
-    the second process when it starts, with the plotting library).  Start it before the run, hand it the figures
-    with :meth:`draw` once their data exist, do other work, then :meth:`wait`.  With one CPU, or where no second
-    process can be started, the figures are drawn here (by :meth:`draw`, at once); a second process that fails or
-    runs out of time leaves its figures to be drawn here (with a ``RuntimeWarning``; a figure that cannot be drawn
+    """Figures drawn by a second process (module docstring).  ``module``: the name of the figure functions' module
+    (imported by the second process when it starts, with the plotting library).  Start it before the run, hand it
+    the figures with :meth:`draw` once their data exist, write the tables, then :meth:`wait`.
+
+    The two processes share the figures: the second one draws them from the first on, this one (in :meth:`wait`)
+    from the last back, and each figure is drawn by the one that claims it first (a claim is the creation of a file
+    named by the figure's number, which only one process can create).  This process joins in only where it gains
+    time: before its first figure it imports the plotting library (about one figure's time), so it joins while at
+    least :data:`JOIN_UNCLAIMED` figures are unclaimed, and once it has the library while any is.
+
+    With one CPU, or where no second process can be started, every figure is drawn here; a second process that fails
+    or runs out of time leaves its figures to be drawn here (with a ``RuntimeWarning``; a figure that cannot be drawn
     raises its error here).  The figures are the same either way: the same functions, data and plotting library.
     Also a context manager: leaving it stops a second process that still runs."""
 
-    def __init__(self, module):
-        self._module = module
-        self._aside = []                                  # the jobs handed to the second process
-        self._second = (start_python(_PROGRAM, {"drawing": __name__, "file": __file__, "module": module.__name__})
-                        if cpus() > 1 else None)
+    def __init__(self, module: str | None, start: bool = True):
+        self.module = module
+        self._jobs = None                                 # the figures handed over (draw)
+        self._claims = None                               # their claims' folder, when shared with the second process
+        self._second = (start_python(_PROGRAM, {"drawing": __name__, "file": __file__, "module": module})
+                        if start and module is not None and cpus() > 1 else None)
+
+    @classmethod
+    def here(cls) -> FigureProcess:
+        """No second process: every figure (of any module) drawn by this process in :meth:`wait`."""
+        return cls(None, start=False)
 
     @property
     def aside(self) -> bool:
@@ -72,29 +89,53 @@ class FigureProcess:
         return self._second is not None
 
     def draw(self, jobs) -> None:
-        """Draw ``jobs``, each ``(function, args)`` with ``function`` a function of the module given (``args``
-        picklable): handed to the second process, or drawn here at once."""
-        jobs = list(jobs)
-        for function, _ in jobs:
-            if getattr(self._module, function.__name__, None) is not function:
-                raise ValueError(f"{function.__qualname__} is not a function of {self._module.__name__}")
-        if self._second is not None and self._second.send([(f.__name__, tuple(a)) for f, a in jobs]):
-            self._aside += jobs
-        else:
-            self._draw_here(jobs)
+        """Hand over the figures, once: ``jobs``, each ``(function, args)`` with ``function`` a function of the
+        module (``args`` picklable).  The second process starts on them at once; this process draws its share in
+        :meth:`wait` (the command writes its tables in between)."""
+        if self._jobs is not None:
+            raise RuntimeError("FigureProcess.draw: the figures are handed over once")
+        self._jobs = jobs = list(jobs)
+        for function, _ in jobs if self.module is not None else ():
+            if function.__module__ != self.module or getattr(sys.modules[self.module], function.__name__,
+                                                             None) is not function:
+                raise ValueError(f"{function.__qualname__} is not a function of {self.module}")
+        if self._second is not None and jobs:
+            claims = tempfile.mkdtemp(prefix="exudyn_wheelrail-figures-")
+            if self._second.send({"claims": claims, "jobs": [(f.__name__, tuple(a)) for f, a in jobs]}):
+                self._claims = claims
+            else:
+                shutil.rmtree(claims, ignore_errors=True)
 
     def wait(self) -> None:
-        """Returns when every figure handed over is drawn (by the second process, or here where it failed)."""
+        """Draws this process's share, then returns when every figure handed over is drawn (by the second process,
+        or here where it failed)."""
+        jobs, self._jobs = self._jobs or [], []
+        claims, self._claims = self._claims, None
         second, self._second = self._second, None
-        if second is None:
-            return
-        code = second.wait(FIGURE_PROCESS_TIMEOUT_S)
-        if code != 0:
-            why = "ran out of time" if code is None else f"exit {code}: {second.error_line()}"
-            warnings.warn(f"the second process drawing the figures failed ({why}); they are drawn here",
-                          RuntimeWarning, stacklevel=2)
-            self._draw_here(self._aside)
-        second.discard_errors()
+        try:
+            if claims is None:                            # not shared: all here
+                self._draw_here(jobs)
+                drawn_here = set(range(len(jobs)))
+            else:
+                drawn_here = set()
+                for k in range(len(jobs) - 1, -1, -1):
+                    unclaimed = len(jobs) - len(os.listdir(claims))
+                    if not joins(unclaimed, "matplotlib.pyplot" in sys.modules) or not claim(claims, k):
+                        break
+                    self._draw_here(jobs[k:k + 1])
+                    drawn_here.add(k)
+            if second is None:
+                return
+            code = second.wait(FIGURE_PROCESS_TIMEOUT_S)
+            if code != 0:
+                why = "ran out of time" if code is None else f"exit {code}: {second.error_line()}"
+                warnings.warn(f"the second process drawing the figures failed ({why}); they are drawn here",
+                              RuntimeWarning, stacklevel=2)
+                self._draw_here([j for k, j in enumerate(jobs) if k not in drawn_here])
+            second.discard_errors()
+        finally:
+            if claims is not None:
+                shutil.rmtree(claims, ignore_errors=True)
 
     def _draw_here(self, jobs) -> None:
         for function, args in jobs:
@@ -108,22 +149,49 @@ class FigureProcess:
             self._second.stop()
             self._second.discard_errors()
             self._second = None
+        if self._claims is not None:
+            shutil.rmtree(self._claims, ignore_errors=True)
+            self._claims = None
         return False
 
 
+#: how many figures must still be unclaimed for the command's own process to join in before it has imported the
+#: plotting library: its first figure then ends about two figures' time later, the second process's last one at
+#: most one figure's time (the one it draws) plus one per unclaimed figure later — a gain from three on
+JOIN_UNCLAIMED = 3
+
+
+def joins(unclaimed: int, has_library: bool) -> bool:
+    """Whether the command's own process takes the next figure, with ``unclaimed`` figures unclaimed and the
+    plotting library imported here (``has_library``) or not (:data:`JOIN_UNCLAIMED`)."""
+    return unclaimed >= (1 if has_library else JOIN_UNCLAIMED)
+
+
+def claim(folder: str, k: int) -> bool:
+    """Claim figure ``k`` (create the file ``k`` in ``folder``); False if the other process has claimed it."""
+    try:
+        os.close(os.open(os.path.join(folder, str(k)), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+    except FileExistsError:
+        return False
+    return True
+
+
 def serve(head: dict, stream) -> None:
-    """The second process of :class:`FigureProcess`: the plotting library and the figure module imported, then each
-    list of jobs read from ``stream`` drawn, until the stream ends."""
+    """The second process of :class:`FigureProcess`: the plotting library and the figure module imported, then the
+    figures read from ``stream`` drawn from the first on, each that it claims, until one is claimed by the other
+    process; until the stream ends."""
     if __file__ != head["file"]:
         sys.exit("another copy of the package: " + __file__)
     pyplot()
     module = importlib.import_module(head["module"])
     while True:
         try:
-            jobs = pickle.load(stream)
+            batch = pickle.load(stream)
         except EOFError:
             return
-        for name, args in jobs:
+        for k, (name, args) in enumerate(batch["jobs"]):
+            if not claim(batch["claims"], k):
+                break
             getattr(module, name)(*args)
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .drawing import FigureProcess
 from .plots import FIGURES, save_group_figure
 from .result import ScenarioResult
 
@@ -31,14 +32,27 @@ def jsonable(o):
     raise TypeError(f"{type(o).__name__} is not JSON serialisable")
 
 
-def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
-    """Write ``timeseries.csv`` / ``.npz`` (the written groups), ``summary.json`` and the plots; returns the paths."""
+def write_scenario_outputs(result: ScenarioResult, out_dir, figures: FigureProcess | None = None) -> dict:
+    """Write ``timeseries.csv`` / ``.npz`` (the written groups), ``summary.json`` and the plots; returns the paths.
+    ``figures``: a :class:`~.drawing.FigureProcess` of :mod:`.plots` started before the run (it draws its share of
+    the plots while the tables are written); ``None``: drawn here."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     s = result.summary
     o = s["scenario"]["outputs"]
     ts = result.timeseries
-    paths = {}
+    paths, plots, jobs = {}, {}, []
+    if o["plots"] and ts and len(ts["time_s"]) > 1:
+        train = s["model"].get("layout") == "train"
+        drawn = ScenarioResult(ts, s)                                   # what the figures read
+        for g in o["timeseries"]:
+            # the car-body figure draws the points of outputs.carbody_points; a train records them per car
+            # (<point>_c<k>), which it does not draw: no figure rather than an empty one
+            if g in FIGURES and s["columns"].get(g) and not (train and g == "carbody"):
+                plots[f"plot_{g}"] = out / f"plot_{g}.png"
+                jobs.append((save_group_figure, (drawn, g, plots[f"plot_{g}"])))
+    figures = figures if figures is not None else FigureProcess.here()
+    figures.draw(jobs)
     if ts:
         cols = ["time_s", "s_leading_m"] + [c for g in o["timeseries"] for c in s["columns"].get(g, [])]
         if "csv" in o["formats"]:
@@ -49,15 +63,8 @@ def write_scenario_outputs(result: ScenarioResult, out_dir) -> dict:
             np.savez_compressed(paths["timeseries_npz"], **{c: ts[c] for c in cols})
     paths["summary"] = out / "summary.json"
     write_json(paths["summary"], s)
-    if o["plots"] and ts and len(ts["time_s"]) > 1:
-        train = s["model"].get("layout") == "train"
-        for g in o["timeseries"]:
-            # the car-body figure draws the points of outputs.carbody_points; a train records them per car
-            # (<point>_c<k>), which it does not draw: no figure rather than an empty one
-            if g in FIGURES and s["columns"].get(g) and not (train and g == "carbody"):
-                paths[f"plot_{g}"] = out / f"plot_{g}.png"
-                save_group_figure(result, g, paths[f"plot_{g}"])
-    return {k: str(v) for k, v in paths.items()}
+    figures.wait()
+    return {k: str(v) for k, v in {**paths, **plots}.items()}
 
 
 def write_csv(path, ts: dict) -> None:

@@ -384,8 +384,8 @@ def _comfort(ts: dict, dt_s: float, case: RtriCase) -> dict:
 # ================================================================================================ outputs
 def write_rtri_outputs(result: RtriResult, out_dir, plots: bool = True, figures: FigureProcess | None = None) -> dict:
     """Write ``timeseries.csv``, ``summary.json`` and (``plots``) the Fig. 5/6 PNGs into ``out_dir``; returns the
-    paths.  ``figures``: a :class:`~.drawing.FigureProcess` of :mod:`.rtri_figures` started before the run (the
-    figures are drawn there while the tables are written); ``None``: drawn here."""
+    paths.  ``figures``: a :class:`~.drawing.FigureProcess` of :mod:`.rtri_figures` started before the run (it
+    draws the figures while the tables are written); ``None``: drawn here."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = {"timeseries": out / "timeseries.csv", "summary": out / "summary.json"}
@@ -395,13 +395,9 @@ def write_rtri_outputs(result: RtriResult, out_dir, plots: bool = True, figures:
         paths["fig6"] = out / "fig6_lateral_force.png"
         drawn = RtriResult(result.timeseries, result.summary)        # what the figures read
         jobs = [(plot_fig5, (drawn, paths["fig5"])), (plot_fig6, (drawn, paths["fig6"]))]
-    if figures is not None:
-        figures.draw(jobs)
+    figures = figures if figures is not None else FigureProcess.here()
+    figures.draw(jobs)
     write_csv(paths["timeseries"], result.timeseries)
     write_json(paths["summary"], result.summary)
-    if figures is not None:
-        figures.wait()
-    else:
-        for function, args in jobs:
-            function(*args)
+    figures.wait()
     return paths

@@ -192,10 +192,11 @@ def run_model(h, *, progress=None, view=None, label: str = ""):
     return outcome
 
 
-def run_scenario(scenario, out_dir=None, progress=None, view=None) -> ScenarioResult:
+def run_scenario(scenario, out_dir=None, progress=None, view=None, figures=None) -> ScenarioResult:
     """Build, solve and evaluate a scenario (a file path or a scenario dict); write the outputs into ``out_dir``
-    (``None``: write nothing; checked before anything is built).  ``progress``, ``view``: :func:`run_model`.  The
-    summary's ``status`` is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES`."""
+    (``None``: write nothing; checked before anything is built).  ``progress``, ``view``: :func:`run_model`.
+    ``figures``: where the plots are drawn (:func:`~.outputs.write_scenario_outputs`).  The summary's ``status``
+    is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES`."""
     scn, source = as_scenario(scenario)
     if out_dir is not None:
         output_dir("out_dir", out_dir)
@@ -203,7 +204,7 @@ def run_scenario(scenario, out_dir=None, progress=None, view=None) -> ScenarioRe
     outcome = run_model(h, progress=progress, view=view, label=f"{scn['scenario']['name']}: ")
     result = scenario_summary(h, outcome, source)
     if out_dir is not None:
-        result.paths = write_scenario_outputs(result, out_dir)
+        result.paths = write_scenario_outputs(result, out_dir, figures=figures)
     return result
 
 
