@@ -36,10 +36,11 @@ class SecondProcess:
         self._errors = errors
 
     def send(self, obj) -> bool:
-        """Pickle ``obj`` to the process's standard input; False when it has ended (the caller's wait reports
-        why)."""
+        """Pickle ``obj`` to the process's standard input (pickled whole first: an object that cannot be pickled
+        raises before anything is written); False when the process has ended (the caller's wait reports why)."""
+        data = pickle.dumps(obj, protocol=pickle.HIGHEST_PROTOCOL)
         try:
-            pickle.dump(obj, self.proc.stdin, protocol=pickle.HIGHEST_PROTOCOL)
+            self.proc.stdin.write(data)
             self.proc.stdin.flush()
             return True
         except (OSError, ValueError):             # a closed pipe: the process has ended

@@ -51,6 +51,25 @@ def logged_line(path, y):
         fh.write(str(os.getpid()) + "\\n")
 
 
+def fails_in(pid, path, y):
+    """Raises in process ``pid``, draws :func:`line` elsewhere."""
+    if os.getpid() == pid:
+        raise RuntimeError("this figure fails here")
+    line(path, y)
+
+
+def line_with(anything, path, y):
+    """:func:`line`; ``anything`` is not used."""
+    line(path, y)
+
+
+def slow_line(path, y):
+    """:func:`line` after a second's pause."""
+    import time
+    time.sleep(1.0)
+    line(path, y)
+
+
 def dies_unless_in(pid, path, y):
     """Ends its process (exit code 3) unless it runs in process ``pid``, where it draws :func:`line`."""
     if os.getpid() != pid:
@@ -104,10 +123,53 @@ def test_figures_for_a_process_that_has_ended_are_drawn_here(figures_module, tmp
     with FigureProcess(figures_module.__name__) as figures:
         figures._second.proc.kill()               # the process ends before it is given its figures
         figures._second.proc.wait()
-        figures.draw([(figures_module.line, (path, [1.0, 2.0]))])
-        with pytest.warns(RuntimeWarning, match=r"drawing the figures failed \(exit -9"):
-            figures.wait()
+        with pytest.warns(RuntimeWarning, match=r"drawing the figures failed \(exit -?\d+"):
+            figures.draw([(figures_module.line, (path, [1.0, 2.0]))])
+        figures.wait()
     assert _pid(path) == os.getpid()
+
+
+def test_a_figure_that_fails_here_stops_the_second_process_and_removes_the_claims(figures_module, tmp_path,
+                                                                                    monkeypatch):
+    """The second process busy with its first figure (a second's pause), this process claims the last one, which
+    raises: the error reaches the caller, the second process is stopped and the claims' folder removed."""
+    if processes.cpus() < 2:
+        pytest.skip("one CPU: no second process")
+    monkeypatch.setattr(drawing, "joins", lambda unclaimed, has_library: True)
+    figures = FigureProcess(figures_module.__name__)
+    proc = figures._second.proc
+    figures.draw([(figures_module.slow_line, (tmp_path / "a.png", [1.0, 2.0])),
+                  (figures_module.fails_in, (os.getpid(), tmp_path / "b.png", [1.0, 2.0]))])
+    claims = Path(figures._claims)
+    with pytest.raises(RuntimeError, match="this figure fails here"):
+        figures.wait()
+    assert proc.poll() is not None and not claims.exists()
+
+
+def test_figures_that_cannot_be_pickled_are_drawn_here(figures_module, tmp_path):
+    """Data the second process cannot be given (a lock): drawn here, the second process stopped, no claims'
+    folder."""
+    import threading
+    path = tmp_path / "fig.png"
+    with FigureProcess(figures_module.__name__) as figures:
+        proc = figures._second.proc if figures.aside else None
+        figures.draw([(figures_module.line_with, (threading.Lock(), path, [1.0, 2.0]))])
+        assert figures._claims is None
+        figures.wait()
+    assert _pid(path) == os.getpid()
+    assert proc is None or proc.poll() is not None
+
+
+def test_with_nothing_to_draw_the_second_process_is_stopped_at_once(figures_module):
+    """No figures handed over (no plots, an empty record): the second process is stopped, not waited for (its
+    imports would take a second)."""
+    if processes.cpus() < 2:
+        pytest.skip("one CPU: no second process")
+    figures = FigureProcess(figures_module.__name__)
+    proc = figures._second.proc
+    figures.draw([])
+    figures.wait()
+    assert proc.returncode is not None and proc.returncode != 0      # stopped, not ended by itself
 
 
 def test_the_two_processes_share_the_figures_each_drawn_once(figures_module, tmp_path):

@@ -60,12 +60,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _figures(args):
-    """The figures' second process of a command that draws figures (its parser names their module,
-    ``figures_module``; not with ``--no-plots``), started first thing: it imports the plotting library and the
-    figure module on another CPU while this process checks the input, builds and solves
-    (:class:`~exudyn_wheelrail.scenarios.drawing.FigureProcess`).  A context giving ``None`` for other commands."""
-    module = getattr(args, "figures_module", None)
-    if module is None or getattr(args, "no_plots", False):
+    """The figures' second process of a command that draws figures (its parser's ``figures_of(args)`` names their
+    module, or None where this run draws none), started first thing: it imports the plotting library and the figure
+    module on another CPU while this process checks the input, builds and solves
+    (:class:`~exudyn_wheelrail.scenarios.drawing.FigureProcess`).  A context giving ``None`` otherwise."""
+    figures_of = getattr(args, "figures_of", None)
+    module = figures_of(args) if figures_of is not None else None
+    if module is None:
         return contextlib.nullcontext()
     from ..scenarios.drawing import FigureProcess
     return FigureProcess(module)

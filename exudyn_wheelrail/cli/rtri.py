@@ -165,6 +165,12 @@ def _cmd_rtri_car_bodies(args, run, contact, delta, lt):
     return exit_code(r.summary["status"] for r in results.values())
 
 
+def _rtri_figures(args) -> str | None:
+    """The module of the figures ``rtri`` draws in a second process (Figs. 5 and 6 of one car body; the comparison
+    of two car bodies is drawn by the command's process), or None."""
+    return None if args.no_plots or args.car_body == "both" else "exudyn_wheelrail.scenarios.rtri_figures"
+
+
 def cmd_rtri(args):
     from ..scenarios.rtri import RtriCase, run_rtri, write_rtri_outputs
     delta, lt = _rtri_deviation(args)
@@ -284,7 +290,7 @@ def add_rtri_parser(sub) -> None:
                         "window stays open after the solve until closed (Q/Escape); solve_seconds then include it")
     r.add_argument("--view-speed", type=float, default=0.25,
                    help="with --view: simulated time per wall-clock time (default 0.25, slow motion)")
-    r.set_defaults(func=cmd_rtri, check=_check_rtri, figures_module="exudyn_wheelrail.scenarios.rtri_figures")
+    r.set_defaults(func=cmd_rtri, check=_check_rtri, figures_of=_rtri_figures)
 
 
 def add_rtri_sweep_parser(sub) -> None:

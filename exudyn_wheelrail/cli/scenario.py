@@ -14,6 +14,11 @@ def _check_sweep(args) -> None:
         raise ValueError("--param: missing (give at least one --param KEY=V1,V2,...)")
 
 
+def _run_figures(args) -> str:
+    """The module of the figures ``run`` draws in a second process (the scenario's plots)."""
+    return "exudyn_wheelrail.scenarios.plots"
+
+
 def cmd_run_scenario(args):
     from ..scenarios.scenario import run_scenario
     scn = args.scenario_spec
@@ -85,7 +90,7 @@ def add_run_parser(sub) -> None:
                     type=lambda t: key_values(t, "--set", many=False),
                     help="override a value by its dotted key, repeatable (run.duration_s=0.5, "
                          "track.0.amplitude_m=0.005)")
-    sr.set_defaults(func=cmd_run_scenario, check=_check_run, figures_module="exudyn_wheelrail.scenarios.plots")
+    sr.set_defaults(func=cmd_run_scenario, check=_check_run, figures_of=_run_figures)
 
 
 def add_sweep_parser(sub) -> None:

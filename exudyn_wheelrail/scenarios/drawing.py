@@ -3,8 +3,9 @@ series reduced to what the figure's pixels can show, every peak kept), and :clas
 a second process that a command starts before it checks its input, builds and solves its run, so that the plotting
 library and the figure module are imported on the machine's second CPU meanwhile; once the run's data exist, the
 second process starts on the figures while this one writes its tables, and this one then draws from the other end.
-This module imports NumPy and the standard library only: the second process imports it, the figure module it is
-given and the plotting library, nothing of the run."""
+This module imports NumPy and the standard library only: the second process imports it, the plotting library and
+the figure module it is given (and what that module imports: the scenario figures' module brings the deck's
+module and with it SciPy, Exudyn and numba; the RTRI figures' module nothing of the run)."""
 from __future__ import annotations
 
 import importlib
@@ -19,7 +20,8 @@ import numpy as np
 
 from ..processes import cpus, start_python
 
-__all__ = ["pyplot", "decimated", "MAX_LINE_POINTS", "FigureProcess", "FIGURE_PROCESS_TIMEOUT_S", "JOIN_UNCLAIMED", "joins", "claim"]
+__all__ = ["pyplot", "decimated", "MAX_LINE_POINTS", "FigureProcess", "FIGURE_PROCESS_TIMEOUT_S", "JOIN_UNCLAIMED",
+           "joins", "claim"]
 
 #: most points of a drawn line (:func:`decimated`)
 MAX_LINE_POINTS = 4000
@@ -63,13 +65,14 @@ class FigureProcess:
     The two processes share the figures: the second one draws them from the first on, this one (in :meth:`wait`)
     from the last back, and each figure is drawn by the one that claims it first (a claim is the creation of a file
     named by the figure's number, which only one process can create).  This process joins in only where it gains
-    time: before its first figure it imports the plotting library (about one figure's time), so it joins while at
-    least :data:`JOIN_UNCLAIMED` figures are unclaimed, and once it has the library while any is.
+    time: before its first figure it imports the plotting library (one to three figures' time), so it joins while
+    at least :data:`JOIN_UNCLAIMED` figures are unclaimed, and once it has the library while any is.
 
-    With one CPU, or where no second process can be started, every figure is drawn here; a second process that fails
-    or runs out of time leaves its figures to be drawn here (with a ``RuntimeWarning``; a figure that cannot be drawn
-    raises its error here).  The figures are the same either way: the same functions, data and plotting library.
-    Also a context manager: leaving it stops a second process that still runs."""
+    With one CPU, where no second process can be started, or for figures whose data cannot be pickled, every figure
+    is drawn here; a second process that fails or runs out of time leaves its figures to be drawn here (with a
+    ``RuntimeWarning``; a figure that cannot be drawn raises its error here).  The figures are the same either way:
+    the same functions, data and plotting library.
+    Also a context manager: leaving it stops a second process that still runs and removes the claims' folder."""
 
     def __init__(self, module: str | None, start: bool = True):
         self.module = module
@@ -99,19 +102,27 @@ class FigureProcess:
             if function.__module__ != self.module or getattr(sys.modules[self.module], function.__name__,
                                                              None) is not function:
                 raise ValueError(f"{function.__qualname__} is not a function of {self.module}")
-        if self._second is not None and jobs:
-            claims = tempfile.mkdtemp(prefix="exudyn_wheelrail-figures-")
-            if self._second.send({"claims": claims, "jobs": [(f.__name__, tuple(a)) for f, a in jobs]}):
-                self._claims = claims
-            else:
-                shutil.rmtree(claims, ignore_errors=True)
+        if self._second is None:
+            return
+        try:                                              # the claims' folder, the figures pickled and sent
+            self._claims = tempfile.mkdtemp(prefix="exudyn_wheelrail-figures-") if jobs else None
+            sent = bool(jobs) and self._second.send({"claims": self._claims,
+                                                     "jobs": [(f.__name__, tuple(a)) for f, a in jobs]})
+        except Exception:                                 # no folder, data that cannot be pickled: all drawn here
+            sent = False
+        if not sent:                                      # nothing for the second process to draw
+            code = self._second.proc.poll()
+            if jobs and code is not None:                 # it had ended: say why
+                warnings.warn(f"the second process drawing the figures failed (exit {code}: "
+                              f"{self._second.error_line()}); they are drawn here", RuntimeWarning, stacklevel=2)
+            self._end_second()
 
     def wait(self) -> None:
         """Draws this process's share, then returns when every figure handed over is drawn (by the second process,
-        or here where it failed)."""
+        or here where it failed).  Whatever happens here (a figure that fails, an interrupt), the second process is
+        stopped and the claims' folder removed."""
         jobs, self._jobs = self._jobs or [], []
-        claims, self._claims = self._claims, None
-        second, self._second = self._second, None
+        claims, second = self._claims, self._second
         try:
             if claims is None:                            # not shared: all here
                 self._draw_here(jobs)
@@ -124,7 +135,7 @@ class FigureProcess:
                         break
                     self._draw_here(jobs[k:k + 1])
                     drawn_here.add(k)
-            if second is None:
+            if second is None or claims is None:          # nothing handed over: nothing to wait for
                 return
             code = second.wait(FIGURE_PROCESS_TIMEOUT_S)
             if code != 0:
@@ -132,10 +143,18 @@ class FigureProcess:
                 warnings.warn(f"the second process drawing the figures failed ({why}); they are drawn here",
                               RuntimeWarning, stacklevel=2)
                 self._draw_here([j for k, j in enumerate(jobs) if k not in drawn_here])
-            second.discard_errors()
         finally:
-            if claims is not None:
-                shutil.rmtree(claims, ignore_errors=True)
+            self._end_second()
+
+    def _end_second(self) -> None:
+        """Stop the second process if it still runs, close its error output, remove the claims' folder."""
+        second, self._second = self._second, None
+        if second is not None:
+            second.stop()
+            second.discard_errors()
+        claims, self._claims = self._claims, None
+        if claims is not None:
+            shutil.rmtree(claims, ignore_errors=True)
 
     def _draw_here(self, jobs) -> None:
         for function, args in jobs:
@@ -145,19 +164,14 @@ class FigureProcess:
         return self
 
     def __exit__(self, *exc):
-        if self._second is not None:
-            self._second.stop()
-            self._second.discard_errors()
-            self._second = None
-        if self._claims is not None:
-            shutil.rmtree(self._claims, ignore_errors=True)
-            self._claims = None
+        self._end_second()
         return False
 
 
 #: how many figures must still be unclaimed for the command's own process to join in before it has imported the
-#: plotting library: its first figure then ends about two figures' time later, the second process's last one at
-#: most one figure's time (the one it draws) plus one per unclaimed figure later — a gain from three on
+#: plotting library.  The import takes one to three figures' time (~0.35 s against 0.12–0.3 s a figure) and leaves
+#: the plotting library to the interpreter's teardown at exit (~0.1 s, which the second process skips), so joining
+#: ends the last figure sooner only when the second process would still draw two more after its current one
 JOIN_UNCLAIMED = 3
 
 

@@ -11,8 +11,9 @@ summary (:mod:`.rtri_run`) or from the sweep's rows (:mod:`.rtri_sweep`):
   (Fig. 5 style: lateral above each bogie and mid-car, and the vertical ones, where the bending modes act).
 
 The module imports NumPy, :mod:`.drawing` and :mod:`.rtri_result` only: a second process that draws the figures
-(:class:`~.drawing.FigureProcess`) imports it while the run is built.  Figs. 5 and 6 shade the time each leading wheelset of a bogie runs on the deviation and circle the passage peak
-(``summary["peaks_passage"]``: what ``rtri`` prints and the validation report tabulates).  Every title states that
+(:class:`~.drawing.FigureProcess`) imports it while the run is built.  Figs. 5 and 6 shade the time each leading
+wheelset of a bogie runs on the deviation and circle the passage peak (``summary["peaks_passage"]``: what ``rtri``
+prints and the validation report tabulates).  Every title states that
 the inputs are substitutes.
 """
 from __future__ import annotations

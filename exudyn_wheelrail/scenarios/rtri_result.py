@@ -1,6 +1,7 @@
 r"""The result of an RTRI case run (:class:`RtriResult`) and the moving-average window of its smoothed lateral-force
 peak (:data:`AVERAGE_WINDOW_S`): what the run (:mod:`.rtri_run`) produces and the figures (:mod:`.rtri_figures`)
-read.  It imports nothing of the run (the figures' second process unpickles a result).  The public import path of the case is :mod:`exudyn_wheelrail.scenarios.rtri`."""
+read.  It imports nothing of the run (the figures' second process unpickles a result).  The public import path of
+the case is :mod:`exudyn_wheelrail.scenarios.rtri`."""
 from __future__ import annotations
 
 from dataclasses import dataclass
