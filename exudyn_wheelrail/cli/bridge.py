@@ -147,7 +147,9 @@ def cmd_bridge_crossing_sweep(args):
 
 
 def cmd_bridge_crossing(args):
-    from ..scenarios.bridge_crossing import default_dt_s, run_bridge_crossing
+    from ..scenarios.bridge_crossing import default_dt_s
+    from ..scenarios.scenario import run_scenario
+    from ..scenarios.spec_crossing import crossing_scenario
     case = args.crossing
     src = case.axles.name if case.axles is not None else case.train_file
     chain = "" if case.n_spans == 1 else f" (spans {' + '.join(f'{x:g}' for x in case.chain_m)} m)"
@@ -156,7 +158,16 @@ def cmd_bridge_crossing(args):
           f"{case.n_modes}{lateral} modes, zeta = {case.damping_ratio:g}, {case.speed_m_s * 3.6:g} km/h, "
           f"{case.solver}, dt "
           f"{case.dt_s if case.dt_s is not None else default_dt_s(case):g} s")
-    result = run_bridge_crossing(case, out_dir=args.out, progress=progress_bar(args))
+    train = ({"axles": args.axles} if args.axles is not None else {"hslm": args.hslm} if args.hslm is not None
+             else {"consist": args.train})
+    result = run_scenario(crossing_scenario(case, train, speed_km_h=args.speed_kmh), args.out,
+                          progress=progress_bar(args))
+    return print_crossing_result(result)
+
+
+def print_crossing_result(result) -> int:
+    """The crossing's result on the terminal (status, deck peaks against EN 1990, resonance speeds, steps, notes,
+    files); returns the exit code of its status."""
     s = result.summary
     st = s["status_detail"]
     print(f"status: {s['status']}" + (f": {st['detail']}" if st["kind"] != "ok" and st["detail"] else ""))

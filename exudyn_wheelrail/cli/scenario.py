@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..simulation.status import exit_code
 from ..validation import output_dir
+from .bridge import print_crossing_result
 from .common import (add_progress_argument, key_value_dict, key_values, positive_int, print_status, progress_bar,
                      progress_lines)
 
@@ -21,8 +22,15 @@ def _run_figures(args) -> str:
 
 def cmd_run_scenario(args):
     from ..scenarios.scenario import run_scenario
+    from ..scenarios.spec_crossing import is_crossing
     scn = args.scenario_spec
     veh = scn['vehicle']
+    if is_crossing(scn):                          # a bridge crossing: as the bridge-crossing command shows it
+        st, source = scn["structure"], veh.get("hslm") or veh.get("axles") or veh.get("consist")
+        print(f"scenario {scn['scenario']['name']}: bridge crossing, {veh['load_model']}, {source}, spans "
+              f"{' + '.join(f'{x:g}' for x in st['spans_m'])} m, f1 = {st['f1_Hz']:g} Hz, {st['modes']} modes, "
+              f"{veh['speed_km_h']:g} km/h, {scn['run']['solver']}")
+        return print_crossing_result(run_scenario(scn, args.out, progress=progress_bar(args)))
     print(f"scenario {scn['scenario']['name']}: {veh.get('name') or veh.get('file') or veh.get('consist')}, "
           f"{scn['vehicle']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
           f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")

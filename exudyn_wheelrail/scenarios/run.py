@@ -14,6 +14,7 @@ from ..simulation.recorder import PROGRESS_MIN_STEPS, SIDES, ProgressBar
 from ..simulation.runner import run
 from ..track.layout import curve_quantities
 from ..validation import output_dir
+from .bridge_crossing_run import run_bridge_crossing
 from .build import ScenarioModel, build_scenario
 from .curve_setup import CURVE_READ_M
 from .deck import deck_scalars, deck_summary
@@ -21,6 +22,7 @@ from .flexible_track import flexible_track_summary
 from .outputs import write_scenario_outputs
 from .result import ScenarioResult
 from .spec import TIMESERIES_GROUPS, UNLOADING_GROUP, as_scenario
+from .spec_crossing import crossing_case, is_crossing
 
 __all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary",
            "train_criteria", "run_events", "layout_summary"]
@@ -196,10 +198,17 @@ def run_scenario(scenario, out_dir=None, progress=None, view=None, figures=None)
     """Build, solve and evaluate a scenario (a file path or a scenario dict); write the outputs into ``out_dir``
     (``None``: write nothing; checked before anything is built).  ``progress``, ``view``: :func:`run_model`.
     ``figures``: where the plots are drawn (:func:`~.outputs.write_scenario_outputs`).  The summary's ``status``
-    is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES`."""
+    is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES`.  A bridge crossing (``vehicle.load_model``,
+    :mod:`.spec_crossing`) runs as the ``bridge-crossing`` command runs it
+    (:func:`~.bridge_crossing_run.run_bridge_crossing`: its deck of N modes per span, its columns and summary)."""
     scn, source = as_scenario(scenario)
     if out_dir is not None:
         output_dir("out_dir", out_dir)
+    if is_crossing(scn):                          # a bridge crossing: its own deck, run and files (spec_crossing)
+        if view is not None:
+            raise ValueError("view: a bridge crossing has no 3-D view")
+        r = run_bridge_crossing(crossing_case(scn), out_dir, progress=progress or False)
+        return ScenarioResult(r.timeseries, r.summary, r.paths, r.outcome)
     h = build_scenario(scn)
     outcome = run_model(h, progress=progress, view=view, label=f"{scn['scenario']['name']}: ")
     result = scenario_summary(h, outcome, source)

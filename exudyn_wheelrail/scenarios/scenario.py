@@ -23,7 +23,8 @@ irregularity of any kind — goes to :func:`build_scenario` as a keyword argumen
 :mod:`.build`), not into the spec.
 
 The modules, one job each (this module is the public import path: it re-exports their public names):
-:mod:`.spec` — the schema's constants, the loader and the validation (``[layout]``: :mod:`.spec_layout`);
+:mod:`.spec` — the schema's constants, the loader and the validation (``[layout]``: :mod:`.spec_layout`; a bridge
+crossing: :mod:`.spec_crossing`);
 :mod:`.overrides` — the dotted-key overrides; :mod:`.build` — spec → Exudyn model; :mod:`.deck` — the flexible deck's support motion, recorded
 columns and summary; :mod:`.run` — the run and its summary (peaks, scalars, criteria, notes); :mod:`.result` —
 the result of a run (:class:`ScenarioResult`); :mod:`.outputs` and :mod:`.plots` — the files (the package's one
@@ -192,6 +193,22 @@ entered with :func:`~..structures.bridge_exudyn.add_bridge`):
         loads from the vehicle's lever-rule load path — and the car-body point's lateral accelerometer and
         vertical acceleration), stored in ``summary.json``.  A record too short for its filters and windows gives
         ``criteria = {"error": ...}`` and a note, not a failure.
+
+A bridge crossing
+-----------------
+A ``[vehicle]`` with a ``load_model`` makes the scenario a bridge crossing (:mod:`.spec_crossing`; what the
+``bridge-crossing`` command fills and runs): a train given as axle loads — ``hslm`` (a universal train of EN
+1991-2, ``"A1"`` … ``"A10"``), ``axles`` (an axle file) or ``consist`` (a consist file) — crosses a chain of simply
+supported spans given by their mass and first frequency and kept to N modes per span.  ``load_model``:
+``"moving-loads"`` (constant forces), ``"sprung-masses"`` (each axle a mass on a spring and damper:
+``sprung_frequency_Hz``, ``sprung_damping_ratio``) or ``"vehicles"`` (the vehicles of a ``consist``, in wheel–rail
+contact with the deck); ``speed_km_h`` (required).  ``[structure]`` (required): ``spans_m`` (a list in running
+order), ``mass_kg_m``, ``f1_Hz`` (of the first span), ``damping_ratio``, ``modes`` (vertical, per span; 1 … 60),
+``lateral_modes`` (default 0), ``lateral_f1_Hz`` (default: ``EI_z = 10 EI_y``), ``track_form``.  ``[run]``:
+``solver`` (default ``"rk44"``), ``dt_s`` (default: the crossing's rule, ``docs/cli.md``), ``free_vibration_s``
+(default 0).  No other table or key: the crossing's deck (N modes per span, not the modes up to a cut-off of the
+``[structure]`` above), run (until the last axle has left the last span) and files (its columns and summary,
+``docs/cli.md``, *bridge-crossing*; no figures) are its own.  ``examples/scenarios/crossing_hslm_a1_20m.toml``.
 
 Starting state
 --------------

@@ -27,6 +27,7 @@ from ..validation import Quantity, read_toml
 from .bridge_crossing_case import F1_HZ, MASS_KG_M
 from .deck import DECK_GROUPS, PLATEAU_AUTO, TRACK_FORMS, support_motion_default
 from .flexible_track import FLEXIBLE_TRACK_GROUP, default_step_s, normalise_flexible_track
+from .spec_crossing import is_crossing, normalise_crossing
 from .spec_layout import layout_combination_error, layout_run_settings, normalise_layout
 
 __all__ = ["SCHEMA_VERSION", "V1_MOVED", "TRACK_TYPES", "DIRECTIONS", "UNLOADING_GROUP", "STRUCTURE_GROUPS",
@@ -222,6 +223,10 @@ def validate_scenario(data: dict, source: str = "<dict>", base_dir=None, default
     sc = c.table(data.get("scenario", {}), "scenario", optional=("name", "description"))
     out["scenario"] = {"name": c.string(sc.get("name", default_name), "scenario.name"),
                        "description": c.string(sc.get("description", ""), "scenario.description")}
+    if is_crossing(data):                         # a bridge crossing: a load model on the deck's modes
+        if vehicle is not None:
+            raise c.error("vehicle.load_model", "a bridge crossing takes no vehicle data (vehicle=)")
+        return normalise_crossing(c, data, out)
     # ----------------------------------------------------------------------------------------- [vehicle]
     out["vehicle"], vehicle = _vehicle(c, data["vehicle"], vehicle)
     # ------------------------------------------------------------------------------------------- [track]

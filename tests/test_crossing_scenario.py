@@ -1,0 +1,114 @@
+"""A bridge crossing as a scenario (``vehicle.load_model``, :mod:`exudyn_wheelrail.scenarios.spec_crossing`):
+
+* ``run`` of the shipped crossing scenario writes the time series the ``bridge-crossing`` command writes for the
+  same case, byte for byte, and the same summary (but its timings): the command fills the scenario and both run it
+  through ``run_scenario`` (one code path; bit-equality between its runs);
+* the normal form is idempotent and gives back the case it was made from (train from an HSLM name, an axle file or
+  a consist; a chain of spans, lateral modes, sprung masses, an explicit step);
+* bad input names the dotted key before any work.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from exudyn_wheelrail.cli import main as cli_main
+from exudyn_wheelrail.scenarios.bridge_crossing_case import BridgeCrossing
+from exudyn_wheelrail.scenarios.scenario import ScenarioError, load_scenario, validate_scenario
+from exudyn_wheelrail.scenarios.spec_crossing import crossing_case, crossing_scenario, is_crossing
+from exudyn_wheelrail.structures.load_models import hslm_a, read_axle_file
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "scenarios" / "crossing_hslm_a1_20m.toml"
+CONSIST = ROOT / "vehicles" / "trains" / "manchester_x2.toml"
+#: the summary's timings (wall-clock values, not results)
+TIMINGS = ("solve_seconds", "build_seconds", "real_time_factor")
+
+
+def _summary(path: Path) -> dict:
+    s = json.loads(path.read_text())
+    for k in TIMINGS:
+        s.pop(k, None)
+    return s
+
+
+def test_run_of_the_scenario_writes_what_the_command_writes(tmp_path):
+    command = ["bridge-crossing", "--span-m", "20", "--bridge-mass-kg-per-m", "15000", "--bridge-frequency-hz", "5",
+               "--damping-ratio", "0.01", "--modes", "3", "--hslm", "A1", "--speed-kmh", "300", "--no-progress",
+               "--out", str(tmp_path / "command")]
+    assert cli_main(command) == 0
+    assert cli_main(["run", str(EXAMPLE), "--no-progress", "--out", str(tmp_path / "scenario")]) == 0
+    a, b = tmp_path / "command", tmp_path / "scenario"
+    assert (a / "timeseries.csv").read_bytes() == (b / "timeseries.csv").read_bytes()
+    assert _summary(a / "summary.json") == _summary(b / "summary.json")
+    assert sorted(p.name for p in b.iterdir()) == ["summary.json", "timeseries.csv"]
+
+
+def _axle_file(tmp_path) -> Path:
+    path = tmp_path / "axles.csv"
+    path.write_text("x_m,load_N\n0.0,170000\n2.5,170000\n17.5,170000\n20.0,170000\n")
+    return path
+
+
+def _cases(tmp_path):
+    axles = _axle_file(tmp_path)
+    deck = dict(span_m=20.0, mass_kg_m=15000.0, f1_Hz=5.0, damping_ratio=0.01, n_modes=3)
+    yield BridgeCrossing(**deck, axles=hslm_a("A1"), speed_m_s=300 / 3.6), {"hslm": "A1"}
+    yield (BridgeCrossing(**deck, axles=read_axle_file(axles), speed_m_s=50.0, spans_m=(20.0, 25.0, 20.0),
+                          lateral_modes=2, lateral_f1_Hz=7.0, track_form="direct_fastening", free_vibration_s=0.5),
+           {"axles": str(axles)})
+    yield (BridgeCrossing(**deck, axles=hslm_a("A4"), speed_m_s=60.0, model="sprung-masses", sprung_frequency_Hz=1.2,
+                          sprung_damping_ratio=0.3, dt_s=2e-4, solver="newmark"), {"hslm": "A4"})
+    yield (BridgeCrossing(**deck, axles=None, speed_m_s=40.0, model="vehicles", train_file=str(CONSIST)),
+           {"consist": str(CONSIST)})
+
+
+def test_the_normal_form_gives_back_its_case_and_is_idempotent(tmp_path):
+    for case, train in _cases(tmp_path):
+        scn = validate_scenario(crossing_scenario(case, train))
+        assert is_crossing(scn)
+        assert validate_scenario(scn) == scn
+        back = crossing_case(scn)
+        assert back.as_dict() == case.as_dict()
+        assert json.loads(json.dumps(scn)) == scn                   # plain values
+
+
+def _scenario(**changes) -> dict:
+    scn = load_scenario(EXAMPLE)
+    for dotted, value in changes.items():
+        table, key = dotted.split("__")
+        if value is None:
+            scn[table].pop(key, None)
+        else:
+            scn.setdefault(table, {})[key] = value
+    return scn
+
+
+@pytest.mark.parametrize("changes, key", [
+    ({"structure__modes": None}, "structure.modes: missing"),
+    ({"structure__modes": 0}, "structure.modes"),
+    ({"structure__damping_ratio": 2.0}, "structure.damping_ratio"),
+    ({"structure__spans_m": [20.0, 0.5]}, "structure.spans_m.1"),
+    ({"structure__elements_per_span": 40}, "structure.elements_per_span"),
+    ({"vehicle__hslm": "B3"}, "vehicle.hslm"),
+    ({"vehicle__axles": "no_such_file.csv"}, "vehicle"),
+    ({"vehicle__load_model": "vehicles"}, "vehicle.load_model"),
+    ({"vehicle__load_model": "rigid-loads"}, "vehicle.load_model"),
+    ({"vehicle__sprung_frequency_Hz": 1.0}, "vehicle.sprung_frequency_Hz"),
+    ({"run__dt_s": 1.0}, "run.dt_s"),
+    ({"run__duration_s": 2.0}, "run.duration_s"),
+    ({"outputs__plots": False}, "outputs"),
+])
+def test_bad_input_names_the_key(changes, key):
+    with pytest.raises(ScenarioError, match=key.replace(".", r"\.")):
+        validate_scenario(_scenario(**changes))
+
+
+def test_the_command_line_names_the_file_and_key(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(EXAMPLE.read_text().replace("modes = 3", "modes = 0"))
+    assert cli_main(["run", str(bad), "--no-progress", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error: ") and "bad.toml: structure.modes" in err[0]
