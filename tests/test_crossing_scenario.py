@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -55,11 +56,11 @@ def _axle_file(tmp_path) -> Path:
 def _cases(tmp_path):
     axles = _axle_file(tmp_path)
     deck = dict(span_m=20.0, mass_kg_m=15000.0, f1_Hz=5.0, damping_ratio=0.01, n_modes=3)
-    yield BridgeCrossing(**deck, axles=hslm_a("A1"), speed_m_s=300 / 3.6), {"hslm": "A1"}
+    yield BridgeCrossing(**deck, axles=hslm_a("A1"), speed_m_s=300 / 3.6), {"hslm": "a1"}
     yield (BridgeCrossing(**deck, axles=read_axle_file(axles), speed_m_s=50.0, spans_m=(20.0, 25.0, 20.0),
                           lateral_modes=2, lateral_f1_Hz=7.0, track_form="direct_fastening", free_vibration_s=0.5),
            {"axles": str(axles)})
-    yield (BridgeCrossing(**deck, axles=hslm_a("A4"), speed_m_s=60.0, model="sprung-masses", sprung_frequency_Hz=1.2,
+    yield (BridgeCrossing(**deck, axles=hslm_a("A4"), speed_m_s=60.0 / 7.0, model="sprung-masses", sprung_frequency_Hz=1.2,
                           sprung_damping_ratio=0.3, dt_s=2e-4, solver="newmark"), {"hslm": "A4"})
     yield (BridgeCrossing(**deck, axles=None, speed_m_s=40.0, model="vehicles", train_file=str(CONSIST)),
            {"consist": str(CONSIST)})
@@ -67,11 +68,15 @@ def _cases(tmp_path):
 
 def test_the_normal_form_gives_back_its_case_and_is_idempotent(tmp_path):
     for case, train in _cases(tmp_path):
-        scn = validate_scenario(crossing_scenario(case, train))
+        speed_km_h = case.speed_m_s * 3.6
+        scn = validate_scenario(crossing_scenario(case, train, speed_km_h=speed_km_h))
         assert is_crossing(scn)
         assert validate_scenario(scn) == scn
         back = crossing_case(scn)
-        assert back.as_dict() == case.as_dict()
+        speeds = ("speed_m_s", "speed_km_h")
+        assert {k: v for k, v in back.as_dict().items() if k not in speeds} == \
+            {k: v for k, v in case.as_dict().items() if k not in speeds}
+        assert back.speed_m_s == speed_km_h / 3.6                    # the speed as the scenario gives it, in km/h
         assert json.loads(json.dumps(scn)) == scn                   # plain values
 
 
@@ -93,17 +98,62 @@ def _scenario(**changes) -> dict:
     ({"structure__spans_m": [20.0, 0.5]}, "structure.spans_m.1"),
     ({"structure__elements_per_span": 40}, "structure.elements_per_span"),
     ({"vehicle__hslm": "B3"}, "vehicle.hslm"),
-    ({"vehicle__axles": "no_such_file.csv"}, "vehicle"),
+    ({"vehicle__hslm": None, "vehicle__axles": "no_such_file.csv"}, "vehicle.axles: file not found"),
+    ({"vehicle__hslm": 1}, "vehicle.hslm: expected a string"),
+    ({"vehicle__speed_km_h": 0.05}, "vehicle.speed_km_h"),
+    ({"structure__damping_ratio": 2.0}, "a ratio, not a percentage"),
     ({"vehicle__load_model": "vehicles"}, "vehicle.load_model"),
     ({"vehicle__load_model": "rigid-loads"}, "vehicle.load_model"),
-    ({"vehicle__sprung_frequency_Hz": 1.0}, "vehicle.sprung_frequency_Hz"),
+    ({"vehicle__sprung_frequency_Hz": -1.0}, "vehicle.sprung_frequency_Hz"),
     ({"run__dt_s": 1.0}, "run.dt_s"),
     ({"run__duration_s": 2.0}, "run.duration_s"),
     ({"outputs__plots": False}, "outputs"),
 ])
 def test_bad_input_names_the_key(changes, key):
-    with pytest.raises(ScenarioError, match=key.replace(".", r"\.")):
+    with pytest.raises(ScenarioError, match=re.escape(key)) as err:
         validate_scenario(_scenario(**changes))
+    assert str(err.value).count("<dict>") == 1                       # the source named once
+
+
+def test_an_axle_file_error_names_the_key_the_file_and_the_line(tmp_path):
+    bad = tmp_path / "axles.csv"
+    bad.write_text("x_m,load_N\n0.0,170000\n-2.5,170000\n")
+    with pytest.raises(ScenarioError, match=r"vehicle\.axles: .*axles\.csv:3: "):
+        validate_scenario(_scenario(vehicle__hslm=None, vehicle__axles=str(bad)))
+
+
+def test_a_sweep_of_a_crossing_is_refused_before_any_work(tmp_path):
+    from exudyn_wheelrail.scenarios.sweep import sweep_cases
+    with pytest.raises(ScenarioError, match="bridge-crossing-sweep"):
+        sweep_cases(load_scenario(EXAMPLE), {"vehicle.speed_km_h": [250.0, 300.0]})
+
+
+def test_the_command_checks_its_scenario_before_any_work_a_shipped_consist_too(tmp_path):
+    """The command builds and validates the scenario it will run in its checks: for the vehicles of a shipped
+    consist (a name, not a file) the scenario names the consist as the command got it."""
+    from exudyn_wheelrail.cli import build_parser
+    args = build_parser().parse_args(
+        ["bridge-crossing", "--span-m", "20", "--bridge-mass-kg-per-m", "15000", "--bridge-frequency-hz", "5",
+         "--damping-ratio", "0.01", "--modes", "3", "--model", "vehicles", "--train", "manchester_x2",
+         "--speed-kmh", "120", "--out", str(tmp_path / "o")])
+    args.check(args)
+    assert args.scenario_spec["vehicle"]["consist"] == "manchester_x2"
+    assert crossing_case(args.scenario_spec).as_dict() == args.crossing.as_dict()
+
+
+def test_an_unusual_value_is_named_once(tmp_path, capsys):
+    """A 3 m span (unusual, allowed): named once by the command (by its option) and once by run (by its key)."""
+    assert cli_main(["bridge-crossing", "--span-m", "3", "--bridge-mass-kg-per-m", "15000", "--bridge-frequency-hz",
+                     "20", "--damping-ratio", "0.01", "--modes", "1", "--hslm", "A1", "--speed-kmh", "100",
+                     "--no-progress", "--out", str(tmp_path / "command")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("unusual span length") == 1 and "--span-m" in err
+    short = tmp_path / "short.toml"
+    short.write_text(EXAMPLE.read_text().replace("spans_m = [20.0]", "spans_m = [3.0]").replace("f1_Hz = 5.0",
+                                                                                                  "f1_Hz = 20.0"))
+    assert cli_main(["run", str(short), "--no-progress", "--out", str(tmp_path / "scenario")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("unusual span length") == 1 and "structure.spans_m.0" in err
 
 
 def test_the_command_line_names_the_file_and_key(tmp_path, capsys):

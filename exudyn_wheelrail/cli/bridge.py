@@ -8,12 +8,12 @@ from pathlib import Path
 
 from ..scenarios.defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
                                   SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
-from ..simulation.settings import DT_S
+from ..simulation.settings import DT_S, SPEED_KM_H
 from ..simulation.solvers import SOLVERS
 from ..simulation.status import exit_code
 from ..standards import HSLM_NAMES, TRACK_FORMS
 from ..validation import output_dir
-from .common import SPEED_KM_H, add_progress_argument, positive_int, progress_bar, progress_lines
+from .common import add_progress_argument, inputs_checked, positive_int, progress_bar, progress_lines
 
 
 def _verdict(check: dict) -> str:
@@ -103,6 +103,19 @@ def _check_bridge_crossing(args) -> None:
         raise ValueError(f"{BRIDGE_CROSSING_OPTIONS.get(name, name)}: {problem}") from None
     resolve_load_model(case.model).check(case)
     args.crossing = case
+    if args.command == "bridge-crossing":
+        args.scenario_spec = _crossing_spec(args, case)
+
+
+def _crossing_spec(args, case) -> dict:
+    """The normal form of the scenario the command runs (its unusual values were named by their options above)."""
+    from ..scenarios.scenario import validate_scenario
+    from ..scenarios.spec_crossing import crossing_scenario
+    train = ({"axles": args.axles} if args.axles is not None else {"hslm": args.hslm} if args.hslm is not None
+             else {"consist": args.train})
+    with inputs_checked():
+        return validate_scenario(crossing_scenario(case, train, speed_km_h=args.speed_kmh),
+                                 source="bridge-crossing options")
 
 
 #: most speeds of one bridge-crossing sweep
@@ -149,7 +162,6 @@ def cmd_bridge_crossing_sweep(args):
 def cmd_bridge_crossing(args):
     from ..scenarios.bridge_crossing import default_dt_s
     from ..scenarios.scenario import run_scenario
-    from ..scenarios.spec_crossing import crossing_scenario
     case = args.crossing
     src = case.axles.name if case.axles is not None else case.train_file
     chain = "" if case.n_spans == 1 else f" (spans {' + '.join(f'{x:g}' for x in case.chain_m)} m)"
@@ -158,10 +170,8 @@ def cmd_bridge_crossing(args):
           f"{case.n_modes}{lateral} modes, zeta = {case.damping_ratio:g}, {case.speed_m_s * 3.6:g} km/h, "
           f"{case.solver}, dt "
           f"{case.dt_s if case.dt_s is not None else default_dt_s(case):g} s")
-    train = ({"axles": args.axles} if args.axles is not None else {"hslm": args.hslm} if args.hslm is not None
-             else {"consist": args.train})
-    result = run_scenario(crossing_scenario(case, train, speed_km_h=args.speed_kmh), args.out,
-                          progress=progress_bar(args))
+    with inputs_checked():
+        result = run_scenario(args.scenario_spec, args.out, progress=progress_bar(args))
     return print_crossing_result(result)
 
 

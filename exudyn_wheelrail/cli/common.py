@@ -4,15 +4,13 @@ option type, the ``--progress`` option and where progress goes, the figure-file 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import re
 import sys
 import time
 import warnings
 
-from ..validation import InputWarning, Quantity, output_file
-
-#: plausible running speeds of the commands' speed options (``rtri``, ``rtri-sweep``, ``bridge-crossing``)
-SPEED_KM_H = Quantity("running speed", "km/h", 0.1, 600.0)
+from ..validation import InputWarning, output_file
 
 
 class Parser(argparse.ArgumentParser):
@@ -47,6 +45,15 @@ def show_warning(message, category, filename, lineno, file=None, line=None, _def
         print_line("warning", message)
     else:
         _default(message, category, filename, lineno, file, line)
+
+
+@contextlib.contextmanager
+def inputs_checked():
+    """Around a run whose inputs the command's check has judged (and named an unusual value by its option or key):
+    the run's own validation of the same inputs does not name them again."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        yield
 
 
 def positive_int(option: str):

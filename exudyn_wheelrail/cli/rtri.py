@@ -10,11 +10,11 @@ from pathlib import Path
 
 from ..scenarios.defaults import CAR_BODY_MODELS
 from ..simulation.presets import PRESETS, apply_preset
-from ..simulation.settings import DURATION_AUTO, ContactSettings, RunSettings, SettingsError
+from ..simulation.settings import DURATION_AUTO, SPEED_KM_H, ContactSettings, RunSettings, SettingsError
 from ..simulation.solvers import DEFAULT_STEP_S, SOLVERS
 from ..simulation.status import exit_code
 from ..validation import Quantity, output_dir
-from .common import (SPEED_KM_H, add_progress_argument, check_figure, key_value_dict, key_values, positive_int,
+from .common import (add_progress_argument, check_figure, key_value_dict, key_values, positive_int,
                      print_status, progress_bar, progress_lines)
 
 # Plausibility of the RTRI options that are not parameters of an API object (the time step, span and transition

@@ -5,8 +5,8 @@ from __future__ import annotations
 from ..simulation.status import exit_code
 from ..validation import output_dir
 from .bridge import print_crossing_result
-from .common import (add_progress_argument, key_value_dict, key_values, positive_int, print_status, progress_bar,
-                     progress_lines)
+from .common import (add_progress_argument, inputs_checked, key_value_dict, key_values, positive_int, print_status,
+                     progress_bar, progress_lines)
 
 
 def _check_sweep(args) -> None:
@@ -30,11 +30,14 @@ def cmd_run_scenario(args):
         print(f"scenario {scn['scenario']['name']}: bridge crossing, {veh['load_model']}, {source}, spans "
               f"{' + '.join(f'{x:g}' for x in st['spans_m'])} m, f1 = {st['f1_Hz']:g} Hz, {st['modes']} modes, "
               f"{veh['speed_km_h']:g} km/h, {scn['run']['solver']}")
-        return print_crossing_result(run_scenario(scn, args.out, progress=progress_bar(args)))
+        with inputs_checked():
+            result = run_scenario(scn, args.out, progress=progress_bar(args))
+        return print_crossing_result(result)
     print(f"scenario {scn['scenario']['name']}: {veh.get('name') or veh.get('file') or veh.get('consist')}, "
           f"{scn['vehicle']['speed_km_h']:g} km/h, {scn['run']['solver']}, dt {scn['run']['dt_s']:g} s, duration "
           f"{scn['run']['duration_s']}{', bridge' if 'structure' in scn else ''}")
-    result = run_scenario(scn, args.out, progress=progress_bar(args), figures=args.figures)
+    with inputs_checked():
+        result = run_scenario(scn, args.out, progress=progress_bar(args), figures=args.figures)
     s = result.summary
     print_status(s)
     sc = s["scalars"]

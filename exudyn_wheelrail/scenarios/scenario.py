@@ -198,17 +198,19 @@ A bridge crossing
 -----------------
 A ``[vehicle]`` with a ``load_model`` makes the scenario a bridge crossing (:mod:`.spec_crossing`; what the
 ``bridge-crossing`` command fills and runs): a train given as axle loads — ``hslm`` (a universal train of EN
-1991-2, ``"A1"`` … ``"A10"``), ``axles`` (an axle file) or ``consist`` (a consist file) — crosses a chain of simply
-supported spans given by their mass and first frequency and kept to N modes per span.  ``load_model``:
-``"moving-loads"`` (constant forces), ``"sprung-masses"`` (each axle a mass on a spring and damper:
+1991-2, ``"A1"`` … ``"A10"``), ``axles`` (an axle file) or ``consist`` (a shipped consist or a consist file) —
+crosses a chain of simply supported spans given by their mass and first frequency and kept to N modes per span.
+``load_model``: ``"moving-loads"`` (constant forces), ``"sprung-masses"`` (each axle a mass on a spring and damper:
 ``sprung_frequency_Hz``, ``sprung_damping_ratio``) or ``"vehicles"`` (the vehicles of a ``consist``, in wheel–rail
 contact with the deck); ``speed_km_h`` (required).  ``[structure]`` (required): ``spans_m`` (a list in running
-order), ``mass_kg_m``, ``f1_Hz`` (of the first span), ``damping_ratio``, ``modes`` (vertical, per span; 1 … 60),
-``lateral_modes`` (default 0), ``lateral_f1_Hz`` (default: ``EI_z = 10 EI_y``), ``track_form``.  ``[run]``:
-``solver`` (default ``"rk44"``), ``dt_s`` (default: the crossing's rule, ``docs/cli.md``), ``free_vibration_s``
-(default 0).  No other table or key: the crossing's deck (N modes per span, not the modes up to a cut-off of the
-``[structure]`` above), run (until the last axle has left the last span) and files (its columns and summary,
-``docs/cli.md``, *bridge-crossing*; no figures) are its own.  ``examples/scenarios/crossing_hslm_a1_20m.toml``.
+order), ``mass_kg_m``, ``f1_Hz`` (of the first span), ``damping_ratio``, ``modes`` (vertical, per span, at most
+:data:`~.defaults.MAX_MODES`), ``lateral_modes`` (default 0), ``lateral_f1_Hz`` (default: ``EI_z =``
+:data:`~.defaults.LATERAL_EI_RATIO` ``EI_y``), ``track_form``.  ``[run]``: ``solver`` (default ``"rk44"``),
+``dt_s`` (default: the crossing's rule, ``docs/cli.md``), ``free_vibration_s`` (default 0).  No other table or
+key: the crossing's deck (N modes per span, not the modes up to a cut-off of the ``[structure]`` above), run (until
+the last axle has left the last span) and files (its columns and summary, ``docs/cli.md``, *bridge-crossing*; no
+figures) are its own; ``sweep`` refuses it (``bridge-crossing-sweep`` sweeps a crossing's speed).
+``examples/scenarios/crossing_hslm_a1_20m.toml``.
 
 Starting state
 --------------

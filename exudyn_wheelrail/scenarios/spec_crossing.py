@@ -9,8 +9,8 @@ a ``load_model``) and returns its normal form; :func:`crossing_case` makes the
 case.  The tables and keys::
 
     [vehicle]       load_model (moving-loads | sprung-masses | vehicles), speed_km_h, one of hslm (A1 … A10),
-                    axles (an axle file, CSV) or consist (a consist file); sprung_frequency_Hz,
-                    sprung_damping_ratio (sprung-masses)
+                    axles (an axle file, CSV) or consist (a shipped consist or a consist file);
+                    sprung_frequency_Hz, sprung_damping_ratio (used by sprung-masses)
     [structure]     spans_m (a list: one span or a chain in running order), mass_kg_m, f1_Hz (of the first span),
                     damping_ratio, modes (vertical modes per span), lateral_modes (default 0), lateral_f1_Hz
                     (optional), track_form
@@ -21,7 +21,9 @@ columns and summary (``docs/cli.md``, *bridge-crossing*).
 """
 from __future__ import annotations
 
-from ..simulation.settings import DT_S
+from pathlib import Path
+
+from ..simulation.settings import DT_S, SPEED_KM_H
 from ..simulation.solvers import SOLVERS
 from ..standards import TRACK_FORMS
 from ..structures.load_models import hslm_a, hslm_name, read_axle_file
@@ -37,7 +39,8 @@ __all__ = ["CROSSING_TABLES", "TRAIN_SOURCES", "CASE_KEYS", "is_crossing", "norm
 CROSSING_TABLES = ("schema_version", "scenario", "vehicle", "structure", "run")
 #: the keys of ``[vehicle]`` that give the train (exactly one)
 TRAIN_SOURCES = ("hslm", "axles", "consist")
-#: the dotted key of each field of :class:`~.bridge_crossing_case.BridgeCrossing` (its errors name the key)
+#: the dotted key of each field of :class:`~.bridge_crossing_case.BridgeCrossing` and of each option the load models'
+#: checks name (their errors then name the key)
 CASE_KEYS = {"span_m": "structure.spans_m", "mass_kg_m": "structure.mass_kg_m", "f1_Hz": "structure.f1_Hz",
              "damping_ratio": "structure.damping_ratio", "n_modes": "structure.modes",
              "speed_m_s": "vehicle.speed_km_h", "model": "vehicle.load_model",
@@ -45,7 +48,9 @@ CASE_KEYS = {"span_m": "structure.spans_m", "mass_kg_m": "structure.mass_kg_m", 
              "track_form": "structure.track_form", "spans_m": "structure.spans_m",
              "lateral_modes": "structure.lateral_modes", "lateral_f1_Hz": "structure.lateral_f1_Hz",
              "sprung_frequency_Hz": "vehicle.sprung_frequency_Hz",
-             "sprung_damping_ratio": "vehicle.sprung_damping_ratio", "axles": "vehicle", "train_file": "vehicle"}
+             "sprung_damping_ratio": "vehicle.sprung_damping_ratio", "axles": "vehicle", "train_file": "vehicle",
+             # the load models' checks name the command's options
+             "--model": "vehicle.load_model", "--train": "vehicle.consist", "--axles/--hslm": "vehicle"}
 
 
 def is_crossing(scn: dict) -> bool:
@@ -71,25 +76,31 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
         raise c.error("vehicle", "give exactly one of vehicle.hslm (a universal train A1 … A10), vehicle.axles (an "
                                  "axle file) or vehicle.consist (a consist file)")
     source = given[0]
-    if source == "hslm":
-        try:
-            train = hslm_name(c.string(vt["hslm"], "vehicle.hslm"))
-        except ValueError as exc:
-            raise c.error("vehicle.hslm", str(exc)) from None
-    else:
-        train = c.path(vt[source], f"vehicle.{source}")
+    key = f"vehicle.{source}"
     if model not in AXLE_LOAD_MODELS and source != "consist":
         raise c.error("vehicle.load_model", f"{model!r} runs the vehicles of a consist: give vehicle.consist")
+    if source == "hslm":
+        text = c.string(vt["hslm"], key)
+        try:
+            train = hslm_name(text)
+        except ValueError as exc:
+            raise c.error(key, str(exc)) from None
+    elif source == "axles":
+        train = c.path(vt["axles"], key)
+        _read(c, key, read_axle_file, train)
+    else:                                         # a shipped consist's name or a consist file (as a [vehicle]'s)
+        train = c.string(vt["consist"], key)
+        if Path(train).suffix:
+            train = c.path(train, key)
+        if model in AXLE_LOAD_MODELS:
+            _read(c, key, resolve_train_axles, train)
     vehicle = {"load_model": model, source: train,
-               "speed_km_h": c.number(vt["speed_km_h"], "vehicle.speed_km_h", lo=0.0, hi=600.0)}
-    if model == "sprung-masses":
-        vehicle["sprung_frequency_Hz"] = c.number(vt.get("sprung_frequency_Hz", SPRUNG_FREQUENCY_HZ),
-                                                  "vehicle.sprung_frequency_Hz", lo=0.0)
-        vehicle["sprung_damping_ratio"] = c.number(vt.get("sprung_damping_ratio", SPRUNG_DAMPING_RATIO),
-                                                   "vehicle.sprung_damping_ratio", lo=0.0, lo_open=False)
-    elif "sprung_frequency_Hz" in vt or "sprung_damping_ratio" in vt:
-        key = "sprung_frequency_Hz" if "sprung_frequency_Hz" in vt else "sprung_damping_ratio"
-        raise c.error(f"vehicle.{key}", f"only with vehicle.load_model = 'sprung-masses' (it is {model!r})")
+               "speed_km_h": _plausible(c, SPEED_KM_H, "vehicle.speed_km_h", vt["speed_km_h"]),
+               # used by the sprung-masses model only; kept with every model (a summary's inputs show them)
+               "sprung_frequency_Hz": c.number(vt.get("sprung_frequency_Hz", SPRUNG_FREQUENCY_HZ),
+                                               "vehicle.sprung_frequency_Hz", lo=0.0),
+               "sprung_damping_ratio": c.number(vt.get("sprung_damping_ratio", SPRUNG_DAMPING_RATIO),
+                                                "vehicle.sprung_damping_ratio", lo=0.0, lo_open=False)}
     # ----------------------------------------------------------------------------------------- [structure]
     if "structure" not in data:
         raise c.error("structure", "missing: a crossing needs its deck (spans_m, mass_kg_m, f1_Hz, damping_ratio, "
@@ -103,8 +114,7 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
         "spans_m": [_plausible(c, SPAN_M, f"structure.spans_m.{k}", x) for k, x in enumerate(spans)],
         "mass_kg_m": _plausible(c, MASS_KG_M, "structure.mass_kg_m", st["mass_kg_m"]),
         "f1_Hz": _plausible(c, F1_HZ, "structure.f1_Hz", st["f1_Hz"]),
-        "damping_ratio": c.number(st["damping_ratio"], "structure.damping_ratio", lo=0.0, hi=1.0, lo_open=False,
-                                  hi_open=True),
+        "damping_ratio": _damping_ratio(c, st["damping_ratio"]),
         "modes": c.integer(st["modes"], "structure.modes", lo=1, hi=MAX_MODES),
         "lateral_modes": c.integer(st.get("lateral_modes", 0), "structure.lateral_modes", lo=0, hi=MAX_MODES),
         "track_form": c.string(st.get("track_form", TRACK_FORMS[0]), "structure.track_form", choices=TRACK_FORMS)}
@@ -127,12 +137,24 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
 
 
 def _plausible(c, quantity, key: str, value) -> float:
-    """``value`` as a float judged by ``quantity`` (an error names the key, an unusual value warns)."""
-    x = c.number(value, key)
+    """``value`` as a float judged by ``quantity`` (an error and a warning for an unusual value name the source
+    and the key)."""
+    return quantity.check(f"{c.source}: {key}", c.number(value, key), error=type(c.error(key, "")))
+
+
+def _damping_ratio(c, value) -> float:
+    z = c.number(value, "structure.damping_ratio")
+    if not 0.0 <= z < 1.0:
+        raise c.error("structure.damping_ratio", f"{z:g} must be in [0, 1) (a ratio, not a percentage: 2 % is 0.02)")
+    return z
+
+
+def _read(c, key: str, reader, path) -> None:
+    """Read the train's file ``path`` with ``reader`` now (its errors name the key, the file and its line)."""
     try:
-        return quantity.check(key, x)
+        reader(path)
     except ValueError as exc:
-        raise c.error(key, str(exc).partition(": ")[2] or str(exc)) from None
+        raise c.error(key, str(exc).removeprefix("--train: ")) from None
 
 
 def crossing_case(scn: dict) -> BridgeCrossing:
@@ -161,12 +183,14 @@ def crossing_scenario(case: BridgeCrossing, train: dict, name: str = "bridge_cro
                       speed_km_h: float | None = None) -> dict:
     """The scenario (as read: :func:`~.spec.validate_scenario` gives its normal form) of a crossing ``case`` whose
     train came from ``train``: ``{"hslm": "A1"}``, ``{"axles": FILE}`` or ``{"consist": FILE}`` (the case keeps the
-    axle loads, not where they came from).  ``speed_km_h``: the speed as given (the case keeps it in m/s; the
-    command line passes the option's value, so that the scenario's speed is the option's, not a round trip)."""
-    vehicle = {"load_model": case.model, **{k: str(v) if k != "hslm" else v for k, v in train.items()},
-               "speed_km_h": speed_km_h if speed_km_h is not None else case.speed_m_s * 3.6}
-    if case.model == "sprung-masses":
-        vehicle.update(sprung_frequency_Hz=case.sprung_frequency_Hz, sprung_damping_ratio=case.sprung_damping_ratio)
+    axle loads, not where they came from).  ``speed_km_h``: the speed as given (the case keeps it in m/s, and
+    ``speed_m_s * 3.6 / 3.6`` is not always ``speed_m_s`` in the last bit: the command line passes the option's
+    value).  A case whose deck does not start at the first support (``deck_start_m``) has no scenario form."""
+    if case.deck_start_m != 0.0:
+        raise ValueError(f"deck_start_m: {case.deck_start_m:g} m: a crossing's scenario starts at the first support")
+    vehicle = {"load_model": case.model, **{k: str(v) for k, v in train.items()},
+               "speed_km_h": speed_km_h if speed_km_h is not None else case.speed_m_s * 3.6,
+               "sprung_frequency_Hz": case.sprung_frequency_Hz, "sprung_damping_ratio": case.sprung_damping_ratio}
     structure = {"spans_m": list(case.chain_m), "mass_kg_m": case.mass_kg_m, "f1_Hz": case.f1_Hz,
                  "damping_ratio": case.damping_ratio, "modes": case.n_modes, "lateral_modes": case.lateral_modes,
                  "track_form": case.track_form}

@@ -58,11 +58,12 @@ from dataclasses import dataclass, field
 from multiprocessing import get_context
 from pathlib import Path
 
+from .drawing import pyplot
 from .outputs import write_json
 from .overrides import apply_overrides, set_dotted
-from .drawing import pyplot
 from .run import run_scenario
 from .spec import ScenarioError, as_scenario
+from .spec_crossing import is_crossing
 
 __all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "sweep_cases", "DEFAULT_PLOT_RESULT",
            "TIMING_COLUMNS"]
@@ -112,6 +113,9 @@ def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
     """``(base, combinations, scenarios)``: the validated base scenario, the parameter combinations (dicts) and the
     validated scenario of every case."""
     base, _ = as_scenario(base_scenario)
+    if is_crossing(base):
+        raise ScenarioError("vehicle.load_model: a bridge crossing's summary has no scalars for the sweep's table: "
+                            "sweep its speed with bridge-crossing-sweep")
     if not isinstance(parameters, dict) or not parameters:
         raise ScenarioError("parameters: expected a non-empty dict {dotted key: [values]}")
     values = {}

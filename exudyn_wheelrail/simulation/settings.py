@@ -30,7 +30,8 @@ from .. import contact_defaults as DEFAULT
 from ..validation import Quantity, finite
 from .solvers import DEFAULT_STEP_S, IMPLICIT_SOLVERS, NEWMARK_BETA, NEWMARK_GAMMA, SOLVERS, solver_description
 
-__all__ = ["NEWTON_TOLERANCE", "DURATION_AUTO", "MAX_STEPS", "DT_S", "RUN_OUT_M", "WHEEL_RAIL_MODES", "SettingsError", "RunSettings",
+__all__ = ["NEWTON_TOLERANCE", "DURATION_AUTO", "MAX_STEPS", "DT_S", "RUN_OUT_M", "SPEED_KM_H", "WHEEL_RAIL_MODES",
+           "SettingsError", "RunSettings",
            "ContactSettings", "settings_from_mapping"]
 
 #: Newton tolerance of the implicit solvers (module docstring: measured)
@@ -43,6 +44,9 @@ MAX_STEPS = 10_000_000
 #: plausible time step and run-out (values outside are errors naming the unit they were evidently given in)
 DT_S = Quantity("time step", "s", 1e-7, 0.01)
 RUN_OUT_M = Quantity("run-out length", "m", 0.0, 1000.0)
+#: plausible running speeds of the commands' speed options (``rtri``, ``rtri-sweep``, ``bridge-crossing``) and of a
+#: bridge crossing's scenario
+SPEED_KM_H = Quantity("running speed", "km/h", 0.1, 600.0)
 #: ``ContactSettings.wheel_rail``: the wheel–rail connector, or linear springs at the nominal rail position (a cost
 #: baseline: the track irregularities do not act, nothing is recorded)
 WHEEL_RAIL_MODES = ("contact", "springs")
