@@ -263,7 +263,7 @@ def _second_process(missing) -> Pending | None:
     """:func:`compile_ahead`'s second process for the jobs ``missing`` (started, its input complete), or None where
     none can be started (:func:`~exudyn_wheelrail.processes.start_python`)."""
     jobs = [(d.py_func.__module__, d.py_func.__qualname__, sig) for d, sig in missing]
-    second = start_python(_SECOND_PROCESS % {"module": __name__}, {"jit": __file__, "jobs": pickle.dumps(jobs)})
+    second = start_python(compile_jobs, {"jobs": pickle.dumps(jobs)})
     if second is None:
         return None
     second.close_input()
@@ -298,19 +298,12 @@ def compile_ahead(kernel, args, here, aside=()) -> Pending:
     return pending if pending is not None else Pending()
 
 
-def compile_jobs(jobs: bytes) -> None:
-    """The second process of :func:`compile_ahead`: compiles each of the pickled ``(module, qualified name,
-    signature)`` jobs into the cache."""
-    for module, qualname, sig in pickle.loads(jobs):
+def compile_jobs(head: dict, stream=None) -> None:
+    """The second process of :func:`compile_ahead` (:func:`~exudyn_wheelrail.processes.start_python`'s entry):
+    compiles each of the pickled ``(module, qualified name, signature)`` jobs of ``head["jobs"]`` into the cache
+    (unpickled here, once the parent's import path is in place)."""
+    for module, qualname, sig in pickle.loads(head["jobs"]):
         target = importlib.import_module(module)
         for part in qualname.split("."):
             target = getattr(target, part)
         target.compile(sig)
-
-
-#: the second process's program: the parent's import path (the package as the parent imported it, checked), then
-#: :func:`compile_jobs`
-_SECOND_PROCESS = ("import %(module)s as jit\n"
-                   "if jit.__file__ != head['jit']:\n"
-                   "    sys.exit('another copy of the package: ' + jit.__file__)\n"
-                   "jit.compile_jobs(head['jobs'])\n")

@@ -20,11 +20,20 @@ def cpus() -> int:
     return len(affinity(0)) if affinity is not None else (os.cpu_count() or 1)
 
 
-#: what every second process runs first: the parent's import path from the first pickled object on its standard
-#: input, then the program given to :func:`start_python`, which reads the rest of the input
-_PRELUDE = ("import pickle, sys\n"
+#: what every second process runs: the parent's import path from the first pickled object on its standard input
+#: (``head``), the entry's module imported (the parent's copy of it, checked), the entry called with ``head`` and the
+#: rest of the input; then the process ends without the interpreter's teardown (its work is written and closed by
+#: then: the compiled kernels in the cache, the figures in their files)
+_PROGRAM = ("import importlib, os, pickle, sys\n"
             "head = pickle.load(sys.stdin.buffer)\n"
-            "sys.path[:] = head['path']\n")
+            "sys.path[:] = head['path']\n"
+            "module = importlib.import_module(head['entry_module'])\n"
+            "if module.__file__ != head['entry_file']:\n"
+            "    sys.exit('another copy of the package: ' + module.__file__)\n"
+            "getattr(module, head['entry'])(head, sys.stdin.buffer)\n"
+            "sys.stdout.flush()\n"
+            "sys.stderr.flush()\n"
+            "os._exit(0)\n")
 
 
 class SecondProcess:
@@ -88,20 +97,23 @@ class SecondProcess:
             self._errors.close()
 
 
-def start_python(program: str, head: dict) -> SecondProcess | None:
-    """Start ``python -P -c <prelude + program>`` with ``head`` (a dict, given this process's import path as
-    ``head['path']``) as the first pickled object on its standard input, which stays open for :meth:`~SecondProcess.
-    send`.  None where no second process can be started: no interpreter to start (an embedded or frozen Python) or
-    the start failed.  ``-P``: nothing of the working folder shadows a module before the parent's import path is in
+def start_python(entry, head: dict) -> SecondProcess | None:
+    """Start a second Python process that runs ``entry(head, stream)`` (``entry``: a module-level function of this
+    package, imported there from this process's copy of it; ``stream``: the rest of its standard input, which stays
+    open for :meth:`~SecondProcess.send`).  ``head`` (a dict) is given this process's import path and the entry.
+    None where no second process can be started: no interpreter to start (an embedded or frozen Python) or the
+    start failed.  ``-P``: nothing of the working folder shadows a module before the parent's import path is in
     place."""
     if not sys.executable or getattr(sys, "frozen", False):
         return None
+    module = sys.modules[entry.__module__]
     try:
         errors = tempfile.TemporaryFile()
-        proc = subprocess.Popen([sys.executable, "-P", "-c", _PRELUDE + program], stdin=subprocess.PIPE,
+        proc = subprocess.Popen([sys.executable, "-P", "-c", _PROGRAM], stdin=subprocess.PIPE,
                                 stdout=subprocess.DEVNULL, stderr=errors)
     except Exception:
         return None
     second = SecondProcess(proc, errors)
-    second.send(dict(head, path=list(sys.path)))
+    second.send(dict(head, path=list(sys.path), entry_module=module.__name__, entry_file=module.__file__,
+                     entry=entry.__name__))
     return second

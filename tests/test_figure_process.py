@@ -51,6 +51,11 @@ def logged_line(path, y):
         fh.write(str(os.getpid()) + "\\n")
 
 
+def fails_with(head, stream):
+    """A second process's entry that fails, naming ``head["what"]``."""
+    raise SystemExit("no " + head["what"])
+
+
 def fails_in(pid, path, y):
     """Raises in process ``pid``, draws :func:`line` elsewhere."""
     if os.getpid() == pid:
@@ -213,8 +218,8 @@ def test_only_functions_of_the_module_given_are_drawn(figures_module, tmp_path, 
         figures.draw([(drawing.decimated, ([0.0], [0.0]))])
 
 
-def test_a_second_process_reports_its_exit_code_and_last_error_line():
-    second = processes.start_python("raise SystemExit('no ' + head['what'])\n", {"what": "figures"})
+def test_a_second_process_reports_its_exit_code_and_last_error_line(figures_module):
+    second = processes.start_python(figures_module.fails_with, {"what": "figures"})
     assert second is not None
     assert second.wait(60.0) == 1
     assert second.error_line() == "no figures"
@@ -222,4 +227,4 @@ def test_a_second_process_reports_its_exit_code_and_last_error_line():
 
 def test_no_second_process_without_an_interpreter_to_start(monkeypatch):
     monkeypatch.setattr(processes.sys, "executable", "")
-    assert processes.start_python("pass\n", {}) is None
+    assert processes.start_python(drawing.serve, {}) is None

@@ -36,10 +36,10 @@ import contextlib
 import gc
 import warnings
 
+from ..simulation.settings import SPEED_KM_H
 from ..simulation.status import EXIT_BAD_INPUT, EXIT_ERROR
 from ..validation import InputWarning
 from .bridge import add_bridge_crossing_parsers
-from ..simulation.settings import SPEED_KM_H
 from .common import Parser, print_line, show_warning
 from .contact import add_conicity_parser, add_creep_table_parser, add_geometry_parser, plot_sweep
 from .curving import add_curving_parser

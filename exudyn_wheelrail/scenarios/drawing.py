@@ -74,17 +74,16 @@ class FigureProcess:
     the same functions, data and plotting library.
     Also a context manager: leaving it stops a second process that still runs and removes the claims' folder."""
 
-    def __init__(self, module: str | None, start: bool = True):
+    def __init__(self, module: str | None):
         self.module = module
         self._jobs = None                                 # the figures handed over (draw)
         self._claims = None                               # their claims' folder, when shared with the second process
-        self._second = (start_python(_PROGRAM, {"drawing": __name__, "file": __file__, "module": module})
-                        if start and module is not None and cpus() > 1 else None)
+        self._second = (start_python(serve, {"figures": module}) if module is not None and cpus() > 1 else None)
 
     @classmethod
     def here(cls) -> FigureProcess:
         """No second process: every figure (of any module) drawn by this process in :meth:`wait`."""
-        return cls(None, start=False)
+        return cls(None)
 
     @property
     def aside(self) -> bool:
@@ -191,13 +190,12 @@ def claim(folder: str, k: int) -> bool:
 
 
 def serve(head: dict, stream) -> None:
-    """The second process of :class:`FigureProcess`: the plotting library and the figure module imported, then the
-    figures read from ``stream`` drawn from the first on, each that it claims, until one is claimed by the other
-    process; until the stream ends."""
-    if __file__ != head["file"]:
-        sys.exit("another copy of the package: " + __file__)
+    """The second process of :class:`FigureProcess` (:func:`~exudyn_wheelrail.processes.start_python`'s entry): the
+    plotting library and the figure module ``head["figures"]`` imported, then the figures read from ``stream``
+    drawn from the first on, each that it claims, until one is claimed by the other process; until the stream
+    ends."""
     pyplot()
-    module = importlib.import_module(head["module"])
+    module = importlib.import_module(head["figures"])
     while True:
         try:
             batch = pickle.load(stream)
@@ -207,13 +205,3 @@ def serve(head: dict, stream) -> None:
             if not claim(batch["claims"], k):
                 break
             getattr(module, name)(*args)
-
-
-#: the second process's program (after :func:`~exudyn_wheelrail.processes.start_python`'s prelude); its figures are
-#: written and closed by then, so it ends without the interpreter's teardown of the plotting library (~0.1 s the
-#: command would wait for)
-_PROGRAM = ("import importlib, os\n"
-            "importlib.import_module(head['drawing']).serve(head, sys.stdin.buffer)\n"
-            "sys.stdout.flush()\n"
-            "sys.stderr.flush()\n"
-            "os._exit(0)\n")

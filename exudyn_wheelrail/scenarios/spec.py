@@ -127,9 +127,11 @@ class _Check:
             raise self.error(key, f"{value!r}: must be {'<' if hi_open else '<='} {hi}")
         return x
 
-    def plausible(self, x: float, key: str, quantity_key: str) -> float:
-        """``x`` judged by ``QUANTITIES[quantity_key]`` (error naming the key if implausible, warning if unusual)."""
-        return QUANTITIES[quantity_key].check(f"{self.source}: {key}", x, error=ScenarioError)
+    def plausible(self, x: float, key: str, quantity) -> float:
+        """``x`` judged by ``quantity`` (a :class:`~exudyn_wheelrail.validation.Quantity`, or its key of
+        :data:`QUANTITIES`): an error naming the key if implausible, a warning if unusual."""
+        quantity = QUANTITIES[quantity] if isinstance(quantity, str) else quantity
+        return quantity.check(f"{self.source}: {key}", x, error=ScenarioError)
 
     def integer(self, value, key: str, lo=None, hi=None) -> int:
         if isinstance(value, bool) or not isinstance(value, int):

@@ -33,7 +33,7 @@ from .defaults import (AXLE_LOAD_MODELS, DEFAULT_SOLVER, MAX_MODES, MODEL_NAMES,
                        SPRUNG_FREQUENCY_HZ)
 
 __all__ = ["CROSSING_TABLES", "TRAIN_SOURCES", "CASE_KEYS", "is_crossing", "normalise_crossing", "crossing_case",
-           "crossing_scenario"]
+           "crossing_scenario", "train_axles"]
 
 #: the tables of a crossing scenario
 CROSSING_TABLES = ("schema_version", "scenario", "vehicle", "structure", "run")
@@ -87,13 +87,10 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
             raise c.error(key, str(exc)) from None
     elif source == "axles":
         train = c.path(vt["axles"], key)
-        _read(c, key, read_axle_file, train)
     else:                                         # a shipped consist's name or a consist file (as a [vehicle]'s)
         train = c.string(vt["consist"], key)
         if Path(train).suffix:
             train = c.path(train, key)
-        if model in AXLE_LOAD_MODELS:
-            _read(c, key, resolve_train_axles, train)
     vehicle = {"load_model": model, source: train,
                "speed_km_h": _plausible(c, SPEED_KM_H, "vehicle.speed_km_h", vt["speed_km_h"]),
                # used by the sprung-masses model only; kept with every model (a summary's inputs show them)
@@ -127,8 +124,12 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
     if "dt_s" in rt:
         run["dt_s"] = _plausible(c, DT_S, "run.dt_s", rt["dt_s"])
     scn = dict(out, vehicle=vehicle, structure=structure, run=run)
+    try:                                          # the train's file read now: its errors name the key, file, line
+        axles = train_axles(vehicle)
+    except ValueError as exc:
+        raise c.error(key, str(exc).removeprefix("--train: ")) from None
     try:
-        case = crossing_case(scn)
+        case = _case(scn, axles)
         resolve_load_model(case.model).check(case)
     except ValueError as exc:
         name, _, problem = str(exc).partition(": ")
@@ -139,7 +140,7 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
 def _plausible(c, quantity, key: str, value) -> float:
     """``value`` as a float judged by ``quantity`` (an error and a warning for an unusual value name the source
     and the key)."""
-    return quantity.check(f"{c.source}: {key}", c.number(value, key), error=type(c.error(key, "")))
+    return c.plausible(c.number(value, key), key, quantity)
 
 
 def _damping_ratio(c, value) -> float:
@@ -149,24 +150,24 @@ def _damping_ratio(c, value) -> float:
     return z
 
 
-def _read(c, key: str, reader, path) -> None:
-    """Read the train's file ``path`` with ``reader`` now (its errors name the key, the file and its line)."""
-    try:
-        reader(path)
-    except ValueError as exc:
-        raise c.error(key, str(exc).removeprefix("--train: ")) from None
+def train_axles(vehicle: dict):
+    """The axle loads of a crossing's normalised ``[vehicle]`` (the axle file read, the universal train made, the
+    consist's static loads; None for the vehicles model, which runs the consist's vehicles)."""
+    if "hslm" in vehicle:
+        return hslm_a(vehicle["hslm"])
+    if "axles" in vehicle:
+        return read_axle_file(vehicle["axles"])
+    return resolve_train_axles(vehicle["consist"]) if vehicle["load_model"] in AXLE_LOAD_MODELS else None
 
 
 def crossing_case(scn: dict) -> BridgeCrossing:
-    """The :class:`~.bridge_crossing_case.BridgeCrossing` of a crossing scenario's normal form (the axle file
-    read, the universal train made)."""
+    """The :class:`~.bridge_crossing_case.BridgeCrossing` of a crossing scenario's normal form
+    (:func:`train_axles`)."""
+    return _case(scn, train_axles(scn["vehicle"]))
+
+
+def _case(scn: dict, axles) -> BridgeCrossing:
     v, st, r = scn["vehicle"], scn["structure"], scn["run"]
-    if "hslm" in v:
-        axles = hslm_a(v["hslm"])
-    elif "axles" in v:
-        axles = read_axle_file(v["axles"])
-    else:
-        axles = resolve_train_axles(v["consist"]) if v["load_model"] in AXLE_LOAD_MODELS else None
     spans = tuple(float(x) for x in st["spans_m"])
     return BridgeCrossing(span_m=spans[0], mass_kg_m=st["mass_kg_m"], f1_Hz=st["f1_Hz"],
                           damping_ratio=st["damping_ratio"], n_modes=st["modes"], axles=axles,
@@ -175,8 +176,7 @@ def crossing_case(scn: dict) -> BridgeCrossing:
                           track_form=st["track_form"], train_file=v.get("consist"),
                           spans_m=spans if len(spans) > 1 else None, lateral_modes=st["lateral_modes"],
                           lateral_f1_Hz=st.get("lateral_f1_Hz"),
-                          sprung_frequency_Hz=v.get("sprung_frequency_Hz", SPRUNG_FREQUENCY_HZ),
-                          sprung_damping_ratio=v.get("sprung_damping_ratio", SPRUNG_DAMPING_RATIO))
+                          sprung_frequency_Hz=v["sprung_frequency_Hz"], sprung_damping_ratio=v["sprung_damping_ratio"])
 
 
 def crossing_scenario(case: BridgeCrossing, train: dict, name: str = "bridge_crossing",
