@@ -18,7 +18,7 @@ Wheel–rail coupling, three ways:
 * ``contact`` — **one** wheel–rail connector for all wheelsets of the train (``build_train``'s default; what the
   pipeline supports: :func:`~exudyn_wheelrail.simulation.runner.run` watches one connector, so every wheelset is
   watched by the run monitor and recorded).  Recording (``RunSettings.record``): the train's probes
-  (:func:`exudyn_wheelrail.scenarios.build.train_probes`): all wheels, the irregularity under every wheelset and
+  (:func:`exudyn_wheelrail.scenarios.probes.train_probes`): all wheels, the irregularity under every wheelset and
   two car-body points (above the bogies, floor height) of every car;
 * ``per_vehicle`` — one connector per car (``build_train(..., wheel_rail="none")`` and a connector for each car's
   wheelsets); the runner watches the first car's connector only, the others run unwatched (their results are not
@@ -101,7 +101,7 @@ def build(n_wheelsets: int, coupling: str, record: bool):
     from exudyn_wheelrail.multibody import add_wheel_rail_contact, build_vehicle, load_vehicle, place_on_rails
     from exudyn_wheelrail.rolling_stock.train import build_train, load_consist, place_train_on_track
     from exudyn_wheelrail.rolling_stock.placement import start_on_track
-    from exudyn_wheelrail.scenarios.build import train_probes
+    from exudyn_wheelrail.scenarios.probes import train_probes
     from exudyn_wheelrail.scenarios.spec import DEFAULT_FLOOR_HEIGHT_M
     from exudyn_wheelrail.simulation.recorder import Recorder, vehicle_probes
 

@@ -71,9 +71,9 @@ def resonant_peak(t, a, f_cut_Hz: float) -> float:
 def crossing(span_m: float, speed_m_s: float, model: str, dt_s: float, free_s: float, *, f1_Hz: float = F1_HZ,
              mass_kg_m: float = MASS_KG_M, damping_ratio: float = DAMPING) -> dict:
     from exudyn_wheelrail.scenarios.bridge_crossing import BridgeCrossing, run_bridge_crossing
-    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import train_axles
+    from exudyn_wheelrail.scenarios.bridge_crossing_loads import consist_axles
     case = BridgeCrossing(span_m=span_m, mass_kg_m=mass_kg_m, f1_Hz=f1_Hz, damping_ratio=damping_ratio,
-                          n_modes=MODES, axles=train_axles(CONSIST) if model == "moving-loads" else None,
+                          n_modes=MODES, axles=consist_axles(CONSIST) if model == "moving-loads" else None,
                           speed_m_s=speed_m_s, model=model, train_file=str(CONSIST), free_vibration_s=free_s,
                           dt_s=dt_s)
     load_before = uptime()

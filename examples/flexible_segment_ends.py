@@ -43,7 +43,7 @@ def main(argv=None) -> dict:
 
     from exudyn_wheelrail.rolling_stock.train import consist_from_dict
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import build_train_on_straight_track
-    from exudyn_wheelrail.scenarios.build import train_probes
+    from exudyn_wheelrail.scenarios.probes import train_probes
     from exudyn_wheelrail.simulation.recorder import Recorder
     from exudyn_wheelrail.simulation.runner import run
     from exudyn_wheelrail.simulation.settings import RunSettings

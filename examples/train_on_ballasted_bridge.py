@@ -279,7 +279,7 @@ def _build_train(mbs, a, case, bridge):
     """The consist on the rails with the crossing's contact settings (as the ``vehicles`` load model), the leading
     wheelset at the deck start at t = 0."""
     from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import build_train_on_straight_track
-    from exudyn_wheelrail.scenarios.build import train_probes
+    from exudyn_wheelrail.scenarios.probes import train_probes
     consist, V = a.consist, case.speed_m_s
     s_start = case.deck_start_m - float(consist.wheelset_x_m()[0])
     train, track = build_train_on_straight_track(mbs, consist, speed_m_s=V, s_start_m=s_start, structure=bridge)

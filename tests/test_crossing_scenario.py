@@ -13,6 +13,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from exudyn_wheelrail.cli import main as cli_main
@@ -122,10 +123,58 @@ def test_an_axle_file_error_names_the_key_the_file_and_the_line(tmp_path):
         validate_scenario(_scenario(vehicle__hslm=None, vehicle__axles=str(bad)))
 
 
-def test_a_sweep_of_a_crossing_is_refused_before_any_work(tmp_path):
-    from exudyn_wheelrail.scenarios.sweep import sweep_cases
-    with pytest.raises(ScenarioError, match="bridge-crossing-sweep"):
-        sweep_cases(load_scenario(EXAMPLE), {"vehicle.speed_km_h": [250.0, 300.0]})
+def _max_abs(ts, column):
+    return float(np.max(np.abs(ts[column])))
+
+
+def test_a_sweep_of_a_crossing_tabulates_the_crossings_results(tmp_path):
+    """A scenario sweep over a crossing's damping at the first resonance speed (f1 d = 5 Hz x 18 m = 324 km/h): the
+    resonant peak falls as the damping rises (at resonance the steady amplitude grows as 1/(2 zeta) for one mode);
+    a row's scalars are those of the same case run alone, and each is its time series' value (the peak of the
+    recorded column; the EN 1990 peak over the check points with the modes to the cut-off against the limit)."""
+    from exudyn_wheelrail.scenarios.bridge_crossing import run_bridge_crossing
+    from exudyn_wheelrail.scenarios.sweep import CROSSING_PLOT_RESULT, SerialExecutor, sweep
+    base = load_scenario(EXAMPLE)
+    base["vehicle"]["speed_km_h"] = 324.0
+    result = sweep(base, {"structure.damping_ratio": [0.005, 0.01, 0.02]}, executor=SerialExecutor(),
+                   out_dir=tmp_path, write_cases=False, progress=None)
+    t = result.table
+    assert t["status"] == ["ok"] * 3
+    peaks = t[CROSSING_PLOT_RESULT]
+    assert peaks[0] > 1.3 * peaks[1] > 1.3 ** 2 * peaks[2] > 0.0
+    alone = run_bridge_crossing(crossing_case(validate_scenario(result.scenarios[1])))
+    row = {k: t[k][1] for k in alone.summary["scalars"]}
+    assert row == alone.summary["scalars"]                   # one code path: equal
+    ts = alone.timeseries
+    assert row["max_abs_deck_midspan_acceleration_m_s2"] == _max_abs(ts, "deck_midspan_acceleration_m_s2")
+    en1990 = _max_abs(ts, "deck_en1990_max_abs_acceleration_m_s2")
+    assert row["deck.en1990_peak_acceleration_m_s2"] == en1990
+    assert row["deck.en1990_passed"] is (en1990 <= 3.5)      # ballasted; 3 modes reach the 45 Hz cut-off
+    w = _max_abs(ts, "deck_midspan_displacement_m")
+    assert row["deck.max_mid_span_deflection_m"] == w
+    assert row["deck.dynamic_amplification_mid_span"] == pytest.approx(
+        w / _max_abs(ts, "deck_midspan_static_displacement_m"), rel=1e-12)
+    assert (tmp_path / "sweep_plot.png").is_file()
+
+
+def test_a_chains_scalars_are_the_largest_over_its_spans_and_a_failed_run_has_none():
+    """Two spans (20 m then 30 m: the second f1 (2/3)², the more flexible): the deflection and the EN 1990 peak of the table are the largest
+    over the spans' recorded columns (the first span's alone would understate a chain), no amplification (the
+    quasi-static deflection is the first span's); a run that diverges (RK33 beyond its stability limit) has no
+    scalars."""
+    from exudyn_wheelrail.scenarios.bridge_crossing import run_bridge_crossing
+    deck = dict(span_m=20.0, mass_kg_m=15000.0, f1_Hz=5.0, damping_ratio=0.01, n_modes=3, axles=hslm_a("A1"),
+                speed_m_s=250 / 3.6, free_vibration_s=0.0)
+    r = run_bridge_crossing(BridgeCrossing(**deck, spans_m=(20.0, 30.0)))
+    sc, ts = r.summary["scalars"], r.timeseries
+    w = [_max_abs(ts, f"deck_span{k}_midspan_displacement_m") for k in (1, 2)]
+    a = [_max_abs(ts, f"deck_span{k}_en1990_max_abs_acceleration_m_s2") for k in (1, 2)]
+    assert w[1] > 2 * w[0]                                    # the second span's governs
+    assert sc["deck.max_mid_span_deflection_m"] == max(w) and sc["deck.en1990_peak_acceleration_m_s2"] == max(a)
+    assert sc["deck.en1990_passed"] is r.summary["EN1990_A2_all_spans_passed"]
+    assert "deck.dynamic_amplification_mid_span" not in sc
+    bad = run_bridge_crossing(BridgeCrossing(**deck, solver="rk33", dt_s=0.009))
+    assert bad.summary["status"] == "diverged" and bad.summary["scalars"] == {}
 
 
 def test_the_command_checks_its_scenario_before_any_work_a_shipped_consist_too(tmp_path):

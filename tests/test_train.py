@@ -429,7 +429,8 @@ def test_full_interaction_tends_to_moving_load_as_unsprung_mass_vanishes(tmp_pat
     Same time step for both models (the stiffer contact's bound), so the rows are at the same times."""
     from exudyn_wheelrail.rolling_stock.train import load_consist
     from exudyn_wheelrail.scenarios.bridge_crossing import BridgeCrossing, run_bridge_crossing
-    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import hertz_dt_bound_s, train_axles
+    from exudyn_wheelrail.scenarios.bridge_crossing_loads import consist_axles
+    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import hertz_dt_bound_s
 
     paths = {}
     with warnings.catch_warnings():
@@ -442,7 +443,7 @@ def test_full_interaction_tends_to_moving_load_as_unsprung_mass_vanishes(tmp_pat
             runs = {}
             for model in ("vehicles", "moving-loads"):
                 case = BridgeCrossing(span_m=20.0, mass_kg_m=15e3, f1_Hz=6.0, damping_ratio=0.01, n_modes=3,
-                                      axles=train_axles(path) if model == "moving-loads" else None,
+                                      axles=consist_axles(path) if model == "moving-loads" else None,
                                       speed_m_s=200 / 3.6, model=model, train_file=str(path), free_vibration_s=0.1,
                                       dt_s=dt)
                 runs[model] = run_bridge_crossing(case)
@@ -469,7 +470,7 @@ def test_bridge_crossing_vehicles_checks_the_consist_before_any_work(tmp_path):
                                    axles=None, speed_m_s=50.0, model="vehicles"))
 
 
-def test_train_axles_are_the_static_wheelset_loads_behind_the_leader():
+def test_consist_axles_are_the_static_wheelset_loads_behind_the_leader():
     """The moving-load model of a consist (manchester_x8: 8 Manchester vehicles 1, 26 m long, end to end), by hand
     from vehicles/manchester_vehicle1.toml: the wheelsets of one car at ±9.5 ± 1.28 m about its centre
     (semi_bogie_centre_distance_m, semi_wheelbase_m), i.e. 0, 2.56, 19, 21.56 m behind its leading one, car k's
@@ -477,8 +478,8 @@ def test_train_axles_are_the_static_wheelset_loads_behind_the_leader():
     a quarter of the car body (32 000 kg), half a bogie frame (2 615 kg) and its own wheelset (1 813 kg):
     11 120.5 kg g; the train 8 (32 000 + 2 x 2 615 + 4 x 1 813) kg g.  Places: sums of a few decimals below 200 m,
     1e-12 m; loads: a few roundings, 1e-12 relative."""
-    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import train_axles
-    axles = train_axles("manchester_x8")
+    from exudyn_wheelrail.scenarios.bridge_crossing_loads import consist_axles
+    axles = consist_axles("manchester_x8")
     one_car = np.array([0.0, 2.56, 19.0, 21.56])
     assert np.allclose(axles.x_m, np.concatenate([one_car + 26.0 * k for k in range(8)]), rtol=0, atol=1e-12)
     np.testing.assert_allclose(axles.load_N, (32000.0 / 4 + 2615.0 / 2 + 1813.0) * G, rtol=1e-12, atol=0)

@@ -57,7 +57,7 @@ def _check_bridge_crossing(args) -> None:
     """Every option of ``bridge-crossing`` (the axle file read, the load model resolved) before any work; the
     :class:`~exudyn_wheelrail.scenarios.bridge_crossing.BridgeCrossing` goes to ``args.crossing``."""
     from ..scenarios.bridge_crossing_case import F1_HZ, FREE_VIBRATION_S, MASS_KG_M, SPAN_M, BridgeCrossing
-    from ..scenarios.bridge_crossing_loads import resolve_load_model, resolve_train_axles
+    from ..scenarios.bridge_crossing_loads import consist_axles, resolve_load_model
     from ..scenarios.defaults import AXLE_LOAD_MODELS
     from ..structures.load_models import hslm_a, read_axle_file
     output_dir("--out", args.out)
@@ -88,7 +88,7 @@ def _check_bridge_crossing(args) -> None:
     elif args.model in AXLE_LOAD_MODELS:
         if not Path(args.train).is_file():
             raise ValueError(f"--train: {args.train}: no such consist file")
-        axles = resolve_train_axles(args.train)
+        axles = consist_axles(args.train)
     try:
         case = BridgeCrossing(span_m=args.span_m, mass_kg_m=args.bridge_mass_kg_per_m, f1_Hz=args.bridge_frequency_hz,
                               damping_ratio=z, n_modes=args.modes, axles=axles, speed_m_s=args.speed_kmh / 3.6,

@@ -68,7 +68,7 @@ def _check_run(args) -> None:
 
 
 def cmd_sweep_scenario(args):
-    from ..scenarios.sweep import DEFAULT_PLOT_RESULT, sweep
+    from ..scenarios.sweep import sweep
     params = key_value_dict(args.param, "--param")
     base = args.scenario
     overrides = key_value_dict(args.set, "--set")
@@ -81,7 +81,7 @@ def cmd_sweep_scenario(args):
     print(f"sweep of {args.scenario}: {n} cases ({' x '.join(f'{k}: {len(v)}' for k, v in params.items())}), "
           f"{args.workers or 'all'} worker processes")
     result = sweep(base, params, out_dir=args.out, workers=args.workers,
-                   plot_result=args.plot_result or DEFAULT_PLOT_RESULT, plot_parameter=args.plot_param,
+                   plot_result=args.plot_result, plot_parameter=args.plot_param,
                    write_cases=not args.no_case_outputs, progress=progress_lines(args))
     for note in result.notes:
         print("note:", note)
@@ -122,7 +122,8 @@ def add_sweep_parser(sub) -> None:
     ss.add_argument("--workers", type=positive_int("--workers"), default=None,
                     help="worker processes (default: all cores)")
     ss.add_argument("--plot-result", default=None,
-                    help="scalar result plotted (default max_abs_Y_any_wheel_N; any column of sweep.csv)")
+                    help="scalar result plotted (default max_abs_Y_any_wheel_N, for a bridge crossing "
+                         "max_abs_deck_midspan_acceleration_m_s2; any column of sweep.csv)")
     ss.add_argument("--plot-param", default=None, help="parameter on the x axis (default: the first --param)")
     ss.add_argument("--no-case-outputs", action="store_true", help="do not write each case's files")
     add_progress_argument(ss)

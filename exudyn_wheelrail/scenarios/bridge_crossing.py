@@ -69,8 +69,8 @@ part of the installation the command stops before any work with ``error: --model
 ``"sprung-masses"``: every axle a mass on a spring and a damper riding on the deck
 (``exudyn_wheelrail.scenarios.bridge_crossing_sprung``, its docstring: the equations and the assumed default
 suspension :data:`SPRUNG_FREQUENCY_HZ`, :data:`SPRUNG_DAMPING_RATIO`). A consist file (``train_file``) gives the
-axle-load models (:data:`AXLE_LOAD_MODELS`) their axles through :data:`~.bridge_crossing_loads.TRAIN_AXLES` (``train_axles(path)`` of the
-vehicles module; without it: ``error: --train: ...``).
+axle-load models (:data:`AXLE_LOAD_MODELS`) its static axle loads (:func:`~.bridge_crossing_loads.consist_axles`; a
+file that cannot be read: ``error: --train: ...``).
 
 The run
 -------
@@ -111,7 +111,9 @@ deck-acceleration check (EN 1990:2002/A1:2005 A2.4.4.2.1(4)P: peak over L/10 …
 max(30 Hz, 1.5 f1, f3); limits 3.5 m/s² ballasted, 5 m/s² direct fastening, from
 :data:`~exudyn_wheelrail.scenarios.deck.EN1990_DECK_ACCELERATION_LIMITS_M_S2`; whether the N modes reach the
 cut-off), ``quasi_static`` (the peak quasi-static mid-span deflection and the dynamic amplification, the peak
-dynamic over it), the run settings and notes.  Peaks of a run that did not end ``ok`` are not evaluated (``None``).
+dynamic over it), the run settings, notes and ``scalars`` (the flat results a scenario sweep tabulates,
+:func:`~.bridge_crossing_summary.crossing_scalars`).  Peaks of a run that did not end ``ok`` are not evaluated
+(``None``; no scalars).
 
 Speed sweeps (:func:`speed_sweep`, ``python -m exudyn_wheelrail bridge-crossing-sweep``)
 ---------------------------------------------------------------------------------------
@@ -127,28 +129,28 @@ This module is the public import path of the crossing: it re-exports the public 
 work, one job each — :mod:`.bridge_crossing_case` (the case, its checks, its default step),
 :mod:`.bridge_crossing_deck` (the deck's section and modes), :mod:`.bridge_crossing_loads` (the load models),
 :mod:`.bridge_crossing_probes` (the recorded columns), :mod:`.bridge_crossing_summary` (the status, the EN 1990
-check, ``summary.json``), :mod:`.bridge_crossing_run` (the run and its files) and :mod:`.bridge_crossing_sweep`
-(the speed sweeps).
+check, ``summary.json``, the result of a run), :mod:`.bridge_crossing_run` (a case built in Python through the
+scenario's stages: :func:`~.build.build_crossing`, the runner, the evaluation, the writer) and
+:mod:`.bridge_crossing_sweep` (the speed sweeps).
 """
 from __future__ import annotations
 
 from .bridge_crossing_case import (ELEMENTS_PER_MODE, F1_HZ, FREE_VIBRATION_S, MASS_KG_M, MAX_DEFAULT_DT_S, MAX_SPANS,
                                    MIN_ELEMENTS, SPAN_M, BridgeCrossing, default_dt_s)
 from .bridge_crossing_deck import DeckModes, deck_modes, deck_section, en1990_cutoff_Hz, vertical_modes
-from .bridge_crossing_loads import (MOVING_LOADS, TRAIN_AXLES, LoadModel, LoadModelHandle, resolve_load_model,
-                                    resolve_train_axles)
+from .bridge_crossing_loads import MOVING_LOADS, LoadModel, LoadModelHandle, consist_axles, resolve_load_model
 from .bridge_crossing_probes import DECK_COLUMNS, LATERAL_COLUMNS, SPAN_COLUMNS, SPAN_LATERAL_COLUMNS, deck_columns
-from .bridge_crossing_run import BridgeCrossingResult, run_bridge_crossing, write_bridge_crossing_outputs
+from .bridge_crossing_run import run_bridge_crossing
 from .bridge_crossing_summary import SUMMARY_KEYS
 from .bridge_crossing_sweep import SWEEP_COLUMNS, SpeedSweepResult, plot_speed_sweep, speed_sweep, sweep_case
 from .defaults import (AXLE_LOAD_MODELS, DEFAULT_SOLVER, LATERAL_EI_RATIO, LOAD_MODELS, MAX_MODES, MODEL_NAMES,
                        SPRUNG_DAMPING_RATIO, SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
 
-__all__ = ["BridgeCrossing", "LoadModel", "LoadModelHandle", "BridgeCrossingResult", "LOAD_MODELS", "MODEL_NAMES",
+__all__ = ["BridgeCrossing", "LoadModel", "LoadModelHandle", "LOAD_MODELS", "MODEL_NAMES",
            "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "MAX_DEFAULT_DT_S", "MIN_ELEMENTS", "ELEMENTS_PER_MODE",
            "MAX_MODES", "DECK_COLUMNS", "SUMMARY_KEYS", "deck_section", "vertical_modes", "default_dt_s",
-           "resolve_load_model", "resolve_train_axles", "en1990_cutoff_Hz", "TRAIN_AXLES", "SPAN_M", "MASS_KG_M",
-           "F1_HZ", "FREE_VIBRATION_S", "run_bridge_crossing", "write_bridge_crossing_outputs",
+           "resolve_load_model", "consist_axles", "en1990_cutoff_Hz", "SPAN_M", "MASS_KG_M",
+           "F1_HZ", "FREE_VIBRATION_S", "run_bridge_crossing",
            "MOVING_LOADS", "SWEEP_COLUMNS", "SpeedSweepResult", "sweep_case", "speed_sweep", "plot_speed_sweep",
            "DeckModes", "deck_modes", "deck_columns", "LATERAL_COLUMNS", "SPAN_COLUMNS", "SPAN_LATERAL_COLUMNS",
            "MAX_SPANS", "LATERAL_EI_RATIO", "AXLE_LOAD_MODELS", "SPRUNG_FREQUENCY_HZ", "SPRUNG_DAMPING_RATIO"]

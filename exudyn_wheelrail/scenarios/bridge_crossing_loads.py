@@ -1,6 +1,6 @@
 """The bridge crossing's load models: what a load model is (:class:`LoadModel`) and hands back
-(:class:`LoadModelHandle`), the resolution of a model's name and of the consist-file reader (:func:`resolve_load_model`,
-:func:`resolve_train_axles`) and the constant moving axle loads (:data:`MOVING_LOADS`)."""
+(:class:`LoadModelHandle`), the resolution of a model's name (:func:`resolve_load_model`), the static axle loads of a
+consist file (:func:`consist_axles`) and the constant moving axle loads (:data:`MOVING_LOADS`)."""
 from __future__ import annotations
 
 import importlib
@@ -9,15 +9,12 @@ from typing import Callable
 
 import numpy as np
 
+from ..rolling_stock.train import ConsistError, load_consist
 from ..structures.load_models import AxleTrain
 from .bridge_crossing_case import BridgeCrossing
 from .defaults import LOAD_MODELS, MODEL_NAMES
 
-__all__ = ["LoadModelHandle", "LoadModel", "resolve_load_model", "resolve_train_axles", "TRAIN_AXLES", "MOVING_LOADS"]
-
-#: ``"module:attribute"`` of ``train_axles(path) -> AxleTrain``: the static axle loads of a consist file (the
-#: moving-load model with ``train_file``)
-TRAIN_AXLES = "exudyn_wheelrail.scenarios.bridge_crossing_vehicles:train_axles"
+__all__ = ["LoadModelHandle", "LoadModel", "resolve_load_model", "consist_axles", "MOVING_LOADS"]
 
 
 @dataclass
@@ -80,11 +77,17 @@ def resolve_load_model(name: str) -> LoadModel:
     return _resolve(LOAD_MODELS[name], f"the load model {name!r}", "--model")
 
 
-def resolve_train_axles(path) -> AxleTrain:
-    """The static axle loads of the consist file ``path`` (:data:`TRAIN_AXLES`); ``ValueError`` ``"--train: ..."``
-    when consist files cannot be read by this installation."""
-    reader = _resolve(TRAIN_AXLES, "reading the static axle loads of a consist file", "--train")
-    return reader(path)
+def consist_axles(path) -> AxleTrain:
+    """The static axle loads of a consist file (a shipped consist's name or a path) as an
+    :class:`~exudyn_wheelrail.structures.load_models.AxleTrain` — the axle-load models of the same train: the
+    wheelsets' distances behind the leading one, their lever-rule loads; ``ValueError`` ``"--train: ..."`` for a
+    file that cannot be read."""
+    try:
+        consist = load_consist(path)
+    except ConsistError as exc:
+        raise ValueError(f"--train: {exc}") from None
+    x = consist.wheelset_x_m()
+    return AxleTrain(x_m=x[0] - x, load_N=consist.static_axle_loads_N(), name=consist.name, source=consist.source)
 
 
 def _moving_loads_check(case: BridgeCrossing) -> None:

@@ -1,6 +1,6 @@
 """The bridge crossing's evaluation: the deck's run status (:func:`deck_status`, with the deflection bound no stable
 integration can reach), the EN 1990 A2 deck-acceleration check and the contents of ``summary.json``
-(:func:`crossing_summary`, :data:`SUMMARY_KEYS`)."""
+(:func:`crossing_summary`, :data:`SUMMARY_KEYS`), the result of a run (:func:`crossing_result`)."""
 from __future__ import annotations
 
 import numpy as np
@@ -12,9 +12,10 @@ from .bridge_crossing_case import MAX_DEFAULT_DT_S, default_dt_s
 from .bridge_crossing_probes import DECK_COLUMNS, LATERAL_COLUMNS, SPAN_COLUMNS, SPAN_LATERAL_COLUMNS, deck_columns
 from .deck import EN1990_DECK_ACCELERATION_LIMITS_M_S2
 from .defaults import LATERAL_EI_RATIO, STEPS_PER_PERIOD
+from .result import ScenarioResult
 
 __all__ = ["SUMMARY_KEYS", "DEFLECTION_BOUND_MARGIN", "deflection_bound_m", "midspan_displacement_columns",
-           "deck_status", "crossing_summary"]
+           "deck_status", "crossing_summary", "crossing_scalars", "crossing_result"]
 
 #: keys every summary.json has (the command-line contract)
 SUMMARY_KEYS = ("status", "max_abs_deck_midspan_displacement_m", "max_abs_deck_midspan_acceleration_m_s2",
@@ -214,5 +215,48 @@ def crossing_summary(case, deck, cutoffs, handle, settings, outcome, ts, build_s
         checks = [sp["EN1990_A2_deck_acceleration"] for sp in out["spans"]]
         out["EN1990_A2_all_spans_passed"] = (None if not ok or any(c is None or c["passed"] is None for c in checks)
                                              else all(c["passed"] for c in checks))
+    out["scalars"] = crossing_scalars(out)
     return out
 
+
+def crossing_scalars(summary: dict) -> dict:
+    """The flat dict of a crossing's scalar results (what a scenario sweep tabulates; empty for a run that did not
+    end ``ok``): every peak ``max_abs_<column>`` of the deck's columns (``max_abs_deck_midspan_*`` the first span's,
+    ``max_abs_deck_span<k>_*`` each span's of a chain) and, named as a scenario's deck scalars
+    (:func:`~.deck.deck_scalars`, the largest over the spans), ``deck.en1990_peak_acceleration_m_s2``,
+    ``deck.en1990_passed`` (every span; None where the modes kept do not reach the cut-off),
+    ``deck.max_mid_span_deflection_m`` and, for a single span (the quasi-static deflection is the first span's),
+    ``deck.dynamic_amplification_mid_span``; with the vehicles model its running criteria ``criteria.passed`` and
+    ``criteria.safety_passed``."""
+    if summary["status"] != S.OK or not summary["peaks"]:
+        return {}
+    out = dict(summary["peaks"])
+    if "spans" in summary:
+        spans = summary["spans"]
+        out["deck.en1990_peak_acceleration_m_s2"] = max(sp["EN1990_A2_deck_acceleration"]["peak_acceleration_m_s2"]
+                                                        for sp in spans)
+        out["deck.en1990_passed"] = summary["EN1990_A2_all_spans_passed"]
+        out["deck.max_mid_span_deflection_m"] = max(sp["max_abs_midspan_displacement_m"] for sp in spans)
+    else:
+        en = summary["EN1990_A2_deck_acceleration"]
+        out["deck.en1990_peak_acceleration_m_s2"] = en["peak_acceleration_m_s2"]
+        out["deck.en1990_passed"] = en["passed"]
+        out["deck.max_mid_span_deflection_m"] = summary["max_abs_deck_midspan_displacement_m"]
+        out["deck.dynamic_amplification_mid_span"] = summary["quasi_static"]["dynamic_amplification"]
+    criteria = summary["load_model"].get("details", {}).get("criteria") or {}
+    for k in ("passed", "safety_passed"):
+        if k in criteria:
+            out[f"criteria.{k}"] = criteria[k]
+    return out
+
+
+def crossing_result(h, outcome) -> ScenarioResult:
+    """The :class:`~.result.ScenarioResult` of a crossing's run (``crossing`` set): ``h`` the built model
+    (:func:`~.build.build_crossing`, its parts in ``h.crossing``), ``outcome`` the runner's; the recorded table, the
+    deck's run status (:func:`deck_status`) and the summary (:func:`crossing_summary`)."""
+    c = h.crossing
+    ts = h.recorder.table()
+    status = deck_status(outcome.status, ts, deflection_bound_m(h.modes, c.case, c.load, h.run.end_time_s),
+                         deck_columns(c.case), midspan_displacement_columns(c.case))
+    summary = crossing_summary(c.case, c.deck, c.cutoffs, c.load, h.run, outcome, ts, c.build_seconds, status)
+    return ScenarioResult(timeseries=ts, summary=summary, outcome=outcome, crossing=True)

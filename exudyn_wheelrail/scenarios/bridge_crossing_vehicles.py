@@ -21,9 +21,9 @@ at the static wheel load Q, :meth:`~exudyn_wheelrail.rolling_stock.vehicle_build
 
 Outputs beside the deck's: the wheels' ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` columns (``w<j>``: the
 train's wheelsets, car after car), the wheelsets' lateral position, and per car the car-body points above its
-bogies at floor height (``rear_c<k>``, ``front_c<k>``; :func:`exudyn_wheelrail.scenarios.build.train_probes`);
+bogies at floor height (``rear_c<k>``, ``front_c<k>``; :func:`exudyn_wheelrail.scenarios.probes.train_probes`);
 ``summary.json`` ``load_model.details``: the consist, every car's place and wheelsets, and the running-safety and
-comfort criteria of the train and of every car (:func:`exudyn_wheelrail.scenarios.run.train_criteria`).
+comfort criteria of the train and of every car (:func:`exudyn_wheelrail.scenarios.criteria.train_criteria`).
 """
 from __future__ import annotations
 
@@ -38,15 +38,14 @@ from ..rolling_stock.train import ConsistError, build_train, load_consist
 from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
 from ..simulation.solvers import RESOLUTION_LIMIT
 from ..simulation.settings import ContactSettings
-from ..structures.load_models import AxleTrain
 from ..track.rigid import RigidStraightTrack
 from .bridge_crossing_case import BridgeCrossing
 from .bridge_crossing_loads import LoadModel, LoadModelHandle
-from .build import train_probes
-from .run import train_criteria
+from .criteria import train_criteria
+from .probes import train_probes
 from .spec import DEFAULT_FLOOR_HEIGHT_M
 
-__all__ = ["VEHICLES", "CONTACT_DT_S", "train_axles", "hertz_dt_bound_s", "build_train_on_straight_track"]
+__all__ = ["VEHICLES", "CONTACT_DT_S", "hertz_dt_bound_s", "build_train_on_straight_track"]
 
 #: largest time step of the vehicles model [s]: the step of the project's contact runs (the RTRI case's published
 #: 1 ms, :class:`~exudyn_wheelrail.simulation.settings.RunSettings`'s default)
@@ -60,17 +59,6 @@ def _consist(case: BridgeCrossing):
         return load_consist(case.train_file)
     except ConsistError as exc:
         raise ValueError(f"--train: {exc}") from None
-
-
-def train_axles(path):
-    """The static axle loads of a consist file as an :class:`~exudyn_wheelrail.structures.load_models.AxleTrain`
-    (the moving-load model of the same train): wheelset distances behind the leading one, their lever-rule loads."""
-    try:
-        consist = load_consist(path)
-    except ConsistError as exc:
-        raise ValueError(f"--train: {exc}") from None
-    x = consist.wheelset_x_m()
-    return AxleTrain(x_m=x[0] - x, load_N=consist.static_axle_loads_N(), name=consist.name, source=consist.source)
 
 
 def hertz_dt_bound_s(consist) -> float:

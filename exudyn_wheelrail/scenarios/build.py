@@ -10,7 +10,7 @@ static equilibrium on the rails at t = 0 and on the displaced track (:func:`~exu
 :func:`.deck.deck_probes`); it returns handles, not strings.  A train (``vehicle.consist``) is built by
 :func:`~exudyn_wheelrail.rolling_stock.train.build_train` (every car at its place in the model frame, the couplers), its
 wheelsets in the one connector, every car put on the rails and the track, the recorder's wheel columns numbering
-the train's wheelsets car after car and every car's car-body points suffixed ``_c<k>`` (:func:`train_probes`).
+the train's wheelsets car after car and every car's car-body points suffixed ``_c<k>`` (:func:`.probes.train_probes`).
 
 Python-only inputs: the normal form holds plain values only, so what a Python caller has as an object goes to
 :func:`build_scenario` as a keyword argument — ``vehicle`` (a :class:`~exudyn_wheelrail.rolling_stock.vehicle_data.
@@ -22,17 +22,18 @@ only: :func:`~.spec.validate_scenario`), ``pair`` (a
 """
 from __future__ import annotations
 
-import dataclasses
+import time
 from dataclasses import dataclass
 
 import exudyn as exu
+import numpy as np
 
 from ..analysis.curving import curving_columns
 from ..contact.pair import WheelRailPair
 from ..multibody.connector import add_wheel_rail_contact, place_on_rails
 from ..rolling_stock.placement import start_on_track
 from ..rolling_stock.track_following import TrackFollowingFrame
-from ..rolling_stock.train import build_train, car_suffix, load_consist, place_train_on_track
+from ..rolling_stock.train import build_train, load_consist, place_train_on_track
 from ..rolling_stock.vehicle_builder import build_vehicle
 from ..rolling_stock.vehicle_data import load_vehicle_with_overrides
 from ..simulation.exudyn_settings import run_solver_settings
@@ -44,15 +45,22 @@ from ..track.flexible import add_flexible_track
 from ..track.irregularities import IsolatedDefect
 from ..track.measured import read_irregularity_csv
 from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
+from .bridge_crossing_case import BridgeCrossing, default_dt_s
+from .bridge_crossing_deck import deck_modes
+from .bridge_crossing_deck import en1990_cutoff_Hz as span_en1990_cutoff_Hz
+from .bridge_crossing_loads import resolve_load_model
+from .bridge_crossing_probes import DeckProbe, FirstAxleProbe
 from .curve_setup import LAYOUT_MARGIN_M, CurvingInputError, check_start_undisplaced, entry_layout
 from .deck import deck_probes, en1990_cutoff_Hz, structure_section, support_motion
 from .flexible_track import (flexible_track_modes, flexible_track_probes, flexible_track_window,
                              start_on_flexible_track)
+from .probes import carbody_x, train_probes
 from .spec import ScenarioError, as_scenario, features_end_m, spectrum_table
+from .spec_crossing import crossing_case, is_crossing
 from .spec_layout import warn_creep_step
 
-__all__ = ["ScenarioModel", "build_track", "build_bridge_modes", "build_layout", "vehicle_data",
-           "scenario_run_settings", "build_scenario", "train_probes", "MODES_CUTOFF_MARGIN"]
+__all__ = ["ScenarioModel", "CrossingModel", "build_track", "build_bridge_modes", "build_layout", "vehicle_data",
+           "scenario_run_settings", "build_scenario", "build_crossing", "MODES_CUTOFF_MARGIN"]
 
 #: modes up to this factor times the EN 1990 cut-off are kept (the FE frequencies lie slightly above the
 #: Euler–Bernoulli values the cut-off is computed from)
@@ -154,9 +162,11 @@ def scenario_run_settings(scn: dict, vehicle) -> tuple[RunSettings, dict]:
 @dataclass
 class ScenarioModel:
     """What :func:`build_scenario` created (assembled, not solved): handles, the resolved run settings, the
-    recorder (None without recording) and the Exudyn solver settings (``settings``, ``solver_type``)."""
+    recorder (None without recording) and the Exudyn solver settings (``settings``, ``solver_type``).  A bridge
+    crossing's (:func:`build_crossing`) has ``crossing`` set and no ``vehicle``, ``model``, ``pair``, ``track`` or
+    ``contact_settings`` (None; its load model holds them), and no ``scenario`` when its case was built in Python."""
 
-    scenario: dict
+    scenario: dict | None
     system_container: object
     mbs: object
     vehicle: object
@@ -168,7 +178,7 @@ class ScenarioModel:
     modes: object
     f_cut_Hz: float | None
     run: RunSettings
-    contact_settings: ContactSettings
+    contact_settings: ContactSettings | None     #: None for a crossing (its load model's own)
     coverage: dict
     recorder: Recorder | None = None
     settings: object = None
@@ -180,6 +190,7 @@ class ScenarioModel:
     layout: object = None                   #: the curve's TrackLayout (track.layout; None: straight track)
     frame: object = None                    #: its TrackFollowingFrame (rolling_stock.track_following), updated
     #: before every step
+    crossing: object = None                 #: a bridge crossing's parts (CrossingModel; None: not a crossing)
 
     @property
     def user_function(self):
@@ -189,17 +200,13 @@ class ScenarioModel:
 
     @property
     def speed_m_s(self) -> float:
+        if self.crossing is not None:                  # the case's own speed (a Python case has no scenario)
+            return self.crossing.case.speed_m_s
         return self.scenario["vehicle"]["speed_km_h"] / 3.6
 
     @property
     def steps(self) -> int:
         return self.run.steps
-
-
-def _carbody_x(x, vehicle) -> float:
-    if isinstance(x, str):
-        return {"front_bogie": max(vehicle.bogie_x_m()), "rear_bogie": min(vehicle.bogie_x_m()), "centre": 0.0}[x]
-    return float(x)
 
 
 def build_scenario(scenario, *, vehicle=None, pair=None, irregularity=None) -> ScenarioModel:
@@ -208,6 +215,11 @@ def build_scenario(scenario, *, vehicle=None, pair=None, irregularity=None) -> S
     the spec's vehicle (not with a train); ``pair`` — a WheelRailPair in place of the vehicle's profiles;
     ``irregularity`` — an Irregularity added to the spec's track components."""
     scn, _ = as_scenario(scenario, vehicle)
+    if is_crossing(scn):
+        given = [k for k, v in (("pair", pair), ("irregularity", irregularity)) if v is not None]
+        if given:                                 # (vehicle=: as_scenario has refused it)
+            raise ScenarioError(f"{given[0]}: not with a bridge crossing (vehicle.load_model)")
+        return build_crossing(crossing_case(scn), scn)
     vehicle = vehicle_data(scn) if vehicle is None else vehicle
     run, coverage = scenario_run_settings(scn, vehicle)
     cs = ContactSettings(**{**scn["contact"], "fastsim_grid": tuple(scn["contact"]["fastsim_grid"])})
@@ -284,7 +296,7 @@ def build_scenario(scenario, *, vehicle=None, pair=None, irregularity=None) -> S
             probes = train_probes(model, contact, track, V, s_lead0, scn["outputs"]["carbody_points"], bridge, modes,
                                   st, mbs=mbs)
         else:
-            points = [(p["name"], [_carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
+            points = [(p["name"], [carbody_x(p["x_m"], vehicle), p["y_m"], -p["height_m"]])
                       for p in scn["outputs"]["carbody_points"]]
             probes = vehicle_probes(model=model, contact=contact, track=track, speed_m_s=V, s_leading0_m=s_lead0,
                                     carbody_points=points, bridge=bridge, modes=modes,
@@ -306,26 +318,49 @@ def build_scenario(scenario, *, vehicle=None, pair=None, irregularity=None) -> S
     return h
 
 
-def train_probes(train, contact, track, speed_m_s: float, s_leading0_m: float, carbody_points, bridge=None,
-                 modes=None, structure=None, mbs=None) -> list:
-    """The recorder's probes of a train (:class:`~..rolling_stock.train.TrainModel`): the wheels, wheelsets and track of
-    :func:`~..simulation.recorder.vehicle_probes` for all wheelsets (train order: ``w<j>`` numbers the wheelsets of
-    the whole train, car after car), the deck's with a bridge, and every car's car-body points (``outputs.
-    carbody_points``, x from that car's centre), named ``<point>_c<k>`` (k = 1 the leading car); ``mbs`` (not yet
-    assembled) as for :func:`~..simulation.recorder.vehicle_probes`: the car-body points read by sensors."""
-    st = structure or {}
-    probes = vehicle_probes(model=train, contact=contact, track=track, speed_m_s=speed_m_s, s_leading0_m=s_leading0_m,
-                            bridge=bridge, modes=modes, deck_spans_m=st.get("spans_m"), deck_start_m=st.get("start_m"))
-    wheelsets = train.wheelsets
-    for k, (car, x_car) in enumerate(zip(train.cars, train.car_x_m)):
-        if car.car_body is None or not carbody_points:
-            continue
-        points = [(p["name"] + car_suffix(k), [x_car + _carbody_x(p["x_m"], car.vehicle), p["y_m"], -p["height_m"]])
-                  for p in carbody_points]
-        # the car-body probe is the last of vehicle_probes without a bridge; the model lists every wheelset of the
-        # connector (the wheel probes built alongside are checked against it and dropped)
-        probes.append(vehicle_probes(model=dataclasses.replace(car, wheelsets=wheelsets), contact=contact, track=track,
-                                     speed_m_s=speed_m_s, s_leading0_m=s_leading0_m, carbody_points=points,
-                                     mbs=mbs)[-1])
-    return probes
+@dataclass(frozen=True)
+class CrossingModel:
+    """What a bridge crossing's evaluation reads beside the model (:func:`build_crossing`): the ``case``
+    (:class:`~.bridge_crossing_case.BridgeCrossing`), the deck's modes per span (``deck``,
+    :class:`~.bridge_crossing_deck.DeckModes`), every span's EN 1990 cut-off (``cutoffs``), the load model's
+    :class:`~.bridge_crossing_loads.LoadModelHandle` (``load``) and the build's wall time (``build_seconds``)."""
 
+    case: BridgeCrossing
+    deck: object
+    cutoffs: list
+    load: object
+    build_seconds: float
+
+
+def build_crossing(case: BridgeCrossing, scenario: dict | None = None) -> ScenarioModel:
+    """Build and assemble a bridge crossing (:mod:`.bridge_crossing`): the deck of N modes per span
+    (:func:`~.bridge_crossing_deck.deck_modes`) in Exudyn, the load model on it (its check first, before any work),
+    the run settings (duration: the last axle off the deck plus the free vibration; the step: the case's, else
+    :func:`~.bridge_crossing_case.default_dt_s`, not above the load model's bound), the recorder (the first axle's
+    place and the quasi-static deflection, the deck, the load model's probes).  ``scenario``: its normal form when the
+    case came from one (kept in the model; a case built in Python has none)."""
+    load_model = resolve_load_model(case.model)
+    load_model.check(case)
+    t_build = time.perf_counter()
+    deck = deck_modes(case)
+    cutoffs = [span_en1990_cutoff_Hz(case, k) for k in range(case.n_spans)]
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    bridge = add_bridge(mbs, deck.modes, "modal", name="deck")
+    handle = load_model.build(mbs, case, bridge)
+    axle_x = np.asarray(handle.axle_x_m, dtype=float)
+    duration = (float(axle_x[-1]) + case.length_m) / case.speed_m_s + case.free_vibration_s
+    dt = case.dt_s
+    if dt is None:
+        dt = default_dt_s(case) if handle.max_dt_s is None else min(default_dt_s(case), float(handle.max_dt_s))
+    run = RunSettings(solver=case.solver, dt_s=dt, duration_s=duration)
+    probes = [FirstAxleProbe(case, axle_x, handle.axle_load_N),
+              DeckProbe(case, bridge, deck, handle.modal_forces, cutoffs)] + list(handle.probes)
+    recorder = Recorder(probes, n_rows_hint=run.steps + 2)
+    mbs.Assemble()
+    h = ScenarioModel(scenario=scenario, system_container=sc, mbs=mbs, vehicle=None, model=None, pair=None,
+                      track=None, contact=handle.contact, bridge=bridge, modes=deck.modes, f_cut_Hz=cutoffs[0],
+                      run=run, contact_settings=None, coverage={}, recorder=recorder)
+    h.settings, h.solver_type = run_solver_settings(run)
+    h.crossing = CrossingModel(case, deck, cutoffs, handle, time.perf_counter() - t_build)
+    return h

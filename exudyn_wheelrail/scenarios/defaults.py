@@ -23,7 +23,7 @@ LOAD_MODELS = {"moving-loads": "exudyn_wheelrail.scenarios.bridge_crossing_loads
                "vehicles": "exudyn_wheelrail.scenarios.bridge_crossing_vehicles:VEHICLES",
                "sprung-masses": "exudyn_wheelrail.scenarios.bridge_crossing_sprung:SPRUNG_MASSES"}
 MODEL_NAMES = tuple(LOAD_MODELS)
-#: the load models that take the train as axle loads (a consist file through ``bridge_crossing_loads.TRAIN_AXLES``)
+#: the load models that take the train as axle loads (a consist file's: ``bridge_crossing_loads.consist_axles``)
 AXLE_LOAD_MODELS = ("moving-loads", "sprung-masses")
 #: the sprung-masses model's suspension frequency [Hz] and damping ratio (assumed; its module docstring)
 SPRUNG_FREQUENCY_HZ = 1.5

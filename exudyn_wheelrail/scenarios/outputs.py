@@ -35,12 +35,22 @@ def jsonable(o):
 def write_scenario_outputs(result: ScenarioResult, out_dir, figures: FigureProcess | None = None) -> dict:
     """Write ``timeseries.csv`` / ``.npz`` (the written groups), ``summary.json`` and the plots; returns the paths.
     ``figures``: a :class:`~.drawing.FigureProcess` of :mod:`.plots` started before the run (it draws its share of
-    the plots while the tables are written); ``None``: drawn here."""
+    the plots while the tables are written); ``None``: drawn here.  A bridge crossing's result (``result.crossing``:
+    its columns are the ``bridge-crossing`` command's) writes every recorded column to ``timeseries.csv`` and
+    ``summary.json``, no figures."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     s = result.summary
-    o = s["scenario"]["outputs"]
     ts = result.timeseries
+    if result.crossing:
+        paths = {"timeseries_csv": out / "timeseries.csv", "summary": out / "summary.json"}
+        write_csv(paths["timeseries_csv"], ts)
+        write_json(paths["summary"], s)
+        if figures is not None:
+            figures.draw([])
+            figures.wait()
+        return {k: str(v) for k, v in paths.items()}
+    o = s["scenario"]["outputs"]
     paths, plots, jobs = {}, {}, []
     if o["plots"] and ts and len(ts["time_s"]) > 1:
         train = s["model"].get("layout") == "train"

@@ -7,25 +7,24 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.safety import running_criteria_summary
-from ..rolling_stock.train import car_suffix
 from ..simulation import status as S
 from ..simulation.recorder import PROGRESS_MIN_STEPS, SIDES, ProgressBar
 from ..simulation.runner import run
 from ..track.layout import curve_quantities
 from ..validation import output_dir
-from .bridge_crossing_run import run_bridge_crossing
+from .bridge_crossing_summary import crossing_result
 from .build import ScenarioModel, build_scenario
+from .criteria import running_criteria, train_criteria
 from .curve_setup import CURVE_READ_M
 from .deck import deck_scalars, deck_summary
 from .flexible_track import flexible_track_summary
 from .outputs import write_scenario_outputs
 from .result import ScenarioResult
 from .spec import TIMESERIES_GROUPS, UNLOADING_GROUP, as_scenario
-from .spec_crossing import crossing_case, is_crossing
+from .spec_crossing import is_crossing
 
 __all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary",
-           "train_criteria", "run_events", "layout_summary"]
+           "run_events", "layout_summary"]
 
 # ScenarioResult is declared in .result (below the writer and the figures, which read it).
 
@@ -119,42 +118,8 @@ def _criteria(h: ScenarioModel, ts: dict, groups: dict) -> dict:
     if _is_train(h):
         return train_criteria(h.model, ts, h.speed_m_s, static_wheel_loads(h), groups["Y"] + groups["Q"],
                               carbody_point=o["carbody_point"], **options)
-    return _running_criteria(ts, h.speed_m_s, groups["Y"] + groups["Q"], static_wheel_loads(h), o["carbody_point"],
-                             **options)
-
-
-def _running_criteria(ts, speed_m_s, wheel_columns, static, point, **options) -> dict:
-    cols = {}
-    if point:
-        cols = {"lateral": f"carbody_lateral_accelerometer_{point}_m_s2",
-                "vertical": f"carbody_vertical_acceleration_{point}_m_s2"}
-    sub = {k: ts[k] for k in ["time_s"] + list(wheel_columns) + list(cols.values())}
-    return running_criteria_summary(sub, speed_m_s, static_wheel_loads_N=static, carbody_columns=cols or None,
-                                    **options)
-
-
-def train_criteria(train, ts: dict, speed_m_s: float, static_wheel_loads_N: dict, wheel_columns, *, vehicle: str,
-                   yq_limit: float, unloading_limit: float, carbody_point: str = "") -> dict:
-    """The criteria of a train (:class:`~exudyn_wheelrail.rolling_stock.train.TrainModel`) from a recorded table:
-    :func:`~exudyn_wheelrail.analysis.safety.running_criteria_summary` of all its wheels (``wheel_columns``: the
-    ``Y_w<j>_<side>_N`` and ``Q_w<j>_<side>_N`` columns, train numbering; comfort at the leading car's point
-    ``<carbody_point>_c1``) and, under ``cars``, every car's own (its wheels, its car-body point
-    ``<carbody_point>_c<k>``; ``""``: comfort not evaluated); ``passed`` / ``safety_passed`` hold for every car."""
-    options = dict(vehicle=vehicle, yq_limit=yq_limit, unloading_limit=unloading_limit)
-    wheel_columns = list(wheel_columns)
-    cars = []
-    for k, car in enumerate(train.cars):
-        wheels = tuple(f"w{j + 1}_" for j in train.wheelset_range(k))
-        mine = [c for c in wheel_columns if c.split("_", 1)[1].startswith(wheels)]
-        point = carbody_point + car_suffix(k) if carbody_point and car.car_body is not None else ""
-        cars.append({"car": k + 1, "vehicle": car.vehicle.name,
-                     **_running_criteria(ts, speed_m_s, mine, static_wheel_loads_N, point, **options)})
-    lead = carbody_point + car_suffix(0) if carbody_point and train.cars[0].car_body is not None else ""
-    out = _running_criteria(ts, speed_m_s, wheel_columns, static_wheel_loads_N, lead, **options)
-    out["cars"] = cars
-    out["safety_passed"] = bool(out["safety_passed"] and all(c["safety_passed"] for c in cars))
-    out["passed"] = bool(out["passed"] and all(c["passed"] for c in cars))
-    return out
+    return running_criteria(ts, h.speed_m_s, groups["Y"] + groups["Q"], static_wheel_loads(h), o["carbody_point"],
+                            **options)
 
 
 def _is_train(h) -> bool:
@@ -174,7 +139,9 @@ def run_model(h, *, progress=None, view=None, label: str = ""):
     RunOutcome`.  ``progress``: ``None`` — the run settings' ``progress``; ``True``/``False``; or a stream for the
     bar (runs of at least :data:`~exudyn_wheelrail.simulation.recorder.PROGRESS_MIN_STEPS` steps).  ``view``: an
     object with ``attach(model)`` (before the solve) and ``close()`` (after it), e.g.
-    :class:`~exudyn_wheelrail.interactive.view3d.RtriView`."""
+    :class:`~exudyn_wheelrail.interactive.view3d.RtriView` (not for a bridge crossing)."""
+    if view is not None and h.crossing is not None:
+        raise ValueError("view: a bridge crossing has no 3-D view")
     if view is not None:
         view.attach(h)
     if h.contact is not None:
@@ -199,16 +166,14 @@ def run_scenario(scenario, out_dir=None, progress=None, view=None, figures=None)
     (``None``: write nothing; checked before anything is built).  ``progress``, ``view``: :func:`run_model`.
     ``figures``: where the plots are drawn (:func:`~.outputs.write_scenario_outputs`).  The summary's ``status``
     is one of :data:`~exudyn_wheelrail.simulation.status.STATUSES`.  A bridge crossing (``vehicle.load_model``,
-    :mod:`.spec_crossing`) runs as the ``bridge-crossing`` command runs it
-    (:func:`~.bridge_crossing_run.run_bridge_crossing`: its deck of N modes per span, its columns and summary)."""
+    :mod:`.spec_crossing`) goes the same way: built by :func:`~.build.build_crossing` (its deck of N modes per
+    span, its load model), evaluated by :func:`~.bridge_crossing_summary.crossing_result` (its columns and summary),
+    written without figures."""
     scn, source = as_scenario(scenario)
     if out_dir is not None:
         output_dir("out_dir", out_dir)
-    if is_crossing(scn):                          # a bridge crossing: its own deck, run and files (spec_crossing)
-        if view is not None:
-            raise ValueError("view: a bridge crossing has no 3-D view")
-        r = run_bridge_crossing(crossing_case(scn), out_dir, progress=progress or False)
-        return ScenarioResult(r.timeseries, r.summary, r.paths, r.outcome)
+    if view is not None and is_crossing(scn):             # before the build (run_model says it again)
+        raise ValueError("view: a bridge crossing has no 3-D view")
     h = build_scenario(scn)
     outcome = run_model(h, progress=progress, view=view, label=f"{scn['scenario']['name']}: ")
     result = scenario_summary(h, outcome, source)
@@ -237,7 +202,10 @@ def _flexible_track_summary(h: ScenarioModel):
 
 
 def scenario_summary(h: ScenarioModel, outcome, source: str | None = None) -> ScenarioResult:
-    """The :class:`ScenarioResult` of a run: the recorded time series and the summary (module docstring)."""
+    """The :class:`ScenarioResult` of a run: the recorded time series and the summary (module docstring; a bridge
+    crossing's: :func:`~.bridge_crossing_summary.crossing_result`)."""
+    if h.crossing is not None:
+        return crossing_result(h, outcome)
     scn = h.scenario
     run = h.run
     status = outcome.status

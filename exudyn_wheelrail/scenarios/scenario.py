@@ -209,7 +209,8 @@ order), ``mass_kg_m``, ``f1_Hz`` (of the first span), ``damping_ratio``, ``modes
 ``dt_s`` (default: the crossing's rule, ``docs/cli.md``), ``free_vibration_s`` (default 0).  No other table or
 key: the crossing's deck (N modes per span, not the modes up to a cut-off of the ``[structure]`` above), run (until
 the last axle has left the last span) and files (its columns and summary, ``docs/cli.md``, *bridge-crossing*; no
-figures) are its own; ``sweep`` refuses it (``bridge-crossing-sweep`` sweeps a crossing's speed).
+figures) are its own; ``sweep`` sweeps any of its keys (its table: the summary's ``scalars``,
+:func:`~.bridge_crossing_summary.crossing_scalars`; ``bridge-crossing-sweep`` sweeps the speed with its plot).
 ``examples/scenarios/crossing_hslm_a1_20m.toml``.
 
 Starting state

@@ -28,7 +28,7 @@ from ..simulation.solvers import SOLVERS
 from ..standards import TRACK_FORMS
 from ..structures.load_models import hslm_a, hslm_name, read_axle_file
 from .bridge_crossing_case import F1_HZ, FREE_VIBRATION_S, MASS_KG_M, MAX_SPANS, SPAN_M, BridgeCrossing
-from .bridge_crossing_loads import resolve_load_model, resolve_train_axles
+from .bridge_crossing_loads import consist_axles, resolve_load_model
 from .defaults import (AXLE_LOAD_MODELS, DEFAULT_SOLVER, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
                        SPRUNG_FREQUENCY_HZ)
 
@@ -157,7 +157,7 @@ def train_axles(vehicle: dict):
         return hslm_a(vehicle["hslm"])
     if "axles" in vehicle:
         return read_axle_file(vehicle["axles"])
-    return resolve_train_axles(vehicle["consist"]) if vehicle["load_model"] in AXLE_LOAD_MODELS else None
+    return consist_axles(vehicle["consist"]) if vehicle["load_model"] in AXLE_LOAD_MODELS else None
 
 
 def crossing_case(scn: dict) -> BridgeCrossing:

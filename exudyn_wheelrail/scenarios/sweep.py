@@ -37,11 +37,12 @@ Outputs (``out_dir``; ``None`` writes nothing)
 (its value), ``status``, ``solve_seconds``, then the case's scalar results (``summary["scalars"]`` of
 :func:`~.scenario.run_scenario`: peaks of every recorded column ``max_abs_<column>``, the wheel aggregates
 ``max_abs_Y_any_wheel_N``, ``max_YQ_any_wheel``, ``min_Q_any_wheel_N``, …, and the criteria
-``criteria.<criterion>.passed / .worst_value / .worst_utilisation``, ``criteria.sperling_<dir>.Wz``, …); a value
+``criteria.<criterion>.passed / .worst_value / .worst_utilisation``, ``criteria.sperling_<dir>.Wz``, …; a bridge
+crossing's: the deck's peaks and its EN 1990 check, :func:`~.bridge_crossing_summary.crossing_scalars`); a value
 a case lacks is empty.  Floats are written with ``repr`` (exact round trip).  ``sweep.json`` — the base scenario,
-the parameters and the same table.  ``sweep_plot.png`` — ``plot_result`` against ``plot_parameter`` (default: the
-first parameter), one line per combination of the other parameters' values.  ``cases/case_<i>/`` — each case's
-own outputs (``write_cases``).
+the parameters and the same table.  ``sweep_plot.png`` — ``plot_result`` (default: :func:`default_plot_result`)
+against ``plot_parameter`` (default: the first parameter), one line per combination of the other parameters'
+values.  ``cases/case_<i>/`` — each case's own outputs (``write_cases``).
 
 The returned :class:`SweepResult` holds ``table`` (a plain dict: column name -> list, one entry per case),
 ``summaries`` and ``scenarios`` (per case) and the written ``paths``.
@@ -66,10 +67,12 @@ from .spec import ScenarioError, as_scenario
 from .spec_crossing import is_crossing
 
 __all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "sweep_cases", "DEFAULT_PLOT_RESULT",
-           "TIMING_COLUMNS"]
+           "CROSSING_PLOT_RESULT", "default_plot_result", "TIMING_COLUMNS"]
 
-#: the scalar plotted by default (present in every case that ran)
+#: the scalar plotted by default (present in every case of a vehicle scenario that ran)
 DEFAULT_PLOT_RESULT = "max_abs_Y_any_wheel_N"
+#: the scalar plotted by default for a bridge crossing (its summary's scalars: the deck's peaks)
+CROSSING_PLOT_RESULT = "max_abs_deck_midspan_acceleration_m_s2"
 #: columns that depend on the machine, not on the model (left out when comparing runs)
 TIMING_COLUMNS = ("solve_seconds",)
 MAX_CASES = 100_000
@@ -113,9 +116,6 @@ def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
     """``(base, combinations, scenarios)``: the validated base scenario, the parameter combinations (dicts) and the
     validated scenario of every case."""
     base, _ = as_scenario(base_scenario)
-    if is_crossing(base):
-        raise ScenarioError("vehicle.load_model: a bridge crossing's summary has no scalars for the sweep's table: "
-                            "sweep its speed with bridge-crossing-sweep")
     if not isinstance(parameters, dict) or not parameters:
         raise ScenarioError("parameters: expected a non-empty dict {dotted key: [values]}")
     values = {}
@@ -139,6 +139,12 @@ def sweep_cases(base_scenario, parameters: dict) -> tuple[dict, list, list]:
     return base, combos, scenarios
 
 
+def default_plot_result(base: dict) -> str:
+    """The scalar a sweep of the scenario ``base`` (normal form) plots by default: :data:`CROSSING_PLOT_RESULT` for
+    a bridge crossing, else :data:`DEFAULT_PLOT_RESULT`."""
+    return CROSSING_PLOT_RESULT if is_crossing(base) else DEFAULT_PLOT_RESULT
+
+
 def resolve_executor(executor, workers, n_cases):
     """(executor, own): the executor to use and whether this function created it (and must shut it down)."""
     if executor is None:
@@ -154,13 +160,16 @@ def resolve_executor(executor, workers, n_cases):
 
 
 def sweep(base_scenario, parameters: dict, executor=None, out_dir=None, *, workers: int | None = None,
-          plot_result: str = DEFAULT_PLOT_RESULT, plot_parameter: str | None = None, write_cases: bool = True,
+          plot_result: str | None = None, plot_parameter: str | None = None, write_cases: bool = True,
           progress=print) -> SweepResult:
     """Run the cartesian product of ``parameters`` (dotted key -> list of values) over ``base_scenario`` (a
     scenario file or dict) through ``executor`` (module docstring) and gather one table; with ``out_dir`` write
     ``sweep.csv``, ``sweep.json``, ``sweep_plot.png`` and (``write_cases``) every case's outputs.  ``progress``: a
-    callable for one line per finished case (``None``: quiet)."""
+    callable for one line per finished case (``None``: quiet).  ``plot_result``: the plotted scalar (``None``:
+    :func:`default_plot_result`)."""
     base, combos, scenarios = sweep_cases(base_scenario, parameters)
+    if plot_result is None:
+        plot_result = default_plot_result(base)
     keys = list(combos[0])
     if plot_parameter is None:
         plot_parameter = keys[0]
