@@ -54,17 +54,16 @@ import numba
 import numpy as np
 from numba import njit
 
-from exudyn_wheelrail.contact import geometry_table as GT
-from exudyn_wheelrail.contact import kernel as K
 from exudyn_wheelrail.contact.creepage import creepages_core, yawed_contact_point_cs
 from exudyn_wheelrail.contact.layout import (CP_V_MIN, F_A_REL, F_B_REL, F_NR_Y, F_NR_Z, F_PENETRATION, F_PW_Y,
                                              F_PW_Z, F_STATUS, P_E_STAR, P_MIN_CURVATURE, RES_A, RES_B, RES_ETA,
                                              RES_N, RES_PHI, RES_STATUS, RES_XI)
 from exudyn_wheelrail.contact.normal import hertz_from_penetration
 from exudyn_wheelrail.creep.registry import creep_forces
-from exudyn_wheelrail.multibody.connector_core import contact_forces_core, wheel_forces, wheelset_poses
-from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, MODEL_CREEP, MODEL_GEOMETRY, ST_DECK_STATE, ST_OUT,
-                                                  ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL,
+from exudyn_wheelrail.multibody.connector_core import (contact_forces_core, wheel_forces, wheel_geometry,
+                                                       wheelset_poses)
+from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, GEO_TABLE, MODEL_CREEP, MODEL_GEOMETRY, ST_DECK_STATE,
+                                                  ST_OUT, ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL,
                                                   V_P_CENTRE, V_P_CONTACT, V_V_CENTRE, V_V_RAIL, W_FRAME, W_ROT, W_VEC,
                                                   W_WHEELSET, WS_COS_ROLL, WS_COS_TH, WS_COS_YAW, WS_SIN_ROLL,
                                                   WS_SIN_TH, WS_SIN_YAW, WS_Y_RAIL, WS_Z_RAIL)
@@ -120,18 +119,11 @@ def stage_poses(qs, vs, ts, model, state, work, i0, i1):
 
 
 @njit
-def stage_geometry(sp_all, ws, warm, model, state, out_all, i0, i1):
-    nodes, meta, mono, curve_ids, params, gtab, scan = model[MODEL_GEOMETRY]
+def stage_geometry(sp_all, ws, warm, model, state, out_all, table, i0, i1):
     stats = state[ST_STATS]
     for i in range(i0, i1):
         warm[:] = ws[i]
-        if gtab is None:
-            K.evaluate_wheels(nodes, meta, mono, curve_ids, sp_all[i], warm, params, out_all[i], scan)
-            GT.count_fallback(out_all[i], stats)
-        else:
-            table_par, table_cz_ref, table_data = gtab
-            GT.evaluate_wheels_tabulated(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids,
-                                         sp_all[i], warm, params, out_all[i], stats, scan)
+        wheel_geometry(model, sp_all[i], warm, out_all[i], stats, table)
 
 
 @njit
@@ -291,12 +283,13 @@ def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
         rot_all[i] = work[W_ROT]
     out_tmp = np.empty_like(out_all)
     params = model[MODEL_GEOMETRY][GEO_PARAMS]
+    table = model[MODEL_GEOMETRY][GEO_TABLE]
     v_min = c.cp[CP_V_MIN]
     stages = {
         "restore": lambda a, b: stage_restore(ws, warm, a, b),
         "core_numba": lambda a, b: stage_core(qs, vs, ts, ws, warm, data, f, res, a, b),
         "pose_irregularity": lambda a, b: stage_poses(qs, vs, ts, model, state, work, a, b),
-        "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, a, b),
+        "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, table, a, b),
         "hertz": lambda a, b: stage_hertz(out_all, params, a, b),
         "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[ST_DECK_STATE],
                                                   work[W_VEC], work[W_FRAME], v_min, a, b),

@@ -396,8 +396,17 @@ def contact_geometry(q, model, state, work, table, residual):
 def _wheel_geometry(model, state, table):
     """The contact geometry and Hertz of every wheel at the poses of ``state``: the online search, or the geometry
     table ``table`` (not None)."""
+    wheel_geometry(model, state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS], table)
+
+
+@compiled(inline="always")
+def wheel_geometry(model, poses, warm, out, stats, table):
+    """The geometry stage on its own arrays: the contact geometry and Hertz of every wheel at ``poses`` (the
+    side poses) from the warm start ``warm`` into ``out`` (the kernel's output), counting into ``stats`` — the
+    online search, or the geometry table ``table`` (``model[MODEL_GEOMETRY][GEO_TABLE]``, an argument: numba
+    compiles only the branch of its type).  What the core calls for the state's arrays, and what a benchmark calls
+    for recorded states."""
     nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
-    poses, warm, out, stats = state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS]
     if table is None:
         K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
         GT.count_fallback(out, stats)
