@@ -98,7 +98,8 @@ def build(n_wheelsets: int, coupling: str, record: bool):
     import exudyn as exu
 
     from exudyn_wheelrail.contact import WheelRailPair
-    from exudyn_wheelrail.multibody import add_wheel_rail_contact, build_vehicle, load_vehicle, place_on_rails
+    from exudyn_wheelrail.multibody import (add_train_contact, add_wheel_rail_contact, build_vehicle, load_vehicle,
+                                           place_on_rails)
     from exudyn_wheelrail.rolling_stock.train import build_train, load_consist, place_train_on_track
     from exudyn_wheelrail.rolling_stock.placement import start_on_track
     from exudyn_wheelrail.scenarios.probes import train_probes
@@ -140,10 +141,11 @@ def build(n_wheelsets: int, coupling: str, record: bool):
     geo = consist.cars[0].vehicle.geometry
     pair = WheelRailPair(geo.wheel_profile, geo.rail_profile, gauge_m=geo.gauge_m,
                          inclination=geo.rail_inclination_tan, back_to_back_m=geo.back_to_back_m, r0_m=geo.r0_m)
-    kind = {"contact": "contact", "per_vehicle": "none", "springs": "springs"}[coupling]
-    train = build_train(mbs, consist, speed_m_s=V, s_start_m=S_START_M, wheel_rail=kind, pair=pair, track=trk,
-                        contact_options=contact_options)
-    contacts = [train.contact] if train.contact is not None else []
+    train = build_train(mbs, consist, speed_m_s=V, s_start_m=S_START_M,
+                        wheel_rail="springs" if coupling == "springs" else "none")
+    contacts = []
+    if coupling == "contact":
+        contacts = [add_train_contact(mbs, train, pair, track=trk, **contact_options)]
     if coupling == "per_vehicle":
         contacts = [add_wheel_rail_contact(mbs, car.wheelset_nodes, pair, speed_m_s=V, track=trk, s_start_m=S_START_M,
                                            name=f"wheel_rail_contact_c{k + 1}", **contact_options)
