@@ -120,9 +120,10 @@ def at_rest(solver: str, n: int) -> dict:
     m_on, m_off = monitor(rk44), monitor(False)
     guidance = FlangeClimbCheck(len(c.nodes_exu), h.speed_m_s, m_on.nadal_limit)
     rec = h.recorder
+    rows = rec.data.shape[0]        # read before any row: the car-body columns come from a solve's stored sensors
 
     def record(t):
-        if rec.n >= rec.data.shape[0] - 1:
+        if rec.n >= rows - 1:
             rec.n = 0
         rec.record(mbs, t)
 
@@ -146,7 +147,7 @@ def at_rest(solver: str, n: int) -> dict:
 
     def state():
         k["i"] += 1
-        if rec.n >= rec.data.shape[0] - 1:
+        if rec.n >= rows - 1:
             rec.n = 0
         hook.state(mbs, k["i"] * EPS_S)
 
