@@ -11,6 +11,8 @@ static equilibrium on the rails at t = 0 and on the displaced track (:func:`~exu
 :func:`~exudyn_wheelrail.rolling_stock.train.build_train` (every car at its place in the model frame, the couplers), its
 wheelsets in the one connector, every car put on the rails and the track, the recorder's wheel columns numbering
 the train's wheelsets car after car and every car's car-body points suffixed ``_c<k>`` (:func:`.probes.train_probes`).
+A bridge crossing (``vehicle.load_model``, :mod:`.spec_crossing`) is built by :func:`build_crossing`: its deck of N
+modes per span and its load model, the same :class:`ScenarioModel` for the same runner.
 
 Python-only inputs: the normal form holds plain values only, so what a Python caller has as an object goes to
 :func:`build_scenario` as a keyword argument — ``vehicle`` (a :class:`~exudyn_wheelrail.rolling_stock.vehicle_data.
