@@ -129,9 +129,13 @@ def _max_abs(ts, column):
 
 def test_a_sweep_of_a_crossing_tabulates_the_crossings_results(tmp_path):
     """A scenario sweep over a crossing's damping at the first resonance speed (f1 d = 5 Hz x 18 m = 324 km/h): the
-    resonant peak falls as the damping rises (at resonance the steady amplitude grows as 1/(2 zeta) for one mode);
-    a row's scalars are those of the same case run alone, and each is its time series' value (the peak of the
-    recorded column; the EN 1990 peak over the check points with the modes to the cut-off against the limit)."""
+    resonant peak falls as the damping rises as the first mode's build-up does — after N load cycles (N = the
+    train's length over its coach length d: 397.525 / 18 = 22.1 for HSLM-A1) a resonant mode's amplitude is
+    proportional to (1 - exp(-2 pi zeta N)) / zeta, so the peaks' ratios at zeta = 0.005, 0.01, 0.02 are 1.334 and
+    1.600; within 5 %, what the two non-resonant modes (their share does not grow with 1/zeta) and the axle groups'
+    departure from one harmonic can move them.  A row's scalars are those of the same case run alone, and each is
+    its time series' value (the peak of the recorded column; the EN 1990 peak over the check points with the modes
+    to the cut-off against the limit)."""
     from exudyn_wheelrail.scenarios.bridge_crossing import run_bridge_crossing
     from exudyn_wheelrail.scenarios.sweep import CROSSING_PLOT_RESULT, SerialExecutor, sweep
     base = load_scenario(EXAMPLE)
@@ -141,7 +145,15 @@ def test_a_sweep_of_a_crossing_tabulates_the_crossings_results(tmp_path):
     t = result.table
     assert t["status"] == ["ok"] * 3
     peaks = t[CROSSING_PLOT_RESULT]
-    assert peaks[0] > 1.3 * peaks[1] > 1.3 ** 2 * peaks[2] > 0.0
+    assert peaks[0] > peaks[1] > peaks[2] > 0.0
+    axles = hslm_a("A1")
+    cycles = axles.x_m[-1] / axles.spacing_m
+
+    def build_up(zeta):
+        return (1.0 - np.exp(-2.0 * np.pi * zeta * cycles)) / zeta
+
+    for k, (z1, z2) in enumerate(((0.005, 0.01), (0.01, 0.02))):
+        assert peaks[k] / peaks[k + 1] == pytest.approx(build_up(z1) / build_up(z2), rel=0.05)
     alone = run_bridge_crossing(crossing_case(validate_scenario(result.scenarios[1])))
     row = {k: t[k][1] for k in alone.summary["scalars"]}
     assert row == alone.summary["scalars"]                   # one code path: equal

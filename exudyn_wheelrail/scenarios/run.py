@@ -21,7 +21,6 @@ from .flexible_track import flexible_track_summary
 from .outputs import write_scenario_outputs
 from .result import ScenarioResult
 from .spec import TIMESERIES_GROUPS, UNLOADING_GROUP, as_scenario
-from .spec_crossing import is_crossing
 
 __all__ = ["ScenarioResult", "peaks", "static_wheel_loads", "run_model", "run_scenario", "scenario_summary",
            "run_events", "layout_summary"]
@@ -172,8 +171,6 @@ def run_scenario(scenario, out_dir=None, progress=None, view=None, figures=None)
     scn, source = as_scenario(scenario)
     if out_dir is not None:
         output_dir("out_dir", out_dir)
-    if view is not None and is_crossing(scn):             # before the build (run_model says it again)
-        raise ValueError("view: a bridge crossing has no 3-D view")
     h = build_scenario(scn)
     outcome = run_model(h, progress=progress, view=view, label=f"{scn['scenario']['name']}: ")
     result = scenario_summary(h, outcome, source)
