@@ -68,6 +68,7 @@ from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, GEO_TABLE, MODEL_C
                                                   W_WHEELSET, WS_COS_ROLL, WS_COS_TH, WS_COS_YAW, WS_SIN_ROLL,
                                                   WS_SIN_TH, WS_SIN_YAW, WS_Y_RAIL, WS_Z_RAIL)
 from exudyn_wheelrail.scenarios.rtri import RtriCase
+from exudyn_wheelrail.multibody.direct_call import python_call_path
 from exudyn_wheelrail.scenarios.scenario import build_scenario, run_model
 from exudyn_wheelrail.simulation.presets import PRESETS
 from exudyn_wheelrail.structures.deck_kinematics import rail_material_velocity, rail_pair_to_track
@@ -84,7 +85,8 @@ def rtri_case() -> RtriCase:
 
 def record_run():
     """Every contact call of one RTRI run: (q, q_t, t, warm start before the call), and the run's status."""
-    h = build_scenario(rtri_case().scenario())
+    with python_call_path():                 # every call through c.forces, to be recorded
+        h = build_scenario(rtri_case().scenario())
     c = h.contact
     calls = []
     forces = c.forces

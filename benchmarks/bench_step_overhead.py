@@ -7,16 +7,19 @@ The model is the CLI's (:func:`exudyn_wheelrail.scenarios.rtri.run_rtri`'s case 
 
 1. **Solve times** (wall time inside ``mbs.SolveDynamic``, as the run summary's ``solve_seconds``, and the thread's
    CPU time there, less disturbed by other work on a shared machine; fresh model each, the configurations
-   interleaved, median of ``--repeats``): ``cli`` — watched and recorded through the runner as the CLI runs it;
+   interleaved, median of ``--repeats``): ``cli`` — watched and recorded through the runner as the CLI runs it
+   (the connector on its compiled call path, :mod:`exudyn_wheelrail.multibody.direct_call`); ``cli_python`` — the
+   same on the connector's Python call path (each force call through Python, as before the compiled path);
    ``no_record`` — watched, not recorded; ``unwatched`` — the same contact model solved by Exudyn without a pre-step
    function (the contact computed at every stage); ``constant_force`` — the contact model with the force user
    function answering a fixed force vector (the initial state's contact forces) without any contact call, no
-   pre-step function: Exudyn's vehicle step and its Python user-function dispatch; ``springs`` — the vehicle on
+   pre-step function: Exudyn's vehicle step and its Python user-function dispatch (Python path); ``springs`` — the vehicle on
    linear rail springs (no user function; the ``springs`` baseline of ``bench_rtri.py``).  Real-time factor =
    simulated time / solve time.
-2. **Along the run**, by piece: one ``cli`` run with every piece timed inside the real run (``time.perf_counter``
-   around the piece, ``--clock cpu`` for the thread's CPU time).  Pieces (exclusive of the pieces nested in them):
-   ``contact kernel`` (the compiled call, ``WheelRailContact._forces_core``); ``forces() wrapper`` (argument
+2. **Along the run**, by piece: one ``cli_python`` run with every piece timed inside the real run
+   (``time.perf_counter`` around the piece, ``--clock cpu`` for the thread's CPU time; on the compiled path no piece
+   of the force call passes through Python to be timed).  Pieces (exclusive of the pieces nested in them):
+   ``contact kernel`` (the compiled evaluation, ``WheelRailContact._forces_step``); ``forces() wrapper`` (argument
    checks, the kept-evaluation test); ``evaluate_state`` (keeping the monitor's evaluation for the first stage);
    ``monitor`` (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.check` besides the contact call: coordinates,
    the compiled checks); ``guidance`` (the 2 m flange-climb window); ``recorder`` (one row); ``hook`` (the runner's
@@ -38,6 +41,7 @@ Run:  python benchmarks/bench_step_overhead.py [--repeats 3] [--calls 3000]
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import platform
@@ -49,6 +53,7 @@ from pathlib import Path
 
 import numpy as np
 
+from exudyn_wheelrail.multibody.direct_call import python_call_path
 from exudyn_wheelrail.simulation.monitor import RunMonitor
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
@@ -59,7 +64,11 @@ from exudyn_wheelrail.simulation.presets import SPRINGS_RATIO_MAX, TARGETS, appl
 RESULTS = Path(__file__).resolve().parent / "results" / "step_overhead.json"
 SPAN_M = 20.0
 PRESET = "default"
-CONFIGS = ("cli", "no_record", "unwatched", "constant_force", "springs")
+CONFIGS = ("cli", "cli_python", "no_record", "unwatched", "constant_force", "springs")
+#: the configurations built on the connector's Python call path (direct_call.CALL_PATH_ENV): the CLI's run as it ran
+#: before the compiled path, the constant-force floor (a Python function answering a fixed vector), and the pieces
+#: timed along the run (the compiled path has no Python piece to time)
+PYTHON_PATH = ("cli_python", "constant_force")
 
 
 def load() -> list[float]:
@@ -74,8 +83,11 @@ def case(record: bool = True, wheel_rail: str = "contact", duration_s: float | N
     return RtriCase(span_m=SPAN_M, run=run, contact=contact, record=record, wheel_rail=wheel_rail, **kw)
 
 
-def build(record: bool = True, wheel_rail: str = "contact", duration_s: float | None = None):
-    h = build_scenario(case(record, wheel_rail, duration_s).scenario())
+def build(record: bool = True, wheel_rail: str = "contact", duration_s: float | None = None,
+          python_path: bool = False):
+    """The CLI's model; ``python_path``: the connector on its Python call path."""
+    with python_call_path() if python_path else contextlib.nullcontext():
+        h = build_scenario(case(record, wheel_rail, duration_s).scenario())
     if h.contact is not None:
         h.contact.warm_up(h.mbs, jacobian=False)
     return h
@@ -107,10 +119,11 @@ class _SolveClock:
 def solve_once(config: str) -> tuple[float, float]:
     """``(wall, CPU)`` time [s] inside ``mbs.SolveDynamic`` of one fresh model in configuration ``config``
     (:data:`CONFIGS`)."""
-    h = build(record=config == "cli", wheel_rail="springs" if config == "springs" else "contact")
+    h = build(record=config in ("cli", "cli_python"), wheel_rail="springs" if config == "springs" else "contact",
+              python_path=config in PYTHON_PATH)
     c = h.contact
     with _SolveClock() as clock:
-        if config in ("cli", "no_record", "springs"):
+        if config in ("cli", "cli_python", "no_record", "springs"):
             out = R.run(h.mbs, h.run, c, speed_m_s=h.speed_m_s, recorder=h.recorder,
                         exu_settings=(h.settings, h.solver_type))
             if out.status.kind != "ok":
@@ -216,13 +229,13 @@ def timer_cost_us(clock, n: int = 20000) -> tuple[float, float]:
 
 
 def along_the_run(clock: str = "wall") -> dict:
-    """One ``cli`` run with its pieces timed (module docstring) by ``clock`` (:data:`CLOCKS`): µs per step by
+    """One ``cli_python`` run with its pieces timed (module docstring) by ``clock`` (:data:`CLOCKS`): µs per step by
     piece, from the sums over the run (``us_per_step``) and per step (``us_per_step_median``: each piece's time in
     each step — between two calls of the hook —, the median over the steps)."""
-    h = build(record=True)
+    h = build(record=True, python_path=True)
     c, mbs = h.contact, h.mbs
     tm = _Timer(CLOCKS[clock], mark="hook")
-    c._forces_core = tm.wrap("contact kernel", c._forces_core)
+    c._forces_step = tm.wrap("contact kernel", c._forces_step)
     c.forces = tm.wrap("forces() wrapper", c.forces)           # _force_uf and evaluate_state call self.forces
     c.evaluate_state = tm.wrap("evaluate_state", c.evaluate_state)
     sim, solver_type = h.settings, h.solver_type
@@ -292,7 +305,7 @@ def along_the_run(clock: str = "wall") -> dict:
 
 # ---------------------------------------------------------------------------------------------------- at rest
 def at_rest(calls: int) -> dict:
-    h = build(record=True, duration_s=0.01)
+    h = build(record=True, duration_s=0.01, python_path=True)
     c, mbs = h.contact, h.mbs
     monitor = RunMonitor(c, keep_history=False)
     monitor.attach(mbs, t_start_s=0.0, rk44_dt_s=float(h.run.dt_s))
@@ -373,6 +386,9 @@ def main(argv=None):
                            real_time_factor_cpu=sim_time / cpu)
     result["solves"] = solves
     result["solves_load_1min"] = [min(loads), max(loads)] if loads else None
+    if "cli_python" in solves and "springs" in solves:
+        result["cli_python_over_springs"] = (solves["cli_python"]["solve_seconds_median"]
+                                             / solves["springs"]["solve_seconds_median"])
     if "cli" in solves and "springs" in solves:
         result["cli_over_springs"] = solves["cli"]["solve_seconds_median"] / solves["springs"]["solve_seconds_median"]
         result["cli_over_springs_cpu"] = (solves["cli"]["cpu_seconds_median"]
@@ -413,6 +429,8 @@ def main(argv=None):
                   f"{s['solve_seconds_median'] / steps * 1e6:.0f} | {s['real_time_factor']:.2f} / "
                   f"{s['real_time_factor_cpu']:.2f} | {', '.join(f'{x:.3f}' for x in s['solve_seconds_all'])} |")
     if "cli_over_springs" in result:
+        if "cli_python_over_springs" in result:
+            print(f"\ncli_python / springs = {result['cli_python_over_springs']:.2f} wall (Python call path)")
         print(f"\ncli / springs = {result['cli_over_springs']:.2f} wall, {result['cli_over_springs_cpu']:.2f} CPU "
               f"(target <= {SPRINGS_RATIO_MAX:g}); real-time factor {solves['cli']['real_time_factor']:.2f} wall, "
               f"{solves['cli']['real_time_factor_cpu']:.2f} CPU (target >= {TARGETS[PRESET][0]:g})")

@@ -21,7 +21,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "exudyn_wheelrail"
 #: the floors, lowest first: a unit (a folder, or a module at the top of the package) imports only its own floor's
 #: unit or units of lower floors
 FLOORS = (
-    ("processes.py",),
+    ("processes.py", "native"),
     ("conventions.py", "jit.py", "standards.py", "contact_defaults.py", "validation.py"),
     ("profiles",),
     ("contact",),

@@ -97,6 +97,7 @@ from .connector_core import compile_shares, contact_forces_core, contact_jacobia
 from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, N_FRAME, W_WHEELSET,
                         WS_HALF_GAUGE, compiled_for, contact_data, geometry_tuple, model_tuple, state_tuple,
                         vehicle_tuple, work_arrays)
+from .direct_call import COUNT_CALLS, COUNT_REUSED, N_COUNTS, KeptEvaluation, call_data, compiled_call, forces_step
 from .contact_jacobian import JACOBIAN_METHODS, N_BLOCK, needs_differences, semi_analytic_jacobian
 from ..rolling_stock.placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
 from ..rolling_stock.train import place_train_on_track
@@ -296,18 +297,25 @@ class WheelRailContact:
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.results = np.zeros((2 * n_ws, N_SLOTS, N_RES))
+        # one force evaluation's arrays (direct_call.forces_step): the kept evaluation and the counters
+        self._kept = KeptEvaluation(n, kc.warm, self._stats)
+        self._counts = np.zeros(N_COUNTS, dtype=np.int64)
+        self._call = call_data(self._data, self._f, self.results, *self._kept.arrays, self._counts)
         # the compiled force call for exactly the argument types forces() passes, at the first call; on a first run
         # one share of its callees is compiled here, the other in a second process while the model is assembled
         self._compiling = compile_ahead(contact_forces_core, self._core_args(),
                                         *compile_shares(self._f, self._f, 0.0, self._model, self._state, self._work,
                                                         self._f, self.results))
         self._forces_core = self._first_forces_core
-        self.n_calls = 0
-        self.n_reused = 0
-        self._held = None               # the evaluation kept by evaluate_state() for the next forces() call
+        self._forces_step = self._first_forces_step
+        self._step_entry = None
+        # the compiled path (direct_call): Exudyn calls a native function that runs forces_step without Python
+        self._direct = compiled_call(self._call, n, self._f, self._compiled_forces_step, self.forces,
+                                     self._state_error, name, structure)
         node_numbers = self.nodes_exu + ([structure.modal_node] if structure is not None else [])
+        user_function = self._direct.function if self._direct is not None else self._force_uf
         kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=np.zeros((n, n)),
-                      forceUserFunction=self._force_uf, visualization=VObjectGenericODE2(show=False))
+                      forceUserFunction=user_function, visualization=VObjectGenericODE2(show=False))
         if jacobian == "numerical":
             kwargs["jacobianUserFunction"] = self._jacobian_uf
         elif jacobian is not None:
@@ -326,6 +334,37 @@ class WheelRailContact:
         self._compiling.wait()
         self._forces_core = compiled_for(contact_forces_core, *self._core_args())
         return self._forces_core(*args)
+
+    def _compiled_forces_step(self):
+        """The compiled :func:`~.direct_call.forces_step` for exactly :meth:`forces`'s arguments (compiled or loaded
+        at the first call, as :meth:`_first_forces_core`); both call paths run it."""
+        if self._step_entry is None:
+            self._compiling.wait()
+            self._step_entry = self._forces_step = compiled_for(forces_step, self._f, self._f, 0.0, self._call)
+        return self._step_entry
+
+    def _first_forces_step(self, *args):
+        return self._compiled_forces_step()(*args)
+
+    @property
+    def call_path(self) -> str:
+        """How Exudyn calls the force evaluation: ``"compiled"`` (a native function, no Python per call) or
+        ``"python"`` (:meth:`forces`; :mod:`.direct_call`).  Asking may compile it (as its first call would)."""
+        return "compiled" if self._direct is not None and self._direct.bind() else "python"
+
+    def compiled_path_counts(self) -> tuple[int, int]:
+        """``(calls, of which through Python)`` of the compiled path's native function ((0, 0) without one)."""
+        return self._direct.counts() if self._direct is not None else (0, 0)
+
+    @property
+    def n_calls(self) -> int:
+        """Contact evaluations of the force calls (either path) since construction or :meth:`warm_up`."""
+        return int(self._counts[COUNT_CALLS])
+
+    @property
+    def n_reused(self) -> int:
+        """Force calls answered by the evaluation kept by :meth:`evaluate_state`."""
+        return int(self._counts[COUNT_REUSED])
 
     @property
     def speed_m_s(self) -> float:
@@ -383,16 +422,12 @@ class WheelRailContact:
             raise ValueError(f"coordinates of shapes {q.shape}, {q_t.shape}: expected ({n},) each "
                              f"(6 per wheelset{f' + {self.n_modes} modal' if self.n_modes else ''})")
         t = float(t)
-        if self._held is not None and self._reuse_held(q, q_t, t):
-            return self._f
         if self.structure is not None:
             self._set_ground(t)
-        f = self._f
-        bad = self._forces_core(q, q_t, t, self._data, f, self.results)
-        self.n_calls += 1
+        bad = self._forces_step(q, q_t, t, self._call)
         if bad >= 0:
-            self._raise_bad(bad, t)
-        return f
+            raise self._state_error(bad, t)
+        return self._f
 
     def evaluate_state(self, q, q_t, t: float) -> np.ndarray:
         """Evaluate the contact at ``(q, q_t, t)`` (:attr:`results`, the forces) without changing the warm start, and
@@ -403,50 +438,27 @@ class WheelRailContact:
         generalized forces (as :meth:`forces`).
 
         The kept evaluation stays in place (forces, results, the warm start it left) until the next call; the warm
-        start it started from is put back when that call does not take it (:meth:`_discard_held`), and
-        :meth:`save_warm_start` meanwhile answers with that one."""
-        if self._held is not None:
-            self._discard_held()
+        start it started from is put back when that call does not take it (:class:`~.direct_call.KeptEvaluation`),
+        and :meth:`save_warm_start` meanwhile answers with that one."""
+        self._kept.begin()
         q = np.ascontiguousarray(q, dtype=float)
         q_t = np.ascontiguousarray(q_t, dtype=float)
-        warm = self._kc.warm
-        saved = warm.copy()
-        stats0 = self._stats.copy()
         try:
             f = self.forces(q, q_t, t)
         except BaseException:
-            warm[:] = saved
+            self._kept.abort()
             raise
-        self._held = (float(t), q.tobytes(), q_t.tobytes(), saved, self._stats - stats0)
+        self._kept.keep(q, q_t, t)
         return f
 
-    def _reuse_held(self, q, q_t, t: float) -> bool:
-        """Take the evaluation kept by :meth:`evaluate_state` if ``(q, q_t, t)`` is its state (bitwise: the
-        coordinates' bytes); discard it anyway.  Its forces, results and warm start are still in place: taking it
-        only adds its counters."""
-        t_h, q_h, q_t_h, _, dstats = self._held
-        if t != t_h or q.tobytes() != q_h or q_t.tobytes() != q_t_h:
-            self._discard_held()
-            return False
-        self._held = None
-        self._stats += dstats
-        self.n_reused += 1
-        return True
-
-    def _discard_held(self) -> None:
-        """Drop the evaluation kept by :meth:`evaluate_state`, putting back the warm start it started from."""
-        _, _, _, saved, _ = self._held
-        self._kc.warm[:] = saved
-        self._held = None
-
-    def _raise_bad(self, bad: int, t: float):
+    def _state_error(self, bad: int, t: float) -> ContactStateError:
         """The :class:`ContactStateError` of a non-finite state (``bad`` from the compiled call)."""
         if bad == len(self.nodes_exu):
-            raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's modal coordinates are "
-                                    "non-finite — the simulation diverged (time step too large?)", time_s=t)
-        raise ContactStateError(f"wheel-rail contact at t = {t:.6g} s: wheelset {bad} (node "
-                                f"{self.nodes_exu[bad]}) has non-finite coordinates — the simulation diverged "
-                                "(time step too large?)", time_s=t, wheelset=int(bad))
+            return ContactStateError(f"wheel-rail contact at t = {t:.6g} s: the bridge's modal coordinates are "
+                                     "non-finite — the simulation diverged (time step too large?)", time_s=t)
+        return ContactStateError(f"wheel-rail contact at t = {t:.6g} s: wheelset {bad} (node "
+                                 f"{self.nodes_exu[bad]}) has non-finite coordinates — the simulation diverged "
+                                 "(time step too large?)", time_s=t, wheelset=int(bad))
 
     def _force_uf(self, mbs, t, itemIndex, q, q_t):
         return self.forces(q, q_t, t)
@@ -462,8 +474,7 @@ class WheelRailContact:
     n_jacobian_differenced = 0
 
     def _jacobian_uf(self, mbs, t, itemIndex, q, q_t, fODE2, fODE2_t):
-        if self._held is not None:
-            self._discard_held()
+        self._kept.discard()
         if self.jacobian_method not in JACOBIAN_METHODS:
             raise ValueError(f"jacobian_method = {self.jacobian_method!r}: expected one of {JACOBIAN_METHODS}")
         q = np.ascontiguousarray(q, dtype=float)
@@ -476,7 +487,7 @@ class WheelRailContact:
             bad = self._forces_core(q, q_t, t, self._data, self._f, self.results)
             self.n_jacobian_contact_calls += 1
             if bad >= 0:
-                self._raise_bad(bad, t)
+                raise self._state_error(bad, t)
             if not needs_differences(self.results, self._kc.out):
                 blocks = self.__dict__.get("_tangent_blocks")
                 if blocks is None:
@@ -518,28 +529,26 @@ class WheelRailContact:
         """Load (or compile) the compiled code outside a timed solve: one force and, with ``jacobian``, one
         Jacobian evaluation at the model's current state; the warm start is left as it was."""
         q, v = self.coordinates(mbs)
-        if self._held is not None:
-            self._discard_held()
+        self._kept.discard()
         warm = self._kc.warm.copy()
         try:
             self.forces(q, v, 0.0)
             if jacobian:
                 self._jacobian_uf(mbs, 0.0, self.object, q, v, 1.0, 0.0)
+            if self._direct is not None:
+                self._direct.bind()
         finally:
             self._kc.warm[:] = warm
-            self.n_calls = 0
+            self._counts[:] = 0
             self.n_jacobian_calls = self.n_jacobian_contact_calls = self.n_jacobian_differenced = 0
 
     def save_warm_start(self) -> np.ndarray:
         """A copy of the contact search's warm-start state (restore with :meth:`restore_warm_start`); with an
         evaluation kept by :meth:`evaluate_state`, the one it started from."""
-        if self._held is None:
-            return self._kc.warm.copy()
-        _, _, _, saved, _ = self._held
-        return saved.copy()
+        return self._kept.warm_start()
 
     def restore_warm_start(self, state: np.ndarray) -> None:
-        self._held = None
+        self._kept.clear()
         self._kc.warm[:] = state
 
     # -- readable results ------------------------------------------------------------------------------------------
@@ -599,8 +608,7 @@ class WheelRailContact:
         if F.shape != prediction.shape or not np.all(np.isfinite(F)):
             raise ValueError(f"forces_N of shape {F.shape}: expected finite values of shape {prediction.shape}")
         prediction[:] = F
-        if self._held is not None:
-            self._discard_held()
+        self._kept.discard()
 
     def wheelset_rail_pose(self) -> np.ndarray:
         """Per wheelset the pose relative to its rail pair that the contact search used (last evaluation): rows

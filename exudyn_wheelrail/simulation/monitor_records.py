@@ -9,6 +9,7 @@ import re
 from dataclasses import dataclass, field
 
 from ..multibody import connector as C
+from ..multibody.direct_call import NATIVE_STATE_ERROR_MARK, pending_state_error
 
 __all__ = ["Status", "Interval", "WheelRecord", "STATUS_KINDS", "STOP_KINDS", "SIDES", "contact_state_error",
            "status_from_state_error"]
@@ -85,12 +86,15 @@ _STATE_ERROR_T = re.compile(r"t = ([-+0-9.eEinfa]+) s")
 
 def contact_state_error(exc: BaseException):
     """The ContactStateError in an exception's chain (Exudyn re-raises a user function's exception with it as the
-    cause), or None."""
+    cause), or the one of a bad state the connector's compiled call path met (Exudyn reports its native exception
+    as a failed solve: :func:`~exudyn_wheelrail.multibody.direct_call.pending_state_error`), or None."""
     seen = set()
     e = exc
     while e is not None and id(e) not in seen:
         if isinstance(e, C.ContactStateError):
             return e
+        if NATIVE_STATE_ERROR_MARK in str(e):
+            return pending_state_error(str(e))
         seen.add(id(e))
         e = e.__cause__ or e.__context__
     return None

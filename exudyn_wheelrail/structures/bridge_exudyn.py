@@ -54,7 +54,7 @@ the amplification ``1/√((1-r²)²+(2ζr)²) = 2.711`` to 3e-4.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import exudyn as exu
 import numpy as np
@@ -153,6 +153,10 @@ class ExudynBridge:
     ffrf_data: dict | None = None
     support_motion: object = None
     support_load: object = None
+    #: called (without arguments) when a support motion is added: what must then evaluate the ground motion at every
+    #: call, e.g. a connector on its compiled call path (which does not), switches to its Python path.  Weak
+    #: references (``weakref.WeakMethod``); dead ones are skipped.
+    support_motion_listeners: list = field(default_factory=list)
 
     def add_support_motion(self, mbs, motion, name: str = "support_motion"):
         """Impose a lateral ground motion ``y_g(t)`` on all supports (a :class:`.support_motion.SupportMotion`, e.g.
@@ -168,6 +172,10 @@ class ExudynBridge:
         load = SupportMotionLoad(mbs, self, motion, name=name)
         self.support_motion = motion
         self.support_load = load
+        for ref in self.support_motion_listeners:
+            listener = ref()
+            if listener is not None:
+                listener()
         return load
 
     def ground_state(self, t: float) -> tuple[float, float, float]:
