@@ -36,7 +36,7 @@ The model is the CLI's (:func:`exudyn_wheelrail.scenarios.rtri.run_rtri`'s case 
 The machine load (``os.getloadavg``) is given beside every part; the machine is shared, so compare figures of one
 session only.  Writes ``benchmarks/results/step_overhead.json``.
 
-Run:  python benchmarks/bench_step_overhead.py [--repeats 3] [--calls 3000]
+Run:  python benchmarks/bench_step_overhead.py [--repeats 3] [--calls 3000] [--preset default|fast|accurate]
 """
 from __future__ import annotations
 
@@ -64,6 +64,12 @@ from exudyn_wheelrail.simulation.presets import SPRINGS_RATIO_MAX, TARGETS, appl
 RESULTS = Path(__file__).resolve().parent / "results" / "step_overhead.json"
 SPAN_M = 20.0
 PRESET = "default"
+
+
+def set_preset(name: str) -> None:
+    """The preset of every model built from here on (``--preset``)."""
+    global PRESET
+    PRESET = name
 CONFIGS = ("cli", "cli_python", "no_record", "unwatched", "constant_force", "springs")
 #: the configurations built on the connector's Python call path (direct_call.CALL_PATH_ENV): the CLI's run as it ran
 #: before the compiled path, the constant-force floor (a Python function answering a fixed vector), and the pieces
@@ -352,7 +358,10 @@ def main(argv=None):
     ap.add_argument("--clock", default="wall", choices=tuple(CLOCKS), help="clock of the timed pieces")
     ap.add_argument("--configs", nargs="+", default=list(CONFIGS), choices=CONFIGS)
     ap.add_argument("--out", default=str(RESULTS))
+    ap.add_argument("--preset", default=PRESET, choices=tuple(TARGETS),
+                    help="the CLI preset of the case (default: %(default)s)")
     args = ap.parse_args(argv)
+    set_preset(args.preset)
     solve_once("cli")                                   # numba caches, Exudyn: outside the measurements
     sim_time = case().run.steps * case().run.dt_s
     result = dict(case=f"rtri --span {SPAN_M:g} --preset {PRESET} (RK44 1 ms, 2.5 s, recording on)",

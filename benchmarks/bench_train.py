@@ -116,7 +116,8 @@ _PEAKS = ("max_abs_deck_midspan_displacement_m", "max_abs_deck_midspan_accelerat
 
 def main(argv=None) -> int:
     from exudyn_wheelrail.rolling_stock.train import load_consist
-    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import CONTACT_DT_S, hertz_dt_bound_s
+    from exudyn_wheelrail.scenarios.defaults import STEPS_PER_PERIOD
+    from exudyn_wheelrail.scenarios.bridge_crossing_vehicles import contact_dt_s
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--parts", nargs="+", choices=("cost", "resonance"), default=["cost", "resonance"])
     ap.add_argument("--spans", type=float, nargs="+", default=[20.0, 40.0])
@@ -124,7 +125,7 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=str(RESULTS))
     args = ap.parse_args(argv)
     consist = load_consist(CONSIST)
-    dt = min(CONTACT_DT_S, hertz_dt_bound_s(consist), 1.0 / (40 * MODES ** 2 * F1_HZ))
+    dt = min(contact_dt_s(consist), 1.0 / (STEPS_PER_PERIOD * MODES ** 2 * F1_HZ))     # the command's rule
     result = {"what": "8-car train over a simply supported span: full interaction vs moving loads (bench_train.py)",
               "consist": str(CONSIST), "modes": MODES, "dt_s": dt, "free_vibration_s": args.free_vibration_s,
               "uptime_start": uptime()}

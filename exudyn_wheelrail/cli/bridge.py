@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from ..scenarios.defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
-                                  SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
+from ..scenarios.defaults import (CONTACT_DT_S, CONTACT_STEPS_PER_PERIOD, DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES,
+                                  MODEL_NAMES, SPRUNG_DAMPING_RATIO, SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
 from ..simulation.settings import DT_S, SPEED_KM_H
 from ..simulation.solvers import SOLVERS
 from ..simulation.status import exit_code
@@ -286,7 +286,9 @@ def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
                     help="time simulated after the last axle has left the (last) span [s] (default 0)")
     bc.add_argument("--dt", type=float, default=None,
                     help=f"time step [s] (default: min(1/({STEPS_PER_PERIOD} f_N), 2L/({STEPS_PER_PERIOD} N V), "
-                         "0.01 s), f_N = N^2 f1)")
+                         f"0.01 s), f_N = N^2 f1; the vehicles model at most {CONTACT_STEPS_PER_PERIOD} steps per "
+                         f"period of the stiffest wheelset's bounce on its Hertz contact and at most "
+                         f"{CONTACT_DT_S:g} s)")
     bc.add_argument("--solver", default=DEFAULT_SOLVER, choices=SOLVERS,
                     help=f"integrator (default {DEFAULT_SOLVER})")
     bc.add_argument("--track-form", default=TRACK_FORMS[0], choices=TRACK_FORMS,

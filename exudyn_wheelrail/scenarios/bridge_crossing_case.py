@@ -15,8 +15,8 @@ from .deck import TRACK_FORMS, bending_stiffness_Nm2
 from .defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, LOAD_MODELS, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
                        SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
 
-__all__ = ["BridgeCrossing", "default_dt_s", "positive_number", "SPAN_M", "MASS_KG_M", "F1_HZ", "FREE_VIBRATION_S",
-           "MAX_DEFAULT_DT_S", "MIN_ELEMENTS", "ELEMENTS_PER_MODE", "MAX_SPANS"]
+__all__ = ["BridgeCrossing", "default_dt_s", "step_rounded_down", "positive_number", "SPAN_M", "MASS_KG_M", "F1_HZ",
+           "FREE_VIBRATION_S", "MAX_DEFAULT_DT_S", "MIN_ELEMENTS", "ELEMENTS_PER_MODE", "MAX_SPANS"]
 
 #: plausibility of the deck's inputs (a value outside is an error, outside ``typical`` a warning)
 SPAN_M = Quantity("span length", "m", 1.0, 500.0, typical=(5.0, 150.0))
@@ -211,9 +211,14 @@ class BridgeCrossing:
 def default_dt_s(case: BridgeCrossing) -> float:
     """``min(1/(40 f_N), 2L/(40 N V), 10 ms)`` rounded down to 3 significant digits (module docstring; a chain: the
     shortest span, the highest mode of all spans, N the larger of the vertical and lateral mode counts)."""
-    dt = min(1.0 / (STEPS_PER_PERIOD * case.f_N_Hz),
-             2.0 * min(case.chain_m) / (STEPS_PER_PERIOD * max(case.n_modes, case.lateral_modes) * case.speed_m_s),
-             MAX_DEFAULT_DT_S)
+    return step_rounded_down(min(
+        1.0 / (STEPS_PER_PERIOD * case.f_N_Hz),
+        2.0 * min(case.chain_m) / (STEPS_PER_PERIOD * max(case.n_modes, case.lateral_modes) * case.speed_m_s),
+        MAX_DEFAULT_DT_S))
+
+
+def step_rounded_down(dt: float) -> float:
+    """A time step rounded down to 3 significant digits [s]."""
     scale = 10.0 ** (math.floor(math.log10(dt)) - 2)
     return math.floor(dt / scale + 1e-9) * scale
 

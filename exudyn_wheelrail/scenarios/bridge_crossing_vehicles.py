@@ -14,10 +14,14 @@ chain: the connector sees the whole chain's modes, vertical and lateral); at ``t
 wheelset is at ``deck_start_m`` and the whole train behind it, every car in static equilibrium on the rails
 (:func:`~exudyn_wheelrail.rolling_stock.train.place_train_on_track`; the unloaded deck is at rest).
 
-Time step: the crossing's default step, at most :data:`CONTACT_DT_S` and at most half the step at which the
-stiffest wheelset bouncing on its linearised Hertz contact reaches the resolution bound ``ω h = 2√2``
-(:data:`~exudyn_wheelrail.simulation.solvers.RESOLUTION_LIMIT`; ``ω = √(2 k_H / m_wheelset)``, ``k_H = 1.5 Q/δ``
-at the static wheel load Q, :meth:`~exudyn_wheelrail.rolling_stock.vehicle_builder.RailSprings.from_hertz`).
+Time step (:func:`contact_dt_s`): the crossing's default step, at most ``CONTACT_DT_S`` and at most the step
+that resolves the stiffest wheelset bouncing on its linearised Hertz contact (``ω = √(2 k_H / m_wheelset)``,
+``k_H = 1.5 Q/δ`` at the static wheel load Q,
+:meth:`~exudyn_wheelrail.rolling_stock.vehicle_builder.RailSprings.from_hertz`) with
+``CONTACT_STEPS_PER_PERIOD`` steps per period — an accuracy bound, chosen by the work–precision of the full
+interaction (that oscillation carries the wheels' dynamic forces, and the deck accelerations they excite) — and at
+most half the step at which that oscillation reaches the resolution bound ``ω h = 2√2``
+(:data:`~exudyn_wheelrail.simulation.solvers.RESOLUTION_LIMIT`, a stability bound the accuracy bound is below).
 
 Outputs beside the deck's: the wheels' ``Y``, ``Q``, ``YQ``, ``flange``, ``contact_angle`` columns (``w<j>``: the
 train's wheelsets, car after car), the wheelsets' lateral position, and per car the car-body points above its
@@ -39,17 +43,15 @@ from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
 from ..simulation.solvers import RESOLUTION_LIMIT
 from ..simulation.settings import ContactSettings
 from ..track.rigid import RigidStraightTrack
-from .bridge_crossing_case import BridgeCrossing
+from .bridge_crossing_case import BridgeCrossing, step_rounded_down
+from .defaults import CONTACT_DT_S, CONTACT_STEPS_PER_PERIOD
 from .bridge_crossing_loads import LoadModel, LoadModelHandle
 from .criteria import train_criteria
 from .probes import train_probes
 from .spec import DEFAULT_FLOOR_HEIGHT_M
 
-__all__ = ["VEHICLES", "CONTACT_DT_S", "hertz_dt_bound_s", "build_train_on_straight_track"]
+__all__ = ["VEHICLES", "contact_dt_s", "hertz_dt_bound_s", "build_train_on_straight_track"]
 
-#: largest time step of the vehicles model [s]: the step of the project's contact runs (the RTRI case's published
-#: 1 ms, :class:`~exudyn_wheelrail.simulation.settings.RunSettings`'s default)
-CONTACT_DT_S = 1e-3
 
 
 def _consist(case: BridgeCrossing):
@@ -61,16 +63,34 @@ def _consist(case: BridgeCrossing):
         raise ValueError(f"--train: {exc}") from None
 
 
-def hertz_dt_bound_s(consist) -> float:
-    """Half the step at which the stiffest wheelset of ``consist`` on its linearised Hertz contact reaches the
-    resolution bound (module docstring) [s]."""
+def _contact_omega(consist) -> float:
+    """ω [rad/s] of the stiffest wheelset of ``consist`` bouncing on its linearised Hertz contact."""
     omega = 0.0
     for car in consist.cars:
         v = car.vehicle
         q = float(np.max(static_load_path(v).wheel))
         k = RailSprings.from_hertz(wheel_load_N=q, r0_m=v.geometry.r0_m).k_vertical_N_per_m
         omega = max(omega, math.sqrt(2.0 * k / v.wheelset.mass_kg))
-    return 0.5 * RESOLUTION_LIMIT / omega
+    return omega
+
+
+def hertz_dt_bound_s(consist) -> float:
+    """Half the step at which the stiffest wheelset of ``consist`` on its linearised Hertz contact reaches the
+    resolution bound (module docstring) [s]."""
+    return 0.5 * RESOLUTION_LIMIT / _contact_omega(consist)
+
+
+def contact_dt_s(consist) -> float:
+    """The largest step of the full interaction of ``consist`` (module docstring): ``min(CONTACT_DT_S, 2π/(N ω),
+    hertz_dt_bound_s)`` with N = ``CONTACT_STEPS_PER_PERIOD``, rounded down to 3 significant digits [s]
+    (:mod:`.defaults`).  ``CONTACT_DT_S`` is the contact runs' 1 ms (the RTRI case's published step).  N: RK44 damps
+    an oscillation of ω h by about (ω h)^6/144 per step (its amplification factor on the imaginary axis, |R(iωh)| =
+    1 - (ωh)^6/144 + O((ωh)^8)), i.e. by N (2π/N)^6/144 per period: 0.7 % at the N ≈ 9 the deck's rule alone gave
+    the README's 8-car crossing, 0.013 % at N = 20.  Measured on that crossing (benchmarks/
+    crossing_work_precision.py, against 1/16 ms): at N ≈ 9 (0.555 ms) the deck's peak acceleration is 4.7 % off, the
+    EN 1990 acceleration 2.5 %, the largest lateral wheel force 3.7 %; at N ≈ 20 (0.25 ms) all within 0.4 %."""
+    return step_rounded_down(min(CONTACT_DT_S, 2.0 * math.pi / (CONTACT_STEPS_PER_PERIOD * _contact_omega(consist)),
+                                 hertz_dt_bound_s(consist)))
 
 
 def _check(case: BridgeCrossing) -> None:
@@ -129,7 +149,7 @@ def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
                            summary=summary,
                            description=f"{consist.name}: {consist.n_cars} car(s), {len(x_ws)} wheelsets, full "
                                        f"vehicle-bridge interaction (one wheel-rail contact, {cs.creep_law})",
-                           max_dt_s=min(CONTACT_DT_S, hertz_dt_bound_s(consist)))
+                           max_dt_s=contact_dt_s(consist))
 
 
 #: the full vehicle–bridge interaction (module docstring)

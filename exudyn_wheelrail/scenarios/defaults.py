@@ -8,7 +8,7 @@ numerical code.
 """
 
 __all__ = ["CAR_BODY_MODELS", "LOAD_MODELS", "MODEL_NAMES", "AXLE_LOAD_MODELS", "SPRUNG_FREQUENCY_HZ",
-           "SPRUNG_DAMPING_RATIO", "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "MAX_MODES", "LATERAL_EI_RATIO",
+           "SPRUNG_DAMPING_RATIO", "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "CONTACT_STEPS_PER_PERIOD", "CONTACT_DT_S", "MAX_MODES", "LATERAL_EI_RATIO",
            "LEAD_IN_M", "DEFAULT_RAMP", "DEFAULT_MIN_TRANSITION_M", "default_transition_m"]
 
 # ------------------------------------------------------------------------------------------------- RTRI case
@@ -33,6 +33,10 @@ DEFAULT_SOLVER = "rk44"
 #: time steps per period of the highest mode and of the N-th harmonic of a load's passage (``bridge_crossing``
 #: module docstring)
 STEPS_PER_PERIOD = 40
+#: the vehicles model: time steps per period of the stiffest wheelset's bounce on its Hertz contact, and the largest
+#: step (the contact runs' 1 ms) [s] (``bridge_crossing_vehicles.contact_dt_s``, whose docstring derives them)
+CONTACT_STEPS_PER_PERIOD = 20
+CONTACT_DT_S = 1e-3
 #: most vertical modes of a crossing
 MAX_MODES = 60
 #: ``EI_z / EI_y`` of the deck section when no lateral frequency is given
