@@ -122,6 +122,19 @@ def outward_sign(curvature_1_m) -> float:
     return -1.0 if curvature_1_m > 0.0 else 1.0
 
 
+#: Significant digits of a speed in km/h converted from m/s (:func:`speed_km_h`).
+KM_H_DIGITS = 12
+
+
+def speed_km_h(speed_m_s: float) -> float:
+    """A speed in km/h from m/s, rounded to :data:`KM_H_DIGITS` significant digits: a speed given as a decimal in
+    km/h, held in m/s (``v / 3.6``, one rounding) and converted back, is that decimal again (``240 / 3.6 * 3.6`` is
+    ``240.00000000000003``; this gives 240.0), while the conversion's own error (~1e-16 relative) stays far below
+    the rounding (1e-12)."""
+    v = float(speed_m_s) * 3.6
+    return float(f"{v:.{KM_H_DIGITS}g}") if v == v and abs(v) != float("inf") else v
+
+
 #: Rail inclinations accepted by name (tan of the cant angle).
 RAIL_INCLINATIONS = {"1/40": 1.0 / 40.0, "1/20": 1.0 / 20.0, "none": 0.0, "0": 0.0}
 

@@ -4,6 +4,7 @@ speed, resonance speeds)."""
 from __future__ import annotations
 
 import math
+from decimal import Decimal
 from pathlib import Path
 
 from ..scenarios.defaults import (CONTACT_DT_S, CONTACT_STEPS_PER_PERIOD, DEFAULT_SOLVER, LATERAL_EI_RATIO, MAX_MODES,
@@ -137,7 +138,9 @@ def _sweep_speeds_kmh(args) -> list[float]:
         n = math.floor((last - first) / step + 1e-9) + 1
         if n > MAX_SWEEP_SPEEDS:
             raise ValueError(f"{option}: {n} speeds, more than {MAX_SWEEP_SPEEDS}")
-        speeds = [first + k * step for k in range(n)]
+        # exact decimals: FIRST + k STEP in decimal arithmetic (in floats, 150 + 9 x 10.1 is 240.89999999999998)
+        d_first, d_step = Decimal(repr(first)), Decimal(repr(step))
+        speeds = [float(d_first + k * d_step) for k in range(n)]
     for v in speeds:
         SPEED_KM_H.check(option, v)
     return speeds

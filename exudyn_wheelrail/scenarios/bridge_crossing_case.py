@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..conventions import speed_km_h
 from ..simulation.solvers import RESOLUTION_LIMIT, SOLVERS
 from ..structures.load_models import AxleTrain
 from ..validation import Quantity
@@ -200,7 +201,7 @@ class BridgeCrossing:
     def as_dict(self) -> dict:
         return {"span_m": self.span_m, "mass_kg_m": self.mass_kg_m, "f1_Hz": self.f1_Hz,
                 "damping_ratio": self.damping_ratio, "n_modes": self.n_modes, "speed_m_s": self.speed_m_s,
-                "speed_km_h": self.speed_m_s * 3.6, "model": self.model, "free_vibration_s": self.free_vibration_s,
+                "speed_km_h": speed_km_h(self.speed_m_s), "model": self.model, "free_vibration_s": self.free_vibration_s,
                 "dt_s": self.dt_s, "solver": self.solver, "track_form": self.track_form,
                 "train_file": self.train_file, "deck_start_m": self.deck_start_m, "spans_m": list(self.chain_m),
                 "lateral_modes": self.lateral_modes, "lateral_f1_Hz": self.lateral_f1_Hz,

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import csv
 import time
-from concurrent.futures import as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
+from ..conventions import speed_km_h
 from ..structures.load_models import resonance_speeds_m_s
 from .bridge_crossing_case import BridgeCrossing, positive_number
 from .bridge_crossing_loads import resolve_load_model
@@ -18,7 +18,7 @@ from .bridge_crossing_run import run_bridge_crossing
 from .deck import EN1990_DECK_ACCELERATION_LIMITS_M_S2
 from .outputs import write_json
 from .drawing import pyplot
-from .sweep import resolve_executor
+from .sweep import run_tasks
 
 __all__ = ["SWEEP_COLUMNS", "SpeedSweepResult", "sweep_case", "speed_sweep", "plot_speed_sweep"]
 
@@ -44,7 +44,7 @@ class SpeedSweepResult:
 def sweep_case(case: BridgeCrossing, case_dir=None) -> dict:
     """One speed of a sweep (runs in the worker): the row of :data:`SWEEP_COLUMNS`; an exception becomes
     ``status = "error: ..."`` (one case does not stop the others)."""
-    row = {"speed_km_h": case.speed_m_s * 3.6, "case_dir": None if case_dir is None else str(case_dir)}
+    row = {"speed_km_h": speed_km_h(case.speed_m_s), "case_dir": None if case_dir is None else str(case_dir)}
     try:
         s = run_bridge_crossing(case, out_dir=case_dir).summary
     except Exception as exc:
@@ -72,35 +72,28 @@ def speed_sweep(case: BridgeCrossing, speeds_m_s, executor=None, out_dir=None, *
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
         out.mkdir(parents=True, exist_ok=True)
-    dirs = [str(out / "cases" / f"v{v * 3.6:07.2f}_kmh") if (out is not None and write_cases) else None
+    dirs = [str(out / "cases" / f"v{speed_km_h(v):07.2f}_kmh") if (out is not None and write_cases) else None
             for v in speeds]
     cases = [replace(case, speed_m_s=v) for v in speeds]
     rows = [None] * len(cases)
     t0 = time.perf_counter()
-    pool, own = resolve_executor(executor, workers, len(cases))
-    try:
-        futures = {pool.submit(sweep_case, c, d): i for i, (c, d) in enumerate(zip(cases, dirs))}
-        for f in as_completed(futures):
-            i = futures[f]
-            try:
-                rows[i] = f.result()
-            except Exception as exc:              # the executor itself failed
-                rows[i] = {"speed_km_h": speeds[i] * 3.6, "case_dir": dirs[i],
-                           "status": f"error: executor: {type(exc).__name__}: {exc}".splitlines()[0]}
-            if progress:
-                r = rows[i]
-                a = r.get("max_abs_deck_midspan_acceleration_m_s2")
-                progress(f"  {r['speed_km_h']:.5g} km/h: {r['status']}" + (f"; max |a| {a:.4g} m/s^2" if a else ""))
-    finally:
-        if own:
-            pool.shutdown()
+
+    def finished(i, r):
+        rows[i] = r
+        if progress:
+            a = r.get("max_abs_deck_midspan_acceleration_m_s2")
+            progress(f"  {r['speed_km_h']:.5g} km/h: {r['status']}" + (f"; max |a| {a:.4g} m/s^2" if a else ""))
+
+    def failed(i, text):
+        return {"speed_km_h": speed_km_h(speeds[i]), "case_dir": dirs[i], "status": text.splitlines()[0]}
+    run_tasks(executor, workers, sweep_case, list(zip(cases, dirs)), finished, failed)
     wall = time.perf_counter() - t0
     table = {c: [] for c in SWEEP_COLUMNS}
     for i, r in enumerate(rows):
         for c in SWEEP_COLUMNS:
             table[c].append(i if c == "case" else r.get(c))
     spacing = case.axles.spacing_m if case.axles is not None else None
-    res = [] if spacing is None else [{"i": i, "speed_m_s": v, "speed_km_h": v * 3.6}
+    res = [] if spacing is None else [{"i": i, "speed_m_s": v, "speed_km_h": speed_km_h(v)}
                                       for i, v in enumerate(resonance_speeds_m_s(case.f1_Hz, spacing), 1)]
     result = SpeedSweepResult(table=table, case=case, resonance_speeds=res, wall_seconds=wall)
     if out is not None:

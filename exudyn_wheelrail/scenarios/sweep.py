@@ -22,6 +22,9 @@ Executors
 ---------
 * ``executor=None``: a local :class:`~concurrent.futures.ProcessPoolExecutor` with ``workers`` processes
   (default: the machine's cores, at most one per case; ``spawn`` start method), each case in its own process;
+  a worker process that dies (killed, out of memory, a crash in compiled code) costs only time: the cases it took
+  down with the pool run again on a fresh one, and a case that kills its worker alone every time is reported
+  with an ``error: executor: ...`` status (:func:`run_tasks`);
 * any :class:`concurrent.futures.Executor`: a ``ThreadPoolExecutor`` (the GIL serialises much of the work — the
   Python user functions of the contact run every step —, so it is for tests and I/O-bound setups), a
   ``ProcessPoolExecutor`` of your own, Dask's ``client.get_executor()`` (a ``distributed.Client`` itself is also
@@ -55,6 +58,7 @@ import json
 import math
 import os
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from multiprocessing import get_context
 from pathlib import Path
@@ -66,7 +70,7 @@ from .run import run_scenario
 from .spec import ScenarioError, as_scenario
 from .spec_crossing import is_crossing
 
-__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "sweep_cases", "DEFAULT_PLOT_RESULT",
+__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "run_tasks", "MAX_ATTEMPTS", "SHARED_ROUNDS", "sweep_cases", "DEFAULT_PLOT_RESULT",
            "CROSSING_PLOT_RESULT", "default_plot_result", "TIMING_COLUMNS"]
 
 #: the scalar plotted by default (present in every case of a vehicle scenario that ran)
@@ -145,6 +149,59 @@ def default_plot_result(base: dict) -> str:
     return CROSSING_PLOT_RESULT if is_crossing(base) else DEFAULT_PLOT_RESULT
 
 
+#: how often a task that killed its worker process alone is run (:func:`run_tasks`)
+MAX_ATTEMPTS = 3
+#: rounds of the unfinished tasks on a fresh shared pool after a worker died, before each runs alone
+SHARED_ROUNDS = 2
+
+
+def run_tasks(executor, workers, fn, args_list, on_result, failed):
+    """Run ``fn(*args)`` for every ``args`` of ``args_list`` through ``executor`` (:func:`resolve_executor`) and call
+    ``on_result(i, result)`` as each finishes.  An exception of the executor rather than of ``fn`` (its arguments
+    could not be sent, ...) gives ``on_result(i, failed(i, text))``.
+
+    A worker process that dies breaks Python's process pool and every unfinished task with it, whichever task was
+    at fault.  On the local pool (``executor`` None) the unfinished tasks then run again on a fresh pool; after
+    :data:`SHARED_ROUNDS` broken rounds each remaining task runs alone on a pool of its own, up to
+    :data:`MAX_ATTEMPTS` times: a task that kills its worker every time is reported failed (never dropped), every
+    other task completes — a dead worker costs only time."""
+    pending = list(range(len(args_list)))
+    rounds = 0
+    while pending and (rounds < SHARED_ROUNDS or executor is not None):
+        pending = _round(executor, workers, fn, args_list, pending, on_result, failed, last=executor is not None)
+        rounds += 1
+    for i in pending:                              # alone, each on a fresh pool of one worker
+        for attempt in range(1, MAX_ATTEMPTS + 1):
+            if not _round(None, 1, fn, args_list, [i], on_result, failed, last=attempt == MAX_ATTEMPTS):
+                break
+
+
+def _round(executor, workers, fn, args_list, indices, on_result, failed, last: bool) -> list:
+    """One round of :func:`run_tasks` on ``indices``; the tasks the pool's breaking left unfinished (none when
+    ``last``: they are reported failed)."""
+    pool, own = resolve_executor(executor, workers, len(indices))
+    broken = []
+    try:
+        futures = {pool.submit(fn, *args_list[i]): i for i in indices}
+        for f in as_completed(futures):
+            i = futures[f]
+            try:
+                result = f.result()
+            except BrokenProcessPool as exc:
+                if own and not last:
+                    broken.append(i)
+                    continue
+                result = failed(i, f"error: executor: its worker process died ({MAX_ATTEMPTS if own else 1} "
+                                   f"attempt(s) alone): {exc}")
+            except Exception as exc:            # the executor itself failed (could not unpickle, ...)
+                result = failed(i, f"error: executor: {type(exc).__name__}: {exc}")
+            on_result(i, result)
+    finally:
+        if own:
+            pool.shutdown(wait=True, cancel_futures=True)
+    return sorted(broken)
+
+
 def resolve_executor(executor, workers, n_cases):
     """(executor, own): the executor to use and whether this function created it (and must shut it down)."""
     if executor is None:
@@ -180,25 +237,18 @@ def sweep(base_scenario, parameters: dict, executor=None, out_dir=None, *, worke
         out.mkdir(parents=True, exist_ok=True)
     case_dirs = [str(out / "cases" / f"case_{i:03d}") if (out is not None and write_cases) else None
                  for i in range(len(scenarios))]
-    pool, own = resolve_executor(executor, workers, len(scenarios))
     summaries = [None] * len(scenarios)
-    try:
-        futures = {pool.submit(run_case, scn, d): i for i, (scn, d) in enumerate(zip(scenarios, case_dirs))}
-        for f in as_completed(futures):
-            i = futures[f]
-            try:
-                summaries[i] = f.result()
-            except Exception as exc:        # the executor itself failed (worker died, could not unpickle, ...)
-                summaries[i] = {"status": f"error: executor: {type(exc).__name__}: {exc}".splitlines()[0],
-                                "scalars": {}, "solve_seconds": None}
-            if progress:
-                s = summaries[i]
-                v = s.get("scalars", {}).get(plot_result)
-                progress(f"  case {i} ({', '.join(f'{k}={combos[i][k]!r}' for k in keys)}): {s['status']}"
-                         + (f"; {plot_result} = {v:.6g}" if isinstance(v, (int, float)) and v is not None else ""))
-    finally:
-        if own:
-            pool.shutdown()
+
+    def finished(i, s):
+        summaries[i] = s
+        if progress:
+            v = s.get("scalars", {}).get(plot_result)
+            progress(f"  case {i} ({', '.join(f'{k}={combos[i][k]!r}' for k in keys)}): {s['status']}"
+                     + (f"; {plot_result} = {v:.6g}" if isinstance(v, (int, float)) and v is not None else ""))
+
+    def failed(i, text):
+        return {"status": text.splitlines()[0], "scalars": {}, "solve_seconds": None}
+    run_tasks(executor, workers, run_case, list(zip(scenarios, case_dirs)), finished, failed)
     table = _table(combos, case_dirs, summaries)
     result = SweepResult(table=table, summaries=summaries, scenarios=scenarios, parameters=dict(parameters))
     if out is not None:
