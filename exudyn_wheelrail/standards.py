@@ -11,7 +11,8 @@ This module imports nothing, so that a front end can list the choices before any
 """
 
 __all__ = ["HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_POWER_CAR_TO_END_COACH_M",
-           "HSLM_END_COACH_TO_BOGIE_M", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "TRACK_FORMS", "FRA_CLASSES",
+           "HSLM_END_COACH_TO_BOGIE_M", "EN1991_DAMPING_PERCENT", "EN1991_ADDITIONAL_DAMPING_MAX_SPAN_M",
+           "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "TRACK_FORMS", "FRA_CLASSES",
            "FRA_K", "FRA_OMEGA_C", "GERMAN_SPECTRA", "GERMAN_OMEGA",
            "GERMAN_B", "TRACK_SPECTRA", "DEFAULT_BAND_M"]
 
@@ -29,6 +30,14 @@ HSLM_POWER_CAR_AXLES_M = (0.0, 3.0, 14.0, 17.0)
 HSLM_POWER_CAR_TO_END_COACH_M = 3.525
 #: Figure 6.12: from the end coach's first axle to the centre of the first articulated bogie, minus D [m]
 HSLM_END_COACH_TO_BOGIE_M = -3.525 / 2.0
+
+# ------------------------------------------------------------------------------ EN 1991-2:2003, bridge damping
+#: EN 1991-2:2003 Table 6.6: lower limit of the damping ratio ζ [%] of a span L by structure type: (ζ for
+#: L >= 20 m, increase per metre below 20 m), i.e. ζ = ζ_20 + s (20 - L) for L < 20 m
+EN1991_DAMPING_PERCENT = {"steel_composite": (0.5, 0.125), "prestressed_concrete": (1.0, 0.07),
+                          "reinforced_concrete": (1.5, 0.07), "filler_beam": (1.5, 0.07)}
+#: EN 1991-2:2003 6.4.6.3.1(3): the additional damping Δζ of Eq. (6.13) applies to spans below this [m]
+EN1991_ADDITIONAL_DAMPING_MAX_SPAN_M = 30.0
 
 # ------------------------------------------------------------------- EN 1990 A2, deck acceleration of a bridge
 #: EN 1990:2002/A1:2005 A2.4.4.2.1(4)P: largest peak vertical deck acceleration [m/s²] by track form

@@ -14,6 +14,7 @@ explore    the RTRI explorer: sliders (speed, span, deviation, friction, suspens
 bridge-crossing  a train (axle loads, HSLM-A, or vehicles) over a simply supported span: deck response, EN 1990
 bridge-crossing-sweep  the crossing over many speeds in parallel: peak deck response against speed, resonances
 curving    steady curving through an entry transition into a canted curve: sum Y, Y/Q, shift, attack angle
+en1991-dynamic  a bridge's dynamic check to EN 1991-2 6.4.6: every train, speed and mass bound; verdict, report
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 
@@ -26,6 +27,7 @@ an unusual but plausible value as one line ``warning: ...``, and the run goes on
 The package is the command line's face (:func:`build_parser`, :func:`main`); the commands live one group to a module:
 :mod:`.contact` (geometry, conicity, creep-table), :mod:`.rtri` (rtri, rtri-sweep, validation-report, explore),
 :mod:`.scenario` (run, sweep), :mod:`.bridge` (bridge-crossing, bridge-crossing-sweep), :mod:`.curving` (curving),
+:mod:`.en1991` (en1991-dynamic),
 what they share in :mod:`.common`.  A command's numerical modules are imported inside its functions, when it runs:
 building the parser and every ``--help`` load no numerical code.
 """
@@ -43,6 +45,7 @@ from .bridge import add_bridge_crossing_parsers
 from .common import Parser, print_line, show_warning
 from .contact import add_conicity_parser, add_creep_table_parser, add_geometry_parser, plot_sweep
 from .curving import add_curving_parser
+from .en1991 import add_en1991_dynamic_parser
 from .rtri import add_explore_parser, add_rtri_parser, add_rtri_sweep_parser, add_validation_report_parser
 from .scenario import add_run_parser, add_sweep_parser
 
@@ -55,7 +58,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     for add_parser in (add_geometry_parser, add_conicity_parser, add_creep_table_parser, add_rtri_parser,
                        add_rtri_sweep_parser, add_run_parser, add_sweep_parser, add_validation_report_parser,
-                       add_explore_parser, add_bridge_crossing_parsers, add_curving_parser):
+                       add_explore_parser, add_bridge_crossing_parsers, add_curving_parser,
+                       add_en1991_dynamic_parser):
         add_parser(sub)
     return parser
 

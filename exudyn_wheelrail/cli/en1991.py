@@ -1,0 +1,88 @@
+"""The ``en1991-dynamic`` command: a railway bridge's dynamic check to EN 1991-2 §6.4.6 — every train at every
+speed at both mass bounds, the deck acceleration against EN 1990 A2 (:mod:`exudyn_wheelrail.scenarios.en1991_dynamic`)."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..simulation.settings import SPEED_KM_H
+from ..standards import HSLM_NAMES
+from ..validation import output_dir
+
+
+def add_en1991_dynamic_parser(sub) -> None:
+    """The ``en1991-dynamic`` command's parser: its options, their check and its function."""
+    p = sub.add_parser("en1991-dynamic", help="a bridge's dynamic check to EN 1991-2 6.4.6: HSLM-A1..A10 (or given "
+                                              "trains) at every speed and mass bound, deck acceleration vs EN 1990",
+                       description="Runs every train as moving axle loads over the bridge of --bridge at every speed "
+                                   "from 144 km/h to 1.2 x the maximum line speed (steps <= 10 km/h, refined around "
+                                   "each resonance speed) at the lower and upper bound of the deck mass, with the "
+                                   "damping of EN 1991-2 Table 6.6 and the modes up to EN 1990's cut-off, in parallel; "
+                                   "a run started again on the same --out takes the crossings already finished. "
+                                   "Writes DIR/summary.json (verdict, max_deck_acceleration_m_s2, "
+                                   "acceleration_limit_m_s2, governing, damping_ratio_used, modes, "
+                                   "max_dynamic_enhancement), DIR/envelope.csv (one row per crossing), "
+                                   "DIR/envelope.png and DIR/report.html "
+                                   "(exudyn_wheelrail/scenarios/en1991_dynamic.py).")
+    p.add_argument("--bridge", required=True, metavar="FILE.toml",
+                   help="the bridge file: [bridge] spans_m, EI_Nm2, mass_kg_per_m (a number or [lower, upper]), "
+                        "structure (steel_composite, prestressed_concrete, reinforced_concrete, filler_beam) or "
+                        "damping_ratio, track_form (ballasted, direct_fastening), additional_damping (true/false)")
+    p.add_argument("--max-line-speed-kmh", type=float, required=True, metavar="V",
+                   help="the line's maximum speed [km/h]: the check runs to 1.2 V")
+    p.add_argument("--trains", nargs="+", default=None, metavar="A1|FILE.toml",
+                   help=f"the trains: names of the universal trains ({', '.join(HSLM_NAMES)}) or consist files "
+                        "(their static axle loads) (default: all ten HSLM-A)")
+    p.add_argument("--speeds-kmh", type=float, nargs="+", default=None, metavar="V",
+                   help="run these speeds [km/h] only (default: the grid of EN 1991-2 6.4.6.2)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes (default: one per CPU)")
+    p.add_argument("--out", required=True, help="output directory (finished crossings in DIR/runs are kept)")
+    p.set_defaults(func=cmd_en1991_dynamic, check=_check_en1991_dynamic)
+
+
+def _check_en1991_dynamic(args) -> None:
+    """Every option before any work: the bridge file read, the trains resolved; the check goes to
+    ``args.dynamic_check``."""
+    from ..scenarios.bridge_crossing_loads import consist_axles
+    from ..scenarios.en1991_dynamic import DynamicCheck, read_bridge_file, speed_grid_kmh
+    output_dir("--out", args.out)
+    v = args.max_line_speed_kmh
+    if not math.isfinite(v) or not v > 0:
+        raise ValueError(f"--max-line-speed-kmh: {v!r}: expected a positive speed")
+    SPEED_KM_H.check("--max-line-speed-kmh", v)
+    speed_grid_kmh(v)                             # 1.2 V at least the check's lowest speed
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers: {args.workers}: expected a positive integer")
+    if not Path(args.bridge).is_file():
+        raise ValueError(f"--bridge: {args.bridge}: no such file")
+    bridge = read_bridge_file(args.bridge)
+    trains = tuple(args.trains) if args.trains is not None else HSLM_NAMES
+    for t in trains:
+        if t not in HSLM_NAMES:
+            if not Path(t).is_file():
+                raise ValueError(f"--trains: {t}: neither a universal train ({', '.join(HSLM_NAMES)}) nor a "
+                                 "consist file")
+            consist_axles(t)
+    speeds = None
+    if args.speeds_kmh is not None:
+        speeds = tuple(SPEED_KM_H.check("--speeds-kmh", s) for s in args.speeds_kmh)
+    args.dynamic_check = DynamicCheck(bridge=bridge, max_line_speed_kmh=v, trains=trains, speeds_kmh=speeds)
+
+
+def cmd_en1991_dynamic(args) -> int:
+    from ..scenarios.en1991_dynamic import run_dynamic_check
+    check = args.dynamic_check
+    n = len(check.runs())
+    print(f"EN 1991-2 dynamic check of {args.bridge}: {len(check.trains)} train(s), "
+          f"{len(check.bridge.masses)} mass bound(s), {n} crossings, damping "
+          f"{100 * check.bridge.damping_ratio_used:.3g} %")
+    s = run_dynamic_check(check, args.out, workers=args.workers)
+    g = s["governing"] or {}
+    a = s["max_deck_acceleration_m_s2"]
+    print(f"verdict: {s['verdict'].upper()} — {s['verdict_reason']}"
+          + (f"; governing {g['train']} at {g['speed_kmh']:g} km/h, mass bound {g['mass_bound']}" if g else ""))
+    if a is not None:
+        print(f"max deck acceleration {a:.4g} m/s^2 (limit {s['acceleration_limit_m_s2']:g} m/s^2)")
+    print("wrote " + ", ".join(s["paths"].values()))
+    return 0

@@ -1,0 +1,367 @@
+"""The dynamic check of a railway bridge to EN 1991-2 §6.4.6 in one procedure: every train at every speed at the
+lower and upper bound of the deck mass, the deck acceleration against EN 1990 A2, the dynamic enhancement.
+
+``python -m exudyn_wheelrail en1991-dynamic --bridge FILE.toml --max-line-speed-kmh V [--trains ...]
+[--speeds-kmh ...] [--workers N] --out DIR``.  The bridge file (:func:`read_bridge_file`)::
+
+    [bridge]
+    spans_m = [20.0]                  # simply supported spans (a chain: each span on its own supports)
+    EI_Nm2 = 1.2e10                   # the built-in beam deck (the spans' common bending stiffness)
+    mass_kg_per_m = [13000, 16000]    # a number, or [lower, upper]: the two bounds of §6.4.6.3.2
+    structure = "prestressed_concrete"   # the damping of Table 6.6 for the span (damping_ratio overrides it)
+    track_form = "ballasted"          # the EN 1990 A2.4.4.2.1 limit: 3.5 m/s² ballasted, 5 m/s² direct fastening
+    additional_damping = false        # true: + Δζ of §6.4.6.3.1(3), Eq. (6.13), for spans below 30 m
+
+The procedure (each choice with its clause):
+
+* **Trains** (§6.4.6.1.1): the ten universal trains HSLM-A1…A10 (Table 6.3), or those named, or consist files
+  (their static axle loads, :func:`~.bridge_crossing_loads.consist_axles`); each as moving axle loads
+  (§6.4.6.1.1(6): the moving-load model; the crossings are :func:`~.bridge_crossing_run.run_bridge_crossing`'s).
+* **Speeds** (§6.4.6.2(1)): from 40 m/s (144 km/h) to 1.2 × the maximum line speed in steps of at most
+  :data:`SPEED_STEP_KM_H`, plus, around every resonance speed ``v_i = f1 d / i`` (i = 1…4, d the train's
+  characteristic spacing, f1 that of the mass bound) within the range, the speeds ``v_i ± k`` :data:`REFINE_KM_H`
+  (k = 0…2): a resonance peak is not missed between two grid speeds.  All speeds exact decimals (0.1 km/h).
+* **Mass** (§6.4.6.3.2): a ``[lower, upper]`` pair runs both — the lower bound gives the highest accelerations,
+  the upper the lowest resonance speeds; a single value is ``nominal``.
+* **Damping** (§6.4.6.3.1, Table 6.6): the lower limit ζ of the structure type for the span (the shortest of a
+  chain), optionally plus Δζ (Eq. 6.13, L < 30 m); an explicit ``damping_ratio`` replaces it.
+* **Modes** (EN 1990 A2.4.4.2.1(4)P): the deck's vertical modes up to ``max(30 Hz, 1.5 f1, f3)`` (f3 = 9 f1 of a
+  simply supported span), at least 3.
+* **Verdict**: the largest deck acceleration over the deck's points, every run and speed (modes up to the cut-off:
+  ``deck.en1990_peak_acceleration_m_s2``), against the limit of the track form; ``fail`` also when any crossing
+  did not complete (its status in the envelope, never dropped).  The dynamic enhancement: the largest mid-span
+  displacement against the static one under the same train (single span).
+
+Scale and faults: the crossings run in parallel through the sweeps' executors (:func:`~.sweep.run_tasks`: a dead
+worker costs only time); every finished crossing is written at once to ``DIR/runs/`` and a run started again on the
+same ``DIR`` takes those instead of computing them again (a killed run resumes where it stopped).
+
+Outputs: ``DIR/summary.json`` (:func:`check_summary`), ``DIR/envelope.csv`` (:data:`ENVELOPE_COLUMNS`, one row per
+crossing), ``DIR/envelope.png`` (the deck acceleration against speed, per mass bound, a line per train, the
+resonance speeds marked and the limit drawn), ``DIR/report.html`` (:mod:`.en1991_report`: self-contained, the
+figures embedded).
+"""
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from dataclasses import dataclass
+from decimal import Decimal
+from pathlib import Path
+
+from ..conventions import speed_km_h
+from ..standards import (EN1990_DECK_ACCELERATION_LIMITS_M_S2, EN1991_ADDITIONAL_DAMPING_MAX_SPAN_M,
+                         EN1991_DAMPING_PERCENT, HSLM_NAMES, TRACK_FORMS)
+from ..structures.load_models import hslm_a, resonance_speeds_m_s
+from .bridge_crossing_case import BridgeCrossing
+from .bridge_crossing_loads import consist_axles
+from .bridge_crossing_run import run_bridge_crossing
+from .en1991_report import write_figures_and_report
+from .outputs import write_json
+from .sweep import run_tasks
+
+__all__ = ["BridgeSpec", "read_bridge_file", "damping_ratio_table_6_6", "additional_damping_ratio",
+           "n_modes_to_cutoff", "first_frequency_Hz", "speed_grid_kmh", "DynamicCheck", "run_dynamic_check",
+           "check_summary", "ENVELOPE_COLUMNS", "SPEED_STEP_KM_H", "REFINE_KM_H", "MIN_SPEED_KM_H", "STRUCTURES"]
+
+#: §6.4.6.2(1): the lowest speed of the check [km/h] (40 m/s)
+MIN_SPEED_KM_H = 144.0
+#: the largest step of the speed grid [km/h]
+SPEED_STEP_KM_H = 10.0
+#: the step of the refinement around a resonance speed [km/h]
+REFINE_KM_H = 2.5
+#: the structure types of Table 6.6 (the bridge file's ``structure``)
+STRUCTURES = tuple(EN1991_DAMPING_PERCENT)
+#: the columns of envelope.csv
+ENVELOPE_COLUMNS = ("train", "mass_bound", "speed_kmh", "status", "max_deck_acceleration_m_s2",
+                    "max_deck_displacement_m", "dynamic_enhancement", "steps", "solve_seconds")
+MASS_BOUNDS = ("lower", "upper")
+
+
+def damping_ratio_table_6_6(structure: str, span_m: float) -> float:
+    """EN 1991-2:2003 Table 6.6: the lower limit of the damping ratio (a ratio, not %) of ``structure`` for a span
+    of ``span_m``: ``ζ = ζ_20 + s (20 - L)`` below 20 m, ``ζ_20`` from 20 m."""
+    if structure not in EN1991_DAMPING_PERCENT:
+        raise ValueError(f"structure: {structure!r}: expected one of {', '.join(STRUCTURES)}")
+    z20, slope = EN1991_DAMPING_PERCENT[structure]
+    return 0.01 * (z20 + slope * max(0.0, 20.0 - float(span_m)))
+
+
+def additional_damping_ratio(span_m: float) -> float:
+    """EN 1991-2:2003 §6.4.6.3.1(3), Eq. (6.13): ``Δζ = (0.0187 L - 0.00064 L²) / (1 - 0.0147 L + 0.0000931 L²)``
+    [%] for L < 30 m (zero from 30 m), as a ratio."""
+    L = float(span_m)
+    if L >= EN1991_ADDITIONAL_DAMPING_MAX_SPAN_M:
+        return 0.0
+    return 0.01 * (0.0187 * L - 0.00064 * L * L) / (1.0 - 0.0147 * L + 0.0000931 * L * L)
+
+
+def first_frequency_Hz(span_m: float, EI_Nm2: float, mass_kg_m: float) -> float:
+    """First bending frequency of a simply supported span, ``f1 = π/(2 L²) √(EI/m)``."""
+    return math.pi / (2.0 * span_m * span_m) * math.sqrt(EI_Nm2 / mass_kg_m)
+
+
+def n_modes_to_cutoff(f1_Hz: float) -> int:
+    """Vertical modes ``n² f1`` of a simply supported span up to EN 1990's ``max(30 Hz, 1.5 f1, f3)``, f3 = 9 f1."""
+    cutoff = max(30.0, 1.5 * f1_Hz, 9.0 * f1_Hz)
+    return max(3, int(math.floor(math.sqrt(cutoff / f1_Hz) + 1e-9)))
+
+
+def speed_grid_kmh(max_line_speed_kmh: float, resonances_kmh=()) -> list[float]:
+    """The speeds [km/h] of one train and mass bound (module docstring): 144 to 1.2 V in steps of at most 10 km/h
+    (evenly), and ``v_i ± k 2.5`` (k = 0…2) around each resonance speed inside; exact decimals of 0.1 km/h."""
+    hi = Decimal(repr(1.2 * max_line_speed_kmh)).quantize(Decimal("0.1"))
+    lo = Decimal(repr(MIN_SPEED_KM_H))
+    if hi < lo:
+        raise ValueError(f"--max-line-speed-kmh: {max_line_speed_kmh:g}: 1.2 V is below {MIN_SPEED_KM_H:g} km/h, "
+                         "the check's lowest speed (EN 1991-2 6.4.6.2)")
+    n = max(1, math.ceil((hi - lo) / Decimal(repr(SPEED_STEP_KM_H))))
+    step = (hi - lo) / n
+    speeds = {(lo + k * step).quantize(Decimal("0.1")) for k in range(n + 1)}
+    for v in resonances_kmh:
+        v = Decimal(repr(float(v))).quantize(Decimal("0.1"))
+        for k in (-2, -1, 0, 1, 2):
+            w = v + k * Decimal(repr(REFINE_KM_H))
+            if lo <= w <= hi:
+                speeds.add(w)
+    return [float(v) for v in sorted(speeds)]
+
+
+@dataclass(frozen=True)
+class BridgeSpec:
+    """The bridge of a check (:func:`read_bridge_file`)."""
+
+    spans_m: tuple
+    EI_Nm2: float
+    masses: dict                       # mass bound -> mass per length [kg/m]: {"lower", "upper"} or {"nominal"}
+    structure: str | None
+    damping_ratio: float | None
+    additional_damping: bool
+    track_form: str
+    source: str = ""
+
+    @property
+    def damping_ratio_used(self) -> float:
+        if self.damping_ratio is not None:
+            return self.damping_ratio
+        L = min(self.spans_m)
+        return damping_ratio_table_6_6(self.structure, L) + (additional_damping_ratio(L)
+                                                            if self.additional_damping else 0.0)
+
+
+_BRIDGE_KEYS = {"spans_m", "EI_Nm2", "modes_file", "mass_kg_per_m", "structure", "damping_ratio",
+                "additional_damping", "track_form"}
+
+
+def read_bridge_file(path) -> BridgeSpec:
+    """The ``[bridge]`` table of a bridge file (module docstring), checked: a problem is a ``ValueError``
+    ``"<file>: bridge.<key>: <problem>"``."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except OSError as exc:
+        raise ValueError(f"--bridge: {path}: {exc.strerror or exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"--bridge: {path}: not a TOML file ({exc})") from None
+
+    def bad(key, problem):
+        return ValueError(f"{path}: bridge.{key}: {problem}")
+    b = data.get("bridge")
+    if not isinstance(b, dict):
+        raise ValueError(f"{path}: no [bridge] table")
+    unknown = sorted(set(b) - _BRIDGE_KEYS)
+    if unknown:
+        raise bad(unknown[0], f"unknown key (expected {', '.join(sorted(_BRIDGE_KEYS))})")
+    spans = b.get("spans_m")
+    if not isinstance(spans, list) or not spans or not all(_positive(x) for x in spans):
+        raise bad("spans_m", f"{spans!r}: expected a list of positive span lengths [m]")
+    if "modes_file" in b:
+        raise bad("modes_file", "a bridge from an FE program's modes is not supported yet: give EI_Nm2 (the "
+                                "built-in beam deck)")
+    EI = b.get("EI_Nm2")
+    if not _positive(EI):
+        raise bad("EI_Nm2", f"{EI!r}: expected the positive bending stiffness of the spans [N m²]")
+    m = b.get("mass_kg_per_m")
+    if _positive(m):
+        masses = {"nominal": float(m)}
+    elif isinstance(m, list) and len(m) == 2 and all(_positive(x) for x in m) and m[0] <= m[1]:
+        masses = {"lower": float(m[0]), "upper": float(m[1])}
+    else:
+        raise bad("mass_kg_per_m", f"{m!r}: expected a positive number or [lower, upper] with lower <= upper [kg/m]")
+    structure = b.get("structure")
+    zeta = b.get("damping_ratio")
+    if zeta is not None and not (isinstance(zeta, (int, float)) and 0.0 <= zeta < 1.0):
+        raise bad("damping_ratio", f"{zeta!r}: expected a ratio in [0, 1) (2 % is 0.02)")
+    if structure is None and zeta is None:
+        raise bad("structure", f"missing: give the structure type ({', '.join(STRUCTURES)}) for the damping of "
+                               "EN 1991-2 Table 6.6, or damping_ratio")
+    if structure is not None and structure not in STRUCTURES:
+        raise bad("structure", f"{structure!r}: expected one of {', '.join(STRUCTURES)}")
+    extra = b.get("additional_damping", False)
+    if not isinstance(extra, bool):
+        raise bad("additional_damping", f"{extra!r}: expected true or false")
+    track = b.get("track_form", TRACK_FORMS[0])
+    if track not in TRACK_FORMS:
+        raise bad("track_form", f"{track!r}: expected one of {', '.join(TRACK_FORMS)}")
+    return BridgeSpec(spans_m=tuple(float(x) for x in spans), EI_Nm2=float(EI), masses=masses, structure=structure,
+                      damping_ratio=None if zeta is None else float(zeta), additional_damping=extra,
+                      track_form=track, source=str(path))
+
+
+def _positive(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0
+
+
+@dataclass(frozen=True)
+class DynamicCheck:
+    """A whole check: the bridge, the maximum line speed [km/h], the trains (names of HSLM-A or consist files) and,
+    optionally, the speeds [km/h] (else :func:`speed_grid_kmh` per train and mass bound)."""
+
+    bridge: BridgeSpec
+    max_line_speed_kmh: float
+    trains: tuple = HSLM_NAMES
+    speeds_kmh: tuple | None = None
+
+    def axles(self, train: str):
+        return hslm_a(train) if train in HSLM_NAMES else consist_axles(train)
+
+    def crossing(self, train: str, bound: str, v_kmh: float) -> BridgeCrossing:
+        b = self.bridge
+        m = b.masses[bound]
+        f1 = first_frequency_Hz(b.spans_m[0], b.EI_Nm2, m)
+        return BridgeCrossing(span_m=b.spans_m[0], mass_kg_m=m, f1_Hz=f1, damping_ratio=b.damping_ratio_used,
+                              n_modes=n_modes_to_cutoff(f1), axles=self.axles(train), speed_m_s=v_kmh / 3.6,
+                              track_form=b.track_form, spans_m=b.spans_m if len(b.spans_m) > 1 else None)
+
+    def runs(self) -> list[tuple]:
+        """Every crossing ``(train, mass bound, speed [km/h])`` of the check, in the envelope's order."""
+        out = []
+        for train in self.trains:
+            spacing = self.axles(train).spacing_m
+            for bound, m in self.bridge.masses.items():
+                if self.speeds_kmh is not None:
+                    speeds = sorted(set(float(v) for v in self.speeds_kmh))
+                else:
+                    f1 = first_frequency_Hz(self.bridge.spans_m[0], self.bridge.EI_Nm2, m)
+                    res = ([] if spacing is None else
+                           [speed_km_h(v) for v in resonance_speeds_m_s(f1, spacing)[:4]])
+                    speeds = speed_grid_kmh(self.max_line_speed_kmh, res)
+                out += [(train, bound, v) for v in speeds]
+        return out
+
+
+def _run_name(train: str, bound: str, v_kmh: float) -> str:
+    return f"{Path(train).stem if train not in HSLM_NAMES else train}__{bound}__{v_kmh:.1f}kmh.json"
+
+
+def crossing_row(check: DynamicCheck, train: str, bound: str, v_kmh: float) -> dict:
+    """One crossing of the check (runs in a worker): its row of :data:`ENVELOPE_COLUMNS`; an exception becomes
+    ``status = "error: ..."``."""
+    row = {"train": train, "mass_bound": bound, "speed_kmh": v_kmh}
+    try:
+        s = run_bridge_crossing(check.crossing(train, bound, v_kmh)).summary
+    except Exception as exc:
+        return {**row, "status": f"error: {type(exc).__name__}: {exc}".splitlines()[0]}
+    sc = s.get("scalars") or {}
+    return {**row, "status": s["status"], "max_deck_acceleration_m_s2": sc.get("deck.en1990_peak_acceleration_m_s2"),
+            "max_deck_displacement_m": sc.get("deck.max_mid_span_deflection_m"),
+            "dynamic_enhancement": (sc["deck.dynamic_amplification_mid_span"] - 1.0
+                                    if sc.get("deck.dynamic_amplification_mid_span") is not None else None),
+            "steps": s.get("steps"), "solve_seconds": s.get("solve_seconds")}
+
+
+def run_dynamic_check(check: DynamicCheck, out_dir, *, executor=None, workers: int | None = None,
+                      progress=print) -> dict:
+    """Run every crossing of ``check`` not already in ``out_dir/runs`` (module docstring), write the outputs and
+    return the summary (:func:`check_summary`)."""
+    out = Path(out_dir)
+    (out / "runs").mkdir(parents=True, exist_ok=True)
+    runs = check.runs()
+    rows = {}
+    for key in runs:
+        f = out / "runs" / _run_name(*key)
+        if f.is_file():
+            try:
+                rows[key] = json.loads(f.read_text())
+            except (OSError, ValueError):
+                pass                      # a file cut short by a kill: computed again
+    missing = [key for key in runs if key not in rows]
+    done = [len(rows)]
+
+    def finished(i, row):
+        key = missing[i]
+        rows[key] = row
+        write_json(out / "runs" / _run_name(*key), row)
+        done[0] += 1
+        if progress:
+            a = row.get("max_deck_acceleration_m_s2")
+            progress(f"  [{done[0]}/{len(runs)}] {key[0]} {key[1]} {key[2]:g} km/h: {row['status']}"
+                     + (f"; max |a| {a:.4g} m/s^2" if isinstance(a, float) else ""))
+
+    def failed(i, text):
+        train, bound, v = missing[i]
+        return {"train": train, "mass_bound": bound, "speed_kmh": v, "status": text.splitlines()[0]}
+    if progress and len(missing) < len(runs):
+        progress(f"  {len(runs) - len(missing)} of {len(runs)} crossings taken from {out / 'runs'}")
+    run_tasks(executor, workers, crossing_row, [(check, *key) for key in missing], finished, failed)
+    envelope = [rows[key] for key in runs]
+    summary = check_summary(check, envelope)
+    _write_envelope(out / "envelope.csv", envelope)
+    write_json(out / "summary.json", summary)
+    summary["paths"] = write_figures_and_report(check, envelope, summary, out)
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+def _write_envelope(path: Path, envelope: list) -> None:
+    with open(path, "w") as fh:
+        fh.write(",".join(ENVELOPE_COLUMNS) + "\n")
+        for r in envelope:
+            fh.write(",".join("" if r.get(c) is None else (repr(r[c]) if isinstance(r[c], float) else str(r[c]))
+                              for c in ENVELOPE_COLUMNS) + "\n")
+
+
+def check_summary(check: DynamicCheck, envelope: list) -> dict:
+    """``summary.json`` of a check: ``verdict`` (``pass`` | ``fail``), ``max_deck_acceleration_m_s2``,
+    ``acceleration_limit_m_s2``, ``governing`` (train, speed, mass bound), ``damping_ratio_used``, the modes, the
+    largest dynamic enhancement, the crossings that did not complete, the inputs and the clauses."""
+    b = check.bridge
+    limit = EN1990_DECK_ACCELERATION_LIMITS_M_S2[b.track_form]
+    ok = [r for r in envelope if r.get("status") == "ok" and r.get("max_deck_acceleration_m_s2") is not None]
+    failed = [{k: r.get(k) for k in ("train", "mass_bound", "speed_kmh", "status")} for r in envelope
+              if r.get("status") != "ok"]
+    worst = max(ok, key=lambda r: r["max_deck_acceleration_m_s2"]) if ok else None
+    enh = [r["dynamic_enhancement"] for r in ok if r.get("dynamic_enhancement") is not None]
+    a_max = worst["max_deck_acceleration_m_s2"] if worst else None
+    verdict = "pass" if worst is not None and not failed and a_max <= limit else "fail"
+    modes = {}
+    for bound, m in b.masses.items():
+        f1 = first_frequency_Hz(b.spans_m[0], b.EI_Nm2, m)
+        n = n_modes_to_cutoff(f1)
+        modes[bound] = {"mass_kg_per_m": m, "f1_Hz": f1, "n_modes": n,
+                        "frequencies_Hz": [k * k * f1 for k in range(1, n + 1)],
+                        "cutoff_Hz": max(30.0, 1.5 * f1, 9.0 * f1)}
+    return {"verdict": verdict,
+            "verdict_reason": (f"{len(failed)} crossing(s) did not complete" if failed else
+                               "no crossing completed" if worst is None else
+                               f"max deck acceleration {a_max:.4g} m/s^2 "
+                               f"{'<=' if a_max <= limit else '>'} {limit:g} m/s^2"),
+            "max_deck_acceleration_m_s2": a_max, "acceleration_limit_m_s2": limit,
+            "governing": None if worst is None else {"train": worst["train"], "speed_kmh": worst["speed_kmh"],
+                                                     "mass_bound": worst["mass_bound"]},
+            "damping_ratio_used": b.damping_ratio_used,
+            "damping_rule": ("given (bridge.damping_ratio)" if b.damping_ratio is not None else
+                             f"EN 1991-2 Table 6.6, {b.structure}, L = {min(b.spans_m):g} m"
+                             + (" + Eq. (6.13) additional damping" if b.additional_damping else "")),
+            "modes": modes,
+            "max_dynamic_enhancement": max(enh) if enh else None,
+            "crossings": len(envelope), "not_completed": failed,
+            "inputs": {"bridge_file": b.source, "spans_m": list(b.spans_m), "EI_Nm2": b.EI_Nm2,
+                       "mass_kg_per_m": b.masses, "track_form": b.track_form, "structure": b.structure,
+                       "max_line_speed_kmh": check.max_line_speed_kmh, "trains": list(check.trains),
+                       "speeds_kmh": None if check.speeds_kmh is None else list(check.speeds_kmh)},
+            "clauses": {"trains": "EN 1991-2 6.4.6.1.1, Table 6.3 (HSLM-A)", "speeds": "EN 1991-2 6.4.6.2(1)",
+                        "mass": "EN 1991-2 6.4.6.3.2", "damping": "EN 1991-2 6.4.6.3.1, Table 6.6, Eq. (6.13)",
+                        "modes": "EN 1990 A2.4.4.2.1(4)P", "limit": "EN 1990 A2.4.4.2.1(4)P"}}
+
