@@ -9,7 +9,9 @@ wheelset's bounce on its Hertz contact.
   static wheel load (the spring the code uses for its resolution bound; the test checks the rule's arithmetic and
   that the command applies it).
 * Convergence (validation): the README's 8-car crossing at the rule's step and at half of it — RK44 is fourth order,
-  so the error at the rule's step is about 16/15 of their difference; the deck's and the wheels' peaks within 1 %.
+  so the error at the rule's step is about 16/15 of their difference; the deck's peaks (EN 1990 acceleration,
+  mid-span acceleration and deflection) within 1 % (the wheel forces' convergence: benchmarks/
+  crossing_work_precision.py).
 """
 from __future__ import annotations
 

@@ -25,6 +25,7 @@ from exudyn_wheelrail.multibody.connector import ContactStateError
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
 from exudyn_wheelrail.simulation import runner as R
+from exudyn_wheelrail.simulation.exudyn_settings import simulation_settings
 from exudyn_wheelrail.simulation.monitor_records import contact_state_error
 from exudyn_wheelrail.simulation.presets import apply_preset
 
@@ -144,3 +145,34 @@ def test_an_unknown_native_convention_leaves_the_slot_on_the_python_path(python_
     assert calls > 0 and through_python == calls         # the slot's function called the Python path every time
     for name in ref:
         np.testing.assert_array_equal(arrays[name], ref[name], err_msg=name)
+
+
+@pytest.mark.skipif(not D.native_available(), reason="the native module is not built (no C++ compiler at install)")
+def test_the_model_keeps_its_connector_and_its_slot_while_the_caller_drops_them():
+    """The slot holds no reference to its connector: the model does (``mbs.variables``).  Without it, a connector
+    built without a Jacobian user function (nothing else of Exudyn's holds it) would be collected, its slot given
+    to the next connector, and the first model would run on the second one's data."""
+    import exudyn as exu
+    import weakref
+
+    from exudyn_wheelrail.contact.pair import WheelRailPair
+    from exudyn_wheelrail.multibody import build_vehicle
+    from exudyn_wheelrail.multibody.connector import add_wheel_rail_contact, place_on_rails
+
+    def one_model():
+        sc = exu.SystemContainer()
+        mbs = sc.AddSystem()
+        pair = WheelRailPair()
+        model = build_vehicle(mbs, "single_wheelset", speed_m_s=30.0)
+        place_on_rails(mbs, model, pair)
+        contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=30.0, jacobian=None)
+        mbs.Assemble()
+        return sc, mbs, weakref.ref(contact), contact._direct.slot
+    sc1, mbs1, ref1, slot1 = one_model()
+    gc.collect()
+    assert ref1() is not None                            # alive: the model holds it
+    sc2, mbs2, ref2, slot2 = one_model()
+    assert slot2 != slot1
+    mbs1.SolveDynamic(simulation_settings(0.01, 1e-3), solverType=exu.DynamicSolverType.RK44)
+    assert ref1().n_calls >= 40 and ref2().n_calls == 0  # the first model ran on its own connector
+

@@ -16,6 +16,7 @@ from __future__ import annotations
 import base64
 import csv
 import json
+import math
 import re
 
 import pytest
@@ -48,17 +49,29 @@ def test_additional_damping_of_eq_6_13():
     assert E.additional_damping_ratio(30.0) == 0.0 and E.additional_damping_ratio(45.0) == 0.0
 
 
-@pytest.mark.parametrize("f1, n", [(5.0, 3), (2.0, 3), (1.0, 5), (1.2, 5), (10.0, 3)])
-def test_modes_up_to_the_en1990_cutoff(f1, n):
-    # f_n = n^2 f1 <= max(30, 1.5 f1, 9 f1): f1 = 1 Hz -> 30 Hz -> n = 5 (25 Hz; 36 Hz is above); f1 = 1.2 -> 5 (30)
-    assert E.n_modes_to_cutoff(f1) == n
+def _EI(L, m, f1):
+    """EI of a simply supported span L [m] of m [kg/m] whose first frequency is f1: m (2 L² f1 / π)²."""
+    return m * (2.0 * L * L * f1 / math.pi) ** 2
+
+
+@pytest.mark.parametrize("f1, n", [(5.0, 3), (2.0, 4), (1.0, 6), (1.2, 5), (10.0, 3)])
+def test_modes_up_to_the_first_at_or_above_the_en1990_cutoff(f1, n):
+    # f_n = n² f1 up to the first >= max(30, 1.5 f1, 9 f1): f1 = 2 Hz -> 30 Hz -> n = 4 (32 Hz); f1 = 1.2 -> 5 (30)
+    assert E.n_modes_to_cutoff([20.0], _EI(20.0, 1e4, f1), 1e4) == n
+
+
+def test_a_chains_modes_reach_the_cutoff_on_every_span():
+    # spans of 20 and 40 m of one section: f1 = 5 and 1.25 Hz, cut-off max(45, 30) = 45 Hz; the 40 m span needs
+    # n² 1.25 >= 45: n = 6
+    assert E.n_modes_to_cutoff([20.0, 40.0], _EI(20.0, 1e4, 5.0), 1e4) == 6
 
 
 def test_the_speed_grid_of_6_4_6_2():
     grid = E.speed_grid_kmh(300.0, resonances_kmh=[250.0, 110.0])
     assert grid[0] == 144.0 and grid[-1] == 360.0                       # 40 m/s to 1.2 V
     plain = E.speed_grid_kmh(300.0)
-    assert max(b - a for a, b in zip(plain, plain[1:])) <= 10.0 + 1e-9
+    assert plain == [144.0] + [150.0 + 10.0 * k for k in range(22)]      # 144, 150, 160, ... 350, 360
+    assert max(b - a for a, b in zip(plain, plain[1:])) <= 10.0
     assert all(round(v * 10) == v * 10 for v in grid)                    # exact decimals of 0.1 km/h
     assert {245.0, 247.5, 250.0, 252.5, 255.0} <= set(grid)             # refined around the resonance inside
     assert 110.0 not in grid                                             # below 144 km/h: not run
@@ -129,6 +142,41 @@ def test_the_report_is_one_page_with_the_verdict_and_the_figure(small_check):
     assert m and base64.b64decode(m.group(1))[:8] == b"\x89PNG\r\n\x1a\n"
     assert "EN 1991-2 6.4.6.2(1)" in page and "Table 6.6" in page
     assert not re.search(r'(src|href)="(?!data:)', page)          # nothing outside the page
+
+
+def test_a_changed_bridge_is_computed_again_not_taken_from_the_folder(small_check, tmp_path):
+    check, out, summary = small_check
+    stiffer = E.BridgeSpec(**{**check.bridge.__dict__, "EI_Nm2": 1.5 * check.bridge.EI_Nm2})
+    other = E.DynamicCheck(bridge=stiffer, max_line_speed_kmh=200.0, trains=("A1",), speeds_kmh=(200.0,))
+    lines = []
+    again = E.run_dynamic_check(other, out, executor=SerialExecutor(), progress=lines.append)
+    assert len([ln for ln in lines if re.match(r"\s+\[\d+/\d+\]", ln)]) == 2        # both bounds computed anew
+    old = {(r["train"], r["mass_bound"]): r for r in csv.DictReader(open(out / "envelope.csv", newline=""))}
+    assert again["modes"]["lower"]["f1_Hz"] != summary["modes"]["lower"]["f1_Hz"]
+    assert len(old) == 2
+
+
+def test_a_crossing_that_did_not_complete_fails_the_check_and_is_listed(small_check):
+    check, _, _ = small_check
+    env = [{"train": "A1", "mass_bound": "lower", "speed_kmh": 160.0, "status": "ok",
+            "max_deck_acceleration_m_s2": 1.0},
+           {"train": "A1", "mass_bound": "lower", "speed_kmh": 200.0, "status": "error: executor: its worker died"},
+           {"train": "A1", "mass_bound": "upper", "speed_kmh": 200.0, "status": "ok",
+            "max_deck_acceleration_m_s2": None}]
+    s = E.check_summary(check, env)
+    assert s["verdict"] == "fail" and "2 crossing(s) did not complete" in s["verdict_reason"]
+    assert [r["speed_kmh"] for r in s["not_completed"]] == [200.0, 200.0]
+    assert s["max_deck_acceleration_m_s2"] == 1.0          # below the limit, yet not a pass
+
+
+def test_the_command_exits_with_the_crossings_status(tmp_path, capsys):
+    f = tmp_path / "b.toml"
+    f.write_text(BRIDGE.format(mass="12000.0"))
+    code = main(["en1991-dynamic", "--bridge", str(f), "--max-line-speed-kmh", "200", "--trains", "A1",
+                 "--speeds-kmh", "200", "--workers", "1", "--out", str(tmp_path / "o")])
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert code == 0 and s["crossings"] == 1 and not s["not_completed"]
+    assert f"verdict: {s['verdict'].upper()}" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("body, expected", [

@@ -38,7 +38,7 @@ def _run(fn, args_list, workers=2):
 
 def test_a_task_that_kills_its_worker_once_is_run_again(tmp_path):
     args = [(str(tmp_path / f"m{i}"), i) for i in range(6)]
-    (tmp_path / "m0").write_text("")           # every task but one dies on its first run
+    (tmp_path / "m0").write_text("")           # every task but two dies on its first run
     (tmp_path / "m2").write_text("")
     assert _run(tasks.die_once, args) == list(range(6))
 

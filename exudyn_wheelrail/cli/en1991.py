@@ -67,11 +67,18 @@ def _check_en1991_dynamic(args) -> None:
     speeds = None
     if args.speeds_kmh is not None:
         speeds = tuple(SPEED_KM_H.check("--speeds-kmh", s) for s in args.speeds_kmh)
-    args.dynamic_check = DynamicCheck(bridge=bridge, max_line_speed_kmh=v, trains=trains, speeds_kmh=speeds)
+    check = DynamicCheck(bridge=bridge, max_line_speed_kmh=v, trains=trains, speeds_kmh=speeds)
+    for bound in bridge.masses:                   # every crossing's case checked once, before any work
+        try:
+            check.crossing(trains[0], bound, (speeds or (v,))[0])
+        except ValueError as exc:
+            raise ValueError(f"--bridge: {args.bridge}: the crossing of mass bound {bound}: {exc}") from None
+    args.dynamic_check = check
 
 
 def cmd_en1991_dynamic(args) -> int:
     from ..scenarios.en1991_dynamic import run_dynamic_check
+    from ..simulation.status import OK, exit_code
     check = args.dynamic_check
     n = len(check.runs())
     print(f"EN 1991-2 dynamic check of {args.bridge}: {len(check.trains)} train(s), "
@@ -85,4 +92,5 @@ def cmd_en1991_dynamic(args) -> int:
     if a is not None:
         print(f"max deck acceleration {a:.4g} m/s^2 (limit {s['acceleration_limit_m_s2']:g} m/s^2)")
     print("wrote " + ", ".join(s["paths"].values()))
-    return 0
+    # the crossings' statuses (a derailed or diverged run, an error), as the sweeps: a verdict is a result
+    return exit_code([OK] * (s["crossings"] - len(s["not_completed"])) + [r["status"] for r in s["not_completed"]])

@@ -297,8 +297,7 @@ class WheelRailContact:
         self._f = np.zeros(n)
         self._jac = np.zeros((n, n))
         self.results = np.zeros((2 * n_ws, N_SLOTS, N_RES))
-        # one force evaluation's arrays (direct_call.forces_step): the kept evaluation and the counters
-        self._kept = KeptEvaluation(n, kc.warm, self._stats)
+        self._kept = KeptEvaluation(n, kc.warm, self._stats)      # forces_step's kept evaluation and counters
         self._counts = np.zeros(N_COUNTS, dtype=np.int64)
         self._call = call_data(self._data, self._f, self.results, *self._kept.arrays, self._counts)
         # the compiled force call for exactly the argument types forces() passes, at the first call; on a first run
@@ -309,9 +308,8 @@ class WheelRailContact:
         self._forces_core = self._first_forces_core
         self._forces_step = self._first_forces_step
         self._step_entry = None
-        # the compiled path (direct_call): Exudyn calls a native function that runs forces_step without Python
         self._direct = compiled_call(self._call, n, self._f, self._compiled_forces_step, self.forces,
-                                     self._state_error, name, structure)
+                                     self._state_error, name, structure)   # forces_step without Python
         node_numbers = self.nodes_exu + ([structure.modal_node] if structure is not None else [])
         user_function = self._direct.function if self._direct is not None else self._force_uf
         kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=np.zeros((n, n)),
@@ -322,6 +320,7 @@ class WheelRailContact:
             raise ValueError(f"jacobian={jacobian!r}: expected 'numerical' or None")
         obj = ObjectGenericODE2(**kwargs)
         self.object = mbs.AddObject(obj)
+        mbs.variables[f"{name}_{self.object}"] = self    # the model keeps it (the compiled path's slot holds none)
         self._exu = exu
 
     def _core_args(self) -> tuple:
@@ -348,9 +347,10 @@ class WheelRailContact:
 
     @property
     def call_path(self) -> str:
-        """How Exudyn calls the force evaluation: ``"compiled"`` (a native function, no Python per call) or
+        """How Exudyn calls the force evaluation: ``"compiled"`` (a native function, no Python per call so far) or
         ``"python"`` (:meth:`forces`; :mod:`.direct_call`).  Asking may compile it (as its first call would)."""
-        return "compiled" if self._direct is not None and self._direct.bind() else "python"
+        direct = self._direct
+        return "compiled" if direct is not None and direct.bind() and direct.counts()[1] == 0 else "python"
 
     def compiled_path_counts(self) -> tuple[int, int]:
         """``(calls, of which through Python)`` of the compiled path's native function ((0, 0) without one)."""

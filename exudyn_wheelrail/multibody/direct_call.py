@@ -7,9 +7,11 @@ Exudyn calls the connector's force user function for every stage of every step. 
 call itself (Exudyn converts the coordinates to Python lists and back, ~3 µs) and the wrapper around the compiled
 call (~2.5 µs).  The **compiled path** removes both: a small native module (``exudyn_wheelrail.native.direct_force``,
 built from C++ at install) offers functions of exactly the type Exudyn expects, for which pybind11 hands Exudyn the
-plain function pointer; each is bound to a slot that holds the address of a numba ``cfunc`` (:func:`direct_entry`)
-and of the connector's :class:`CallData`.  The cfunc calls :func:`forces_step` — the same compiled function the
+plain function pointer; each is bound to a slot that holds the address of numba's native entry of
+:func:`forces_step` for the connector's argument types (:func:`native_step_address`), the address of the
+connector's :class:`CallData` and of its force vector.  :func:`forces_step` is the same compiled function the
 Python path (:meth:`~.connector.WheelRailContact.forces`) calls — so both paths give the same numbers bit for bit.
+The model keeps the connector alive (``mbs.variables``): the slot holds no reference to it.
 
 :func:`forces_step` is the whole evaluation: it takes the evaluation kept by
 :meth:`~.connector.WheelRailContact.evaluate_state` when called at exactly its state (bitwise), or puts back the warm
@@ -51,7 +53,7 @@ except ImportError:                 # built without a C++ compiler: the Python p
 #: how many connectors can be on the compiled path at once in a process (the native module's slots)
 SLOTS = int(_native.SLOTS) if _native is not None else 0
 
-__all__ = ["SLOTS", "CALL_PATH_ENV", "compiled_path_wanted", "python_call_path", "HOLD_FLAG", "HOLD_T", "N_HOLD", "COUNT_CALLS", "COUNT_REUSED", "N_COUNTS", "CallData", "call_data",
+__all__ = ["SLOTS", "CALL_PATH_ENV", "CALL_PATHS", "compiled_path_wanted", "python_call_path", "HOLD_FLAG", "HOLD_T", "N_HOLD", "COUNT_CALLS", "COUNT_REUSED", "N_COUNTS", "CallData", "call_data",
            "forces_step", "KeptEvaluation", "compiled_call", "meminfo_address", "native_step_address", "NATIVE_STEP_TYPE", "NATIVE_ARRAY_FIELDS",
            "DirectCall", "native_available", "pending_state_error", "NATIVE_STATE_ERROR_MARK"]
 
@@ -60,9 +62,17 @@ __all__ = ["SLOTS", "CALL_PATH_ENV", "compiled_path_wanted", "python_call_path",
 CALL_PATH_ENV = "EXUDYN_WHEELRAIL_CALL_PATH"
 
 
+#: the values of :data:`CALL_PATH_ENV`
+CALL_PATHS = ("compiled", "python")
+
+
 def compiled_path_wanted() -> bool:
-    """Whether connectors take the compiled path when they can (not with :data:`CALL_PATH_ENV` = ``python``)."""
-    return os.environ.get(CALL_PATH_ENV, "compiled").strip().lower() != "python"
+    """Whether connectors take the compiled path when they can (not with :data:`CALL_PATH_ENV` = ``python``);
+    another value is a ``ValueError`` naming the variable."""
+    value = os.environ.get(CALL_PATH_ENV, CALL_PATHS[0]).strip().lower()
+    if value not in CALL_PATHS:
+        raise ValueError(f"{CALL_PATH_ENV}={value!r}: expected one of {', '.join(CALL_PATHS)}")
+    return value == CALL_PATHS[0]
 
 
 @contextlib.contextmanager

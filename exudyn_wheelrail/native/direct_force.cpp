@@ -53,7 +53,7 @@ struct Slot {
 };
 
 Slot slots[SLOTS];
-bool in_dispatch = false;            // set by every slot function's call guard while pybind11's dispatcher (a call
+thread_local bool in_dispatch = false;  // set by every slot function's call guard while pybind11's dispatcher (a call
                                      // from Python) runs it
 
 std::vector<double> evaluate(int k, double t, const std::vector<double>& q, const std::vector<double>& q_t) {

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..conventions import speed_km_h
 from ..simulation import status as S
 from ..structures.load_models import (characteristic_spacing_m, resonance_speeds_m_s,
                                       simply_supported_frequencies_Hz)
@@ -102,7 +103,7 @@ def _spans_summary(case, deck, cutoffs, ts, ok, spacing) -> list:
         entry = {"span": k + 1, "span_m": case.chain_m[k], "start_m": case.span_start_m(k),
                  "f1_Hz": case.span_f1_Hz(k), "frequencies_Hz": [float(x) for x in f],
                  "resonance_speeds_km_h": ([] if spacing is None else
-                                           [3.6 * v for v in resonance_speeds_m_s(case.span_f1_Hz(k), spacing)]),
+                                           [speed_km_h(v) for v in resonance_speeds_m_s(case.span_f1_Hz(k), spacing)]),
                  "max_abs_midspan_displacement_m": _max_abs(ts[col[0]]) if ok else None,
                  "max_abs_midspan_acceleration_m_s2": _max_abs(ts[col[1]]) if ok else None,
                  "EN1990_A2_deck_acceleration": _en1990(case, f, cutoffs[k], reach, _max_abs(ts[col[2]]))
@@ -130,7 +131,7 @@ def crossing_summary(case, deck, cutoffs, handle, settings, outcome, ts, build_s
     res = []
     if spacing is not None:
         for i, v in enumerate(resonance_speeds_m_s(case.f1_Hz, spacing), 1):
-            res.append({"i": i, "speed_m_s": v, "speed_km_h": v * 3.6})
+            res.append({"i": i, "speed_m_s": v, "speed_km_h": speed_km_h(v)})
     notes = []
     en = None
     reach = bool(f_first[-1] >= cutoff or case.n_modes ** 2 * case.f1_Hz >= cutoff)

@@ -23,18 +23,22 @@ The procedure (each choice with its clause):
   (k = 0…2): a resonance peak is not missed between two grid speeds.  All speeds exact decimals (0.1 km/h).
 * **Mass** (§6.4.6.3.2): a ``[lower, upper]`` pair runs both — the lower bound gives the highest accelerations,
   the upper the lowest resonance speeds; a single value is ``nominal``.
-* **Damping** (§6.4.6.3.1, Table 6.6): the lower limit ζ of the structure type for the span (the shortest of a
-  chain), optionally plus Δζ (Eq. 6.13, L < 30 m); an explicit ``damping_ratio`` replaces it.
-* **Modes** (EN 1990 A2.4.4.2.1(4)P): the deck's vertical modes up to ``max(30 Hz, 1.5 f1, f3)`` (f3 = 9 f1 of a
-  simply supported span), at least 3.
+* **Damping** (§6.4.6.3.1, Table 6.6): the lower limit ζ of the structure type for the span, optionally plus Δζ
+  (Eq. 6.13, L < 30 m); for a chain the smallest over its spans (one ratio for every mode: on the safe side); an
+  explicit ``damping_ratio`` replaces it.
+* **Modes** (EN 1990 A2.4.4.2.1(4)P): every span's vertical modes up to the first at or above ``max(30 Hz, 1.5 f1,
+  f3)`` (f3 = 9 f1 of a simply supported span; the largest over the spans; :func:`~.deck.en1990_cutoff_Hz`), at
+  least 3 — the bridge crossing's own check of the cut-off.
 * **Verdict**: the largest deck acceleration over the deck's points, every run and speed (modes up to the cut-off:
   ``deck.en1990_peak_acceleration_m_s2``), against the limit of the track form; ``fail`` also when any crossing
   did not complete (its status in the envelope, never dropped).  The dynamic enhancement: the largest mid-span
   displacement against the static one under the same train (single span).
 
 Scale and faults: the crossings run in parallel through the sweeps' executors (:func:`~.sweep.run_tasks`: a dead
-worker costs only time); every finished crossing is written at once to ``DIR/runs/`` and a run started again on the
-same ``DIR`` takes those instead of computing them again (a killed run resumes where it stopped).
+worker costs only time); every finished crossing is written at once to ``DIR/runs/`` with its fingerprint (its whole
+case and the package's code, :func:`run_fingerprint`), and a run started again on the same ``DIR`` takes those whose
+fingerprint matches instead of computing them again (a killed run resumes where it stopped; a changed bridge, train
+or code is computed anew; a crossing lost with its worker is tried again).
 
 Outputs: ``DIR/summary.json`` (:func:`check_summary`), ``DIR/envelope.csv`` (:data:`ENVELOPE_COLUMNS`, one row per
 crossing), ``DIR/envelope.png`` (the deck acceleration against speed, per mass bound, a line per train, the
@@ -43,6 +47,7 @@ figures embedded).
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import tomllib
@@ -51,19 +56,24 @@ from decimal import Decimal
 from pathlib import Path
 
 from ..conventions import speed_km_h
+from ..jit import package_source_digest
+from ..simulation.status import OK
+from ..structures.beam import DeckSection
 from ..standards import (EN1990_DECK_ACCELERATION_LIMITS_M_S2, EN1991_ADDITIONAL_DAMPING_MAX_SPAN_M,
                          EN1991_DAMPING_PERCENT, HSLM_NAMES, TRACK_FORMS)
 from ..structures.load_models import hslm_a, resonance_speeds_m_s
 from .bridge_crossing_case import BridgeCrossing
 from .bridge_crossing_loads import consist_axles
 from .bridge_crossing_run import run_bridge_crossing
+from .deck import en1990_cutoff_Hz
+from .defaults import LATERAL_EI_RATIO
 from .en1991_report import write_figures_and_report
 from .outputs import write_json
-from .sweep import run_tasks
+from .sweep import EXECUTOR_ERROR, run_tasks
 
 __all__ = ["BridgeSpec", "read_bridge_file", "damping_ratio_table_6_6", "additional_damping_ratio",
            "n_modes_to_cutoff", "first_frequency_Hz", "speed_grid_kmh", "DynamicCheck", "run_dynamic_check",
-           "check_summary", "ENVELOPE_COLUMNS", "SPEED_STEP_KM_H", "REFINE_KM_H", "MIN_SPEED_KM_H", "STRUCTURES"]
+           "check_summary", "run_fingerprint", "section", "N_RESONANCES", "ENVELOPE_COLUMNS", "SPEED_STEP_KM_H", "REFINE_KM_H", "MIN_SPEED_KM_H", "STRUCTURES"]
 
 #: §6.4.6.2(1): the lowest speed of the check [km/h] (40 m/s)
 MIN_SPEED_KM_H = 144.0
@@ -73,6 +83,8 @@ SPEED_STEP_KM_H = 10.0
 REFINE_KM_H = 2.5
 #: the structure types of Table 6.6 (the bridge file's ``structure``)
 STRUCTURES = tuple(EN1991_DAMPING_PERCENT)
+#: the resonance speeds f1 d / i refined around (i = 1 ... N_RESONANCES)
+N_RESONANCES = 4
 #: the columns of envelope.csv
 ENVELOPE_COLUMNS = ("train", "mass_bound", "speed_kmh", "status", "max_deck_acceleration_m_s2",
                     "max_deck_displacement_m", "dynamic_enhancement", "steps", "solve_seconds")
@@ -97,28 +109,36 @@ def additional_damping_ratio(span_m: float) -> float:
     return 0.01 * (0.0187 * L - 0.00064 * L * L) / (1.0 - 0.0147 * L + 0.0000931 * L * L)
 
 
+def section(EI_Nm2: float, mass_kg_m: float) -> DeckSection:
+    """The beam deck's section (bending only; the lateral stiffness as the crossing's default)."""
+    return DeckSection.bending_only(mass_kg_m, EI_Nm2, LATERAL_EI_RATIO * EI_Nm2)
+
+
 def first_frequency_Hz(span_m: float, EI_Nm2: float, mass_kg_m: float) -> float:
     """First bending frequency of a simply supported span, ``f1 = π/(2 L²) √(EI/m)``."""
-    return math.pi / (2.0 * span_m * span_m) * math.sqrt(EI_Nm2 / mass_kg_m)
+    return section(EI_Nm2, mass_kg_m).vertical_frequency_Hz(span_m)
 
 
-def n_modes_to_cutoff(f1_Hz: float) -> int:
-    """Vertical modes ``n² f1`` of a simply supported span up to EN 1990's ``max(30 Hz, 1.5 f1, f3)``, f3 = 9 f1."""
-    cutoff = max(30.0, 1.5 * f1_Hz, 9.0 * f1_Hz)
-    return max(3, int(math.floor(math.sqrt(cutoff / f1_Hz) + 1e-9)))
+def n_modes_to_cutoff(spans_m, EI_Nm2: float, mass_kg_m: float) -> int:
+    """Vertical modes per span up to EN 1990's cut-off (:func:`~.deck.en1990_cutoff_Hz`: max(30 Hz, 1.5 f1, f3),
+    the largest over the spans): every span's modes ``n² f1`` up to the first at or above it (the bridge
+    crossing's own check of the cut-off), at least 3."""
+    sec = section(EI_Nm2, mass_kg_m)
+    cutoff = en1990_cutoff_Hz(spans_m, sec)
+    return max(3, max(math.ceil(math.sqrt(cutoff / sec.vertical_frequency_Hz(L)) - 1e-9) for L in spans_m))
 
 
 def speed_grid_kmh(max_line_speed_kmh: float, resonances_kmh=()) -> list[float]:
-    """The speeds [km/h] of one train and mass bound (module docstring): 144 to 1.2 V in steps of at most 10 km/h
-    (evenly), and ``v_i ± k 2.5`` (k = 0…2) around each resonance speed inside; exact decimals of 0.1 km/h."""
+    """The speeds [km/h] of one train and mass bound (module docstring): 144, the multiples of 10 km/h above it and
+    1.2 V (steps of at most 10 km/h), and ``v_i ± k 2.5`` (k = 0…2) around each resonance speed inside; exact
+    decimals of 0.1 km/h."""
     hi = Decimal(repr(1.2 * max_line_speed_kmh)).quantize(Decimal("0.1"))
     lo = Decimal(repr(MIN_SPEED_KM_H))
     if hi < lo:
         raise ValueError(f"--max-line-speed-kmh: {max_line_speed_kmh:g}: 1.2 V is below {MIN_SPEED_KM_H:g} km/h, "
                          "the check's lowest speed (EN 1991-2 6.4.6.2)")
-    n = max(1, math.ceil((hi - lo) / Decimal(repr(SPEED_STEP_KM_H))))
-    step = (hi - lo) / n
-    speeds = {(lo + k * step).quantize(Decimal("0.1")) for k in range(n + 1)}
+    step = Decimal(repr(SPEED_STEP_KM_H))
+    speeds = {lo, hi} | {k * step for k in range(int(lo // step) + 1, int(hi // step) + 1) if lo < k * step < hi}
     for v in resonances_kmh:
         v = Decimal(repr(float(v))).quantize(Decimal("0.1"))
         for k in (-2, -1, 0, 1, 2):
@@ -143,11 +163,12 @@ class BridgeSpec:
 
     @property
     def damping_ratio_used(self) -> float:
+        """The given damping ratio, else Table 6.6 (+ Eq. 6.13) of the span that allows the least: one ratio for
+        every mode of a chain, on the safe side."""
         if self.damping_ratio is not None:
             return self.damping_ratio
-        L = min(self.spans_m)
-        return damping_ratio_table_6_6(self.structure, L) + (additional_damping_ratio(L)
-                                                            if self.additional_damping else 0.0)
+        return min(damping_ratio_table_6_6(self.structure, L)
+                   + (additional_damping_ratio(L) if self.additional_damping else 0.0) for L in self.spans_m)
 
 
 _BRIDGE_KEYS = {"spans_m", "EI_Nm2", "modes_file", "mass_kg_per_m", "structure", "damping_ratio",
@@ -231,28 +252,56 @@ class DynamicCheck:
         m = b.masses[bound]
         f1 = first_frequency_Hz(b.spans_m[0], b.EI_Nm2, m)
         return BridgeCrossing(span_m=b.spans_m[0], mass_kg_m=m, f1_Hz=f1, damping_ratio=b.damping_ratio_used,
-                              n_modes=n_modes_to_cutoff(f1), axles=self.axles(train), speed_m_s=v_kmh / 3.6,
-                              track_form=b.track_form, spans_m=b.spans_m if len(b.spans_m) > 1 else None)
+                              n_modes=n_modes_to_cutoff(b.spans_m, b.EI_Nm2, m), axles=self.axles(train),
+                              speed_m_s=v_kmh / 3.6, track_form=b.track_form,
+                              spans_m=b.spans_m if len(b.spans_m) > 1 else None)
+
+    def resonances_kmh(self, train: str, bound: str) -> list[float]:
+        """The resonance speeds ``f1 d / i`` (i = 1…:data:`N_RESONANCES`) of ``train`` on every span of the bridge
+        at the mass ``bound`` [km/h] (none for a train without a characteristic spacing)."""
+        spacing = self.axles(train).spacing_m
+        if spacing is None:
+            return []
+        m = self.bridge.masses[bound]
+        return sorted(speed_km_h(v) for L in self.bridge.spans_m
+                      for v in resonance_speeds_m_s(first_frequency_Hz(L, self.bridge.EI_Nm2, m),
+                                                    spacing)[:N_RESONANCES])
 
     def runs(self) -> list[tuple]:
         """Every crossing ``(train, mass bound, speed [km/h])`` of the check, in the envelope's order."""
         out = []
         for train in self.trains:
-            spacing = self.axles(train).spacing_m
-            for bound, m in self.bridge.masses.items():
+            for bound in self.bridge.masses:
                 if self.speeds_kmh is not None:
                     speeds = sorted(set(float(v) for v in self.speeds_kmh))
                 else:
-                    f1 = first_frequency_Hz(self.bridge.spans_m[0], self.bridge.EI_Nm2, m)
-                    res = ([] if spacing is None else
-                           [speed_km_h(v) for v in resonance_speeds_m_s(f1, spacing)[:4]])
-                    speeds = speed_grid_kmh(self.max_line_speed_kmh, res)
+                    speeds = speed_grid_kmh(self.max_line_speed_kmh, self.resonances_kmh(train, bound))
                 out += [(train, bound, v) for v in speeds]
         return out
 
+    def speed_rule(self) -> str:
+        """The speeds of the check in words (the report's and the summary's)."""
+        if self.speeds_kmh is not None:
+            return "as given: " + ", ".join(f"{v:g}" for v in sorted(set(self.speeds_kmh))) + " km/h"
+        return (f"from {MIN_SPEED_KM_H:g} km/h (40 m/s) to 1.2 x {self.max_line_speed_kmh:g} km/h in steps of at most "
+                f"{SPEED_STEP_KM_H:g} km/h, refined by {REFINE_KM_H:g} km/h around each resonance speed f1 d/i "
+                f"(i = 1...{N_RESONANCES})")
 
-def _run_name(train: str, bound: str, v_kmh: float) -> str:
-    return f"{Path(train).stem if train not in HSLM_NAMES else train}__{bound}__{v_kmh:.1f}kmh.json"
+
+def run_fingerprint(check: DynamicCheck, train: str, bound: str, v_kmh: float) -> dict:
+    """What a crossing's result depends on: its whole case (the bridge, the train's axles, the speed) and the
+    package's code (:func:`~exudyn_wheelrail.jit.package_source_digest`) — a run file is taken on a resumed check
+    only when this matches exactly."""
+    return {"crossing": json.loads(json.dumps(check.crossing(train, bound, v_kmh).as_dict())),
+            "train": train, "mass_bound": bound, "speed_kmh": v_kmh, "code": package_source_digest().hex()}
+
+
+def _run_name(fingerprint: dict) -> str:
+    """A run file's name: readable, and unique by a digest of the whole fingerprint."""
+    digest = hashlib.sha256(json.dumps(fingerprint, sort_keys=True).encode()).hexdigest()[:16]
+    train = fingerprint["train"]
+    stem = train if train in HSLM_NAMES else Path(train).stem
+    return f"{stem}__{fingerprint['mass_bound']}__{fingerprint['speed_kmh']!r}kmh__{digest}.json"
 
 
 def crossing_row(check: DynamicCheck, train: str, bound: str, v_kmh: float) -> dict:
@@ -278,21 +327,25 @@ def run_dynamic_check(check: DynamicCheck, out_dir, *, executor=None, workers: i
     out = Path(out_dir)
     (out / "runs").mkdir(parents=True, exist_ok=True)
     runs = check.runs()
+    prints = {key: run_fingerprint(check, *key) for key in runs}
     rows = {}
     for key in runs:
-        f = out / "runs" / _run_name(*key)
+        f = out / "runs" / _run_name(prints[key])
         if f.is_file():
             try:
-                rows[key] = json.loads(f.read_text())
+                kept = json.loads(f.read_text())
             except (OSError, ValueError):
-                pass                      # a file cut short by a kill: computed again
+                continue                  # a file cut short by a kill: computed again
+            if isinstance(kept, dict) and kept.get("fingerprint") == prints[key] and "row" in kept:
+                rows[key] = kept["row"]
     missing = [key for key in runs if key not in rows]
     done = [len(rows)]
 
     def finished(i, row):
         key = missing[i]
         rows[key] = row
-        write_json(out / "runs" / _run_name(*key), row)
+        if not str(row.get("status", "")).startswith(EXECUTOR_ERROR):     # a lost worker: tried again next time
+            write_json(out / "runs" / _run_name(prints[key]), {"fingerprint": prints[key], "row": row})
         done[0] += 1
         if progress:
             a = row.get("max_deck_acceleration_m_s2")
@@ -309,7 +362,8 @@ def run_dynamic_check(check: DynamicCheck, out_dir, *, executor=None, workers: i
     summary = check_summary(check, envelope)
     _write_envelope(out / "envelope.csv", envelope)
     write_json(out / "summary.json", summary)
-    summary["paths"] = write_figures_and_report(check, envelope, summary, out)
+    resonances = {(t, b): check.resonances_kmh(t, b) for t in check.trains for b in check.bridge.masses}
+    summary["paths"] = write_figures_and_report(envelope, summary, resonances, out)
     write_json(out / "summary.json", summary)
     return summary
 
@@ -328,20 +382,21 @@ def check_summary(check: DynamicCheck, envelope: list) -> dict:
     largest dynamic enhancement, the crossings that did not complete, the inputs and the clauses."""
     b = check.bridge
     limit = EN1990_DECK_ACCELERATION_LIMITS_M_S2[b.track_form]
-    ok = [r for r in envelope if r.get("status") == "ok" and r.get("max_deck_acceleration_m_s2") is not None]
+    ok = [r for r in envelope if r.get("status") == OK and r.get("max_deck_acceleration_m_s2") is not None]
     failed = [{k: r.get(k) for k in ("train", "mass_bound", "speed_kmh", "status")} for r in envelope
-              if r.get("status") != "ok"]
+              if not (r.get("status") == OK and r.get("max_deck_acceleration_m_s2") is not None)]
     worst = max(ok, key=lambda r: r["max_deck_acceleration_m_s2"]) if ok else None
     enh = [r["dynamic_enhancement"] for r in ok if r.get("dynamic_enhancement") is not None]
     a_max = worst["max_deck_acceleration_m_s2"] if worst else None
     verdict = "pass" if worst is not None and not failed and a_max <= limit else "fail"
     modes = {}
     for bound, m in b.masses.items():
-        f1 = first_frequency_Hz(b.spans_m[0], b.EI_Nm2, m)
-        n = n_modes_to_cutoff(f1)
-        modes[bound] = {"mass_kg_per_m": m, "f1_Hz": f1, "n_modes": n,
-                        "frequencies_Hz": [k * k * f1 for k in range(1, n + 1)],
-                        "cutoff_Hz": max(30.0, 1.5 * f1, 9.0 * f1)}
+        sec = section(b.EI_Nm2, m)
+        n = n_modes_to_cutoff(b.spans_m, b.EI_Nm2, m)
+        modes[bound] = {"mass_kg_per_m": m, "f1_Hz": [sec.vertical_frequency_Hz(L) for L in b.spans_m],
+                        "n_modes": n, "frequencies_Hz": [[sec.vertical_frequency_Hz(L, k) for k in range(1, n + 1)]
+                                                         for L in b.spans_m],
+                        "cutoff_Hz": en1990_cutoff_Hz(b.spans_m, sec)}
     return {"verdict": verdict,
             "verdict_reason": (f"{len(failed)} crossing(s) did not complete" if failed else
                                "no crossing completed" if worst is None else
@@ -354,7 +409,7 @@ def check_summary(check: DynamicCheck, envelope: list) -> dict:
             "damping_rule": ("given (bridge.damping_ratio)" if b.damping_ratio is not None else
                              f"EN 1991-2 Table 6.6, {b.structure}, L = {min(b.spans_m):g} m"
                              + (" + Eq. (6.13) additional damping" if b.additional_damping else "")),
-            "modes": modes,
+            "modes": modes, "speed_rule": check.speed_rule(),
             "max_dynamic_enhancement": max(enh) if enh else None,
             "crossings": len(envelope), "not_completed": failed,
             "inputs": {"bridge_file": b.source, "spans_m": list(b.spans_m), "EI_Nm2": b.EI_Nm2,

@@ -10,10 +10,13 @@ import base64
 import html
 from pathlib import Path
 
-from ..structures.load_models import resonance_speeds_m_s
 from .drawing import pyplot
 
-__all__ = ["write_figures_and_report", "plot_envelope", "report_html"]
+__all__ = ["write_figures_and_report", "plot_envelope", "report_html", "PASS_COLOUR", "FAIL_COLOUR"]
+
+#: the verdict banner's colour (RGB) for a pass and for a fail
+PASS_COLOUR = (0x1B, 0x7F, 0x3A)
+FAIL_COLOUR = (0xB3, 0x26, 0x1E)
 
 
 def plot_envelope(envelope: list, summary: dict, resonances: dict, path: Path) -> None:
@@ -64,23 +67,22 @@ def report_html(summary: dict, envelope: list, figure_png: bytes) -> str:
         x = r.get("max_deck_acceleration_m_s2")
         if x is not None and (r["train"] not in per_train or x > per_train[r["train"]][0]):
             per_train[r["train"]] = (x, r["speed_kmh"], r["mass_bound"])
-    modes = [(bound, f"{m['mass_kg_per_m']:g}", f"{m['f1_Hz']:.3f}", m["n_modes"], f"{m['cutoff_Hz']:.1f}")
-             for bound, m in summary["modes"].items()]
+    modes = [(bound, f"{m['mass_kg_per_m']:g}", ", ".join(f"{f:.3f}" for f in m["f1_Hz"]), m["n_modes"],
+              f"{m['cutoff_Hz']:.1f}") for bound, m in summary["modes"].items()]
     clauses = summary["clauses"]
     assumptions = [
         ("trains", "moving axle loads of " + ", ".join(inp["trains"]), clauses["trains"]),
-        ("speeds", "from 144 km/h (40 m/s) to 1.2 x " + f"{inp['max_line_speed_kmh']:g} km/h, steps of at most "
-         "10 km/h, refined by 2.5 km/h around each resonance speed" if inp["speeds_kmh"] is None else
-         "as given: " + ", ".join(f"{v:g}" for v in inp["speeds_kmh"]) + " km/h", clauses["speeds"]),
+        ("speeds", summary["speed_rule"], clauses["speeds"]),
         ("mass", ", ".join(f"{k} {v:g} kg/m" for k, v in inp["mass_kg_per_m"].items()), clauses["mass"]),
         ("damping", f"ζ = {100 * summary['damping_ratio_used']:.3g} % ({summary['damping_rule']})",
          clauses["damping"]),
-        ("modes", "vertical bending modes up to max(30 Hz, 1.5 f1, f3)", clauses["modes"]),
+        ("modes", "vertical bending modes of every span up to the first at or above max(30 Hz, 1.5 f1, f3)",
+         clauses["modes"]),
         ("limit", f"{summary['acceleration_limit_m_s2']:g} m/s² ({inp['track_form']})", clauses["limit"]),
     ]
     failed = summary["not_completed"]
     img = base64.b64encode(figure_png).decode("ascii")
-    colour = "#1b7f3a" if ok else "#b3261e"
+    colour = "#%02x%02x%02x" % (PASS_COLOUR if ok else FAIL_COLOUR)
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>EN 1991-2 dynamic check: {summary['verdict'].upper()}</title>
 <style>body{{font-family:sans-serif;max-width:980px;margin:2em auto;color:#222}}
@@ -105,7 +107,7 @@ th{{background:#eee}}</style></head><body>
 <h2>Assumptions and clauses</h2>
 {_table(assumptions, ('item', 'assumption', 'clause'))}
 <h2>Modes</h2>
-{_table(modes, ('mass bound', 'mass [kg/m]', 'f1 [Hz]', 'modes', 'cut-off [Hz]'))}
+{_table(modes, ('mass bound', 'mass [kg/m]', 'f1 per span [Hz]', 'modes per span', 'cut-off [Hz]'))}
 <h2>Peak per train</h2>
 {_table([(t, f'{x:.4g}', v, b) for t, (x, v, b) in per_train.items()],
         ('train', 'max deck acceleration [m/s²]', 'at speed [km/h]', 'mass bound'))}
@@ -117,15 +119,9 @@ th{{background:#eee}}</style></head><body>
 """
 
 
-def write_figures_and_report(check, envelope: list, summary: dict, out: Path) -> dict:
-    """``envelope.png`` and ``report.html`` in ``out``; their paths."""
-    resonances = {}
-    for train in check.trains:
-        spacing = check.axles(train).spacing_m
-        for bound, m in summary["modes"].items():
-            f1 = m["f1_Hz"]
-            resonances[(train, bound)] = ([] if spacing is None else
-                                          [3.6 * v for v in resonance_speeds_m_s(f1, spacing)[:4]])
+def write_figures_and_report(envelope: list, summary: dict, resonances: dict, out: Path) -> dict:
+    """``envelope.png`` and ``report.html`` in ``out`` (``resonances``: (train, mass bound) -> resonance speeds
+    [km/h]); their paths."""
     fig = out / "envelope.png"
     plot_envelope(envelope, summary, resonances, fig)
     page = out / "report.html"

@@ -57,7 +57,8 @@ import itertools
 import json
 import math
 import os
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+import threading
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from multiprocessing import get_context
@@ -70,7 +71,7 @@ from .run import run_scenario
 from .spec import ScenarioError, as_scenario
 from .spec_crossing import is_crossing
 
-__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "run_tasks", "MAX_ATTEMPTS", "SHARED_ROUNDS", "sweep_cases", "DEFAULT_PLOT_RESULT",
+__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "run_tasks", "MAX_ATTEMPTS", "SHARED_ROUNDS", "EXECUTOR_ERROR", "sweep_cases", "DEFAULT_PLOT_RESULT",
            "CROSSING_PLOT_RESULT", "default_plot_result", "TIMING_COLUMNS"]
 
 #: the scalar plotted by default (present in every case of a vehicle scenario that ran)
@@ -149,6 +150,8 @@ def default_plot_result(base: dict) -> str:
     return CROSSING_PLOT_RESULT if is_crossing(base) else DEFAULT_PLOT_RESULT
 
 
+#: how a result made by :func:`run_tasks` for a task the executor failed (not the task itself) starts its status
+EXECUTOR_ERROR = "error: executor"
 #: how often a task that killed its worker process alone is run (:func:`run_tasks`)
 MAX_ATTEMPTS = 3
 #: rounds of the unfinished tasks on a fresh shared pool after a worker died, before each runs alone
@@ -157,23 +160,37 @@ SHARED_ROUNDS = 2
 
 def run_tasks(executor, workers, fn, args_list, on_result, failed):
     """Run ``fn(*args)`` for every ``args`` of ``args_list`` through ``executor`` (:func:`resolve_executor`) and call
-    ``on_result(i, result)`` as each finishes.  An exception of the executor rather than of ``fn`` (its arguments
-    could not be sent, ...) gives ``on_result(i, failed(i, text))``.
+    ``on_result(i, result)`` as each finishes (once per task).  An exception of the executor rather than of ``fn``
+    (its arguments could not be sent, ...) gives ``on_result(i, failed(i, text))``, ``text`` starting with
+    :data:`EXECUTOR_ERROR`.
 
     A worker process that dies breaks Python's process pool and every unfinished task with it, whichever task was
     at fault.  On the local pool (``executor`` None) the unfinished tasks then run again on a fresh pool; after
-    :data:`SHARED_ROUNDS` broken rounds each remaining task runs alone on a pool of its own, up to
-    :data:`MAX_ATTEMPTS` times: a task that kills its worker every time is reported failed (never dropped), every
-    other task completes — a dead worker costs only time."""
+    :data:`SHARED_ROUNDS` rounds (the first included) that broke, each remaining task runs alone on a pool of its
+    own — ``workers`` of them at a time —, up to :data:`MAX_ATTEMPTS` times: a task that kills its worker every time
+    is reported failed (never dropped), every other task completes, and a dead worker costs only time.  An executor
+    passed in is used as it is (one round; Dask retries a lost worker's tasks itself)."""
     pending = list(range(len(args_list)))
     rounds = 0
     while pending and (rounds < SHARED_ROUNDS or executor is not None):
         pending = _round(executor, workers, fn, args_list, pending, on_result, failed, last=executor is not None)
         rounds += 1
-    for i in pending:                              # alone, each on a fresh pool of one worker
+    if not pending:
+        return
+    lock = threading.Lock()
+
+    def report(i, result):
+        with lock:
+            on_result(i, result)
+
+    def alone(i):
         for attempt in range(1, MAX_ATTEMPTS + 1):
-            if not _round(None, 1, fn, args_list, [i], on_result, failed, last=attempt == MAX_ATTEMPTS):
-                break
+            if not _round(None, 1, fn, args_list, [i], report, failed, last=attempt == MAX_ATTEMPTS):
+                return
+    n = max(1, min(int(workers or os.cpu_count() or 1), len(pending)))
+    with ThreadPoolExecutor(max_workers=n) as threads:
+        for f in [threads.submit(alone, i) for i in pending]:
+            f.result()
 
 
 def _round(executor, workers, fn, args_list, indices, on_result, failed, last: bool) -> list:
@@ -181,20 +198,29 @@ def _round(executor, workers, fn, args_list, indices, on_result, failed, last: b
     ``last``: they are reported failed)."""
     pool, own = resolve_executor(executor, workers, len(indices))
     broken = []
+
+    def died(i, exc):
+        if own and not last:
+            broken.append(i)
+        else:
+            on_result(i, failed(i, f"{EXECUTOR_ERROR}: its worker process died"
+                                   + (f" ({MAX_ATTEMPTS} attempt(s) alone)" if own else "") + f": {exc}"))
     try:
-        futures = {pool.submit(fn, *args_list[i]): i for i in indices}
+        futures = {}
+        for i in indices:
+            try:
+                futures[pool.submit(fn, *args_list[i])] = i
+            except BrokenProcessPool as exc:    # broken while the tasks were still being handed over
+                died(i, exc)
         for f in as_completed(futures):
             i = futures[f]
             try:
                 result = f.result()
             except BrokenProcessPool as exc:
-                if own and not last:
-                    broken.append(i)
-                    continue
-                result = failed(i, f"error: executor: its worker process died ({MAX_ATTEMPTS if own else 1} "
-                                   f"attempt(s) alone): {exc}")
+                died(i, exc)
+                continue
             except Exception as exc:            # the executor itself failed (could not unpickle, ...)
-                result = failed(i, f"error: executor: {type(exc).__name__}: {exc}")
+                result = failed(i, f"{EXECUTOR_ERROR}: {type(exc).__name__}: {exc}")
             on_result(i, result)
     finally:
         if own:
