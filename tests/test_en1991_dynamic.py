@@ -144,6 +144,15 @@ def test_the_report_is_one_page_with_the_verdict_and_the_figure(small_check):
     assert not re.search(r'(src|href)="(?!data:)', page)          # nothing outside the page
 
 
+def test_on_a_dask_client_the_check_equals_the_serial_one(small_check, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    check, out, _ = small_check
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None) as client:
+        E.run_dynamic_check(check, tmp_path / "dask", executor=client, progress=None)
+    # each crossing is the same deterministic computation wherever it runs: bit-equality (timings left out)
+    assert _without_timing(tmp_path / "dask" / "envelope.csv") == _without_timing(out / "envelope.csv")
+
+
 def test_a_changed_bridge_is_computed_again_not_taken_from_the_folder(small_check, tmp_path):
     check, out, summary = small_check
     stiffer = E.BridgeSpec(**{**check.bridge.__dict__, "EI_Nm2": 1.5 * check.bridge.EI_Nm2})

@@ -6,8 +6,10 @@ import math
 from pathlib import Path
 
 from ..simulation.settings import SPEED_KM_H
-from ..standards import HSLM_NAMES
+from ..scenarios.defaults import CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_SPEED_STEP_KM_H
+from ..standards import EN1991_DAMPING_PERCENT, HSLM_NAMES, TRACK_FORMS
 from ..validation import output_dir
+from .common import add_progress_argument, progress_lines
 
 
 def add_en1991_dynamic_parser(sub) -> None:
@@ -15,19 +17,20 @@ def add_en1991_dynamic_parser(sub) -> None:
     p = sub.add_parser("en1991-dynamic", help="a bridge's dynamic check to EN 1991-2 6.4.6: HSLM-A1..A10 (or given "
                                               "trains) at every speed and mass bound, deck acceleration vs EN 1990",
                        description="Runs every train as moving axle loads over the bridge of --bridge at every speed "
-                                   "from 144 km/h to 1.2 x the maximum line speed (steps <= 10 km/h, refined around "
-                                   "each resonance speed) at the lower and upper bound of the deck mass, with the "
+                                   f"from {CHECK_MIN_SPEED_KM_H:g} km/h to 1.2 x the maximum line speed (steps <= "
+                                   f"{CHECK_SPEED_STEP_KM_H:g} km/h, refined by {CHECK_REFINE_KM_H:g} km/h around each "
+                                   "resonance speed) at the lower and upper bound of the deck mass, with the "
                                    "damping of EN 1991-2 Table 6.6 and the modes up to EN 1990's cut-off, in parallel; "
                                    "a run started again on the same --out takes the crossings already finished. "
                                    "Writes DIR/summary.json (verdict, max_deck_acceleration_m_s2, "
                                    "acceleration_limit_m_s2, governing, damping_ratio_used, modes, "
                                    "max_dynamic_enhancement), DIR/envelope.csv (one row per crossing), "
-                                   "DIR/envelope.png and DIR/report.html "
+                                   "DIR/envelope.png and DIR/report.html; a line per finished crossing [k/N] on stderr "
                                    "(exudyn_wheelrail/scenarios/en1991_dynamic.py).")
     p.add_argument("--bridge", required=True, metavar="FILE.toml",
                    help="the bridge file: [bridge] spans_m, EI_Nm2, mass_kg_per_m (a number or [lower, upper]), "
-                        "structure (steel_composite, prestressed_concrete, reinforced_concrete, filler_beam) or "
-                        "damping_ratio, track_form (ballasted, direct_fastening), additional_damping (true/false)")
+                        f"structure ({', '.join(EN1991_DAMPING_PERCENT)}) or "
+                        f"damping_ratio, track_form ({', '.join(TRACK_FORMS)}), additional_damping (true/false)")
     p.add_argument("--max-line-speed-kmh", type=float, required=True, metavar="V",
                    help="the line's maximum speed [km/h]: the check runs to 1.2 V")
     p.add_argument("--trains", nargs="+", default=None, metavar="A1|FILE.toml",
@@ -38,6 +41,7 @@ def add_en1991_dynamic_parser(sub) -> None:
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes (default: one per CPU)")
     p.add_argument("--out", required=True, help="output directory (finished crossings in DIR/runs are kept)")
+    add_progress_argument(p)
     p.set_defaults(func=cmd_en1991_dynamic, check=_check_en1991_dynamic)
 
 
@@ -84,7 +88,7 @@ def cmd_en1991_dynamic(args) -> int:
     print(f"EN 1991-2 dynamic check of {args.bridge}: {len(check.trains)} train(s), "
           f"{len(check.bridge.masses)} mass bound(s), {n} crossings, damping "
           f"{100 * check.bridge.damping_ratio_used:.3g} %")
-    s = run_dynamic_check(check, args.out, workers=args.workers)
+    s = run_dynamic_check(check, args.out, workers=args.workers, progress=progress_lines(args))
     g = s["governing"] or {}
     a = s["max_deck_acceleration_m_s2"]
     print(f"verdict: {s['verdict'].upper()} — {s['verdict_reason']}"

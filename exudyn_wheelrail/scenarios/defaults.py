@@ -8,7 +8,8 @@ numerical code.
 """
 
 __all__ = ["CAR_BODY_MODELS", "LOAD_MODELS", "MODEL_NAMES", "AXLE_LOAD_MODELS", "SPRUNG_FREQUENCY_HZ",
-           "SPRUNG_DAMPING_RATIO", "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "CONTACT_STEPS_PER_PERIOD", "CONTACT_DT_S", "MAX_MODES", "LATERAL_EI_RATIO",
+           "SPRUNG_DAMPING_RATIO", "DEFAULT_SOLVER", "STEPS_PER_PERIOD", "CONTACT_STEPS_PER_PERIOD", "CONTACT_DT_S", "CHECK_MIN_SPEED_KM_H",
+           "CHECK_SPEED_STEP_KM_H", "CHECK_REFINE_KM_H", "CHECK_RESONANCES", "MAX_MODES", "LATERAL_EI_RATIO",
            "LEAD_IN_M", "DEFAULT_RAMP", "DEFAULT_MIN_TRANSITION_M", "default_transition_m"]
 
 # ------------------------------------------------------------------------------------------------- RTRI case
@@ -37,6 +38,13 @@ STEPS_PER_PERIOD = 40
 #: step (the contact runs' 1 ms) [s] (``bridge_crossing_vehicles.contact_dt_s``, whose docstring derives them)
 CONTACT_STEPS_PER_PERIOD = 20
 CONTACT_DT_S = 1e-3
+#: the EN 1991-2 dynamic check (``en1991_dynamic``): its lowest speed (6.4.6.2(1): 40 m/s) and largest step of
+#: the speed grid [km/h], the refinement step around a resonance speed [km/h] and how many resonance speeds
+#: f1 d / i (i = 1 ... N) are refined around
+CHECK_MIN_SPEED_KM_H = 144.0
+CHECK_SPEED_STEP_KM_H = 10.0
+CHECK_REFINE_KM_H = 2.5
+CHECK_RESONANCES = 4
 #: most vertical modes of a crossing
 MAX_MODES = 60
 #: ``EI_z / EI_y`` of the deck section when no lateral frequency is given

@@ -66,7 +66,8 @@ from .bridge_crossing_case import BridgeCrossing
 from .bridge_crossing_loads import consist_axles
 from .bridge_crossing_run import run_bridge_crossing
 from .deck import en1990_cutoff_Hz
-from .defaults import LATERAL_EI_RATIO
+from .defaults import (CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_RESONANCES, CHECK_SPEED_STEP_KM_H,
+                       LATERAL_EI_RATIO)
 from .en1991_report import write_figures_and_report
 from .outputs import write_json
 from .sweep import EXECUTOR_ERROR, run_tasks
@@ -75,16 +76,14 @@ __all__ = ["BridgeSpec", "read_bridge_file", "damping_ratio_table_6_6", "additio
            "n_modes_to_cutoff", "first_frequency_Hz", "speed_grid_kmh", "DynamicCheck", "run_dynamic_check",
            "check_summary", "run_fingerprint", "section", "N_RESONANCES", "ENVELOPE_COLUMNS", "SPEED_STEP_KM_H", "REFINE_KM_H", "MIN_SPEED_KM_H", "STRUCTURES"]
 
-#: §6.4.6.2(1): the lowest speed of the check [km/h] (40 m/s)
-MIN_SPEED_KM_H = 144.0
-#: the largest step of the speed grid [km/h]
-SPEED_STEP_KM_H = 10.0
-#: the step of the refinement around a resonance speed [km/h]
-REFINE_KM_H = 2.5
+#: §6.4.6.2(1): the lowest speed of the check [km/h] (40 m/s); the largest step of the speed grid [km/h]; the step
+#: of the refinement around a resonance speed [km/h]; the resonance speeds f1 d / i refined around (i = 1 ... N)
+MIN_SPEED_KM_H = CHECK_MIN_SPEED_KM_H
+SPEED_STEP_KM_H = CHECK_SPEED_STEP_KM_H
+REFINE_KM_H = CHECK_REFINE_KM_H
+N_RESONANCES = CHECK_RESONANCES
 #: the structure types of Table 6.6 (the bridge file's ``structure``)
 STRUCTURES = tuple(EN1991_DAMPING_PERCENT)
-#: the resonance speeds f1 d / i refined around (i = 1 ... N_RESONANCES)
-N_RESONANCES = 4
 #: the columns of envelope.csv
 ENVELOPE_COLUMNS = ("train", "mass_bound", "speed_kmh", "status", "max_deck_acceleration_m_s2",
                     "max_deck_displacement_m", "dynamic_enhancement", "steps", "solve_seconds")
