@@ -18,6 +18,7 @@ import csv
 import json
 import math
 import re
+from pathlib import Path
 
 import pytest
 
@@ -151,6 +152,20 @@ def test_on_a_dask_client_the_check_equals_the_serial_one(small_check, tmp_path)
         E.run_dynamic_check(check, tmp_path / "dask", executor=client, progress=None)
     # each crossing is the same deterministic computation wherever it runs: bit-equality (timings left out)
     assert _without_timing(tmp_path / "dask" / "envelope.csv") == _without_timing(out / "envelope.csv")
+
+
+def test_a_consist_file_runs_as_its_static_axle_loads(tmp_path):
+    from exudyn_wheelrail.scenarios.bridge_crossing_loads import consist_axles
+    consist = str(Path(__file__).resolve().parents[1] / "vehicles" / "trains" / "manchester_x2.toml")
+    f = tmp_path / "bridge.toml"
+    f.write_text(BRIDGE.format(mass="12000.0"))
+    check = E.DynamicCheck(bridge=E.read_bridge_file(f), max_line_speed_kmh=200.0, trains=(consist,),
+                           speeds_kmh=(180.0,))
+    s = E.run_dynamic_check(check, tmp_path / "out", executor=SerialExecutor(), progress=None)
+    case = check.crossing(consist, "nominal", 180.0)
+    assert case.axles.as_dict() == consist_axles(consist).as_dict()
+    expected = run_bridge_crossing(case).summary["scalars"]["deck.en1990_peak_acceleration_m_s2"]
+    assert s["max_deck_acceleration_m_s2"] == expected and s["governing"]["train"] == consist
 
 
 def test_a_changed_bridge_is_computed_again_not_taken_from_the_folder(small_check, tmp_path):
