@@ -1,15 +1,15 @@
 """The ``en1991-dynamic`` command: a railway bridge's dynamic check to EN 1991-2 §6.4.6 — every train at every
-speed at both mass bounds, the deck acceleration against EN 1990 A2 (:mod:`exudyn_wheelrail.scenarios.en1991_dynamic`)."""
+speed at both mass bounds, the deck acceleration against EN 1990 A2
+(:mod:`exudyn_wheelrail.scenarios.en1991_dynamic`)."""
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from ..simulation.settings import SPEED_KM_H
 from ..scenarios.defaults import CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_SPEED_STEP_KM_H
 from ..standards import EN1991_DAMPING_PERCENT, HSLM_NAMES, TRACK_FORMS
 from ..validation import output_dir
-from .common import add_progress_argument, progress_lines
+from .common import add_progress_argument, positive_int, progress_lines
 
 
 def add_en1991_dynamic_parser(sub) -> None:
@@ -38,7 +38,7 @@ def add_en1991_dynamic_parser(sub) -> None:
                         "(their static axle loads) (default: all ten HSLM-A)")
     p.add_argument("--speeds-kmh", type=float, nargs="+", default=None, metavar="V",
                    help="run these speeds [km/h] only (default: the grid of EN 1991-2 6.4.6.2)")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
+    p.add_argument("--workers", type=positive_int("--workers"), default=None, metavar="N",
                    help="worker processes (default: one per CPU)")
     p.add_argument("--out", required=True, help="output directory (finished crossings in DIR/runs are kept)")
     add_progress_argument(p)
@@ -51,13 +51,8 @@ def _check_en1991_dynamic(args) -> None:
     from ..scenarios.bridge_crossing_loads import consist_axles
     from ..scenarios.en1991_dynamic import DynamicCheck, read_bridge_file, speed_grid_kmh
     output_dir("--out", args.out)
-    v = args.max_line_speed_kmh
-    if not math.isfinite(v) or not v > 0:
-        raise ValueError(f"--max-line-speed-kmh: {v!r}: expected a positive speed")
-    SPEED_KM_H.check("--max-line-speed-kmh", v)
+    v = SPEED_KM_H.check("--max-line-speed-kmh", args.max_line_speed_kmh)
     speed_grid_kmh(v)                             # 1.2 V at least the check's lowest speed
-    if args.workers is not None and args.workers < 1:
-        raise ValueError(f"--workers: {args.workers}: expected a positive integer")
     if not Path(args.bridge).is_file():
         raise ValueError(f"--bridge: {args.bridge}: no such file")
     bridge = read_bridge_file(args.bridge)

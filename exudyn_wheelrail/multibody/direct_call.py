@@ -35,7 +35,6 @@ import re
 import warnings
 import weakref
 
-import numba
 import numpy as np
 from numba import types
 from numba.core import cgutils
@@ -53,15 +52,14 @@ except ImportError:                 # built without a C++ compiler: the Python p
 #: how many connectors can be on the compiled path at once in a process (the native module's slots)
 SLOTS = int(_native.SLOTS) if _native is not None else 0
 
-__all__ = ["SLOTS", "CALL_PATH_ENV", "CALL_PATHS", "compiled_path_wanted", "python_call_path", "HOLD_FLAG", "HOLD_T", "N_HOLD", "COUNT_CALLS", "COUNT_REUSED", "N_COUNTS", "CallData", "call_data",
-           "forces_step", "KeptEvaluation", "compiled_call", "meminfo_address", "native_step_address", "NATIVE_STEP_TYPE", "NATIVE_ARRAY_FIELDS",
-           "DirectCall", "native_available", "pending_state_error", "NATIVE_STATE_ERROR_MARK"]
+__all__ = ["SLOTS", "CALL_PATH_ENV", "CALL_PATHS", "compiled_path_wanted", "python_call_path", "HOLD_FLAG", "HOLD_T",
+           "N_HOLD", "COUNT_CALLS", "COUNT_REUSED", "N_COUNTS", "CallData", "call_data", "forces_step",
+           "KeptEvaluation", "compiled_call", "meminfo_address", "native_step_address", "NATIVE_STEP_TYPE",
+           "NATIVE_ARRAY_FIELDS", "DirectCall", "native_available", "pending_state_error", "NATIVE_STATE_ERROR_MARK"]
 
 #: the environment variable that, set to ``python``, keeps every connector on the Python path (to compare the two
 #: paths, or to profile the evaluation with Python's tools)
 CALL_PATH_ENV = "EXUDYN_WHEELRAIL_CALL_PATH"
-
-
 #: the values of :data:`CALL_PATH_ENV`
 CALL_PATHS = ("compiled", "python")
 

@@ -3,7 +3,6 @@ the scenario sweeps (:func:`speed_sweep`, :func:`sweep_case`), the table (:data:
 figure (:func:`plot_speed_sweep`)."""
 from __future__ import annotations
 
-import csv
 import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -16,7 +15,7 @@ from .bridge_crossing_case import BridgeCrossing, positive_number
 from .bridge_crossing_loads import resolve_load_model
 from .bridge_crossing_run import run_bridge_crossing
 from .deck import EN1990_DECK_ACCELERATION_LIMITS_M_S2
-from .outputs import write_json
+from .outputs import write_json, write_table_csv
 from .drawing import pyplot
 from .sweep import run_tasks
 
@@ -104,12 +103,7 @@ def speed_sweep(case: BridgeCrossing, speeds_m_s, executor=None, out_dir=None, *
 def _write_sweep(result: SpeedSweepResult, out: Path) -> dict:
     t = result.table
     paths = {"csv": out / "sweep.csv", "json": out / "sweep.json", "plot": out / "sweep_plot.png"}
-    with open(paths["csv"], "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(list(t))
-        for i in range(len(t["case"])):
-            w.writerow(["" if t[c][i] is None else (repr(t[c][i]) if isinstance(t[c][i], float) else t[c][i])
-                        for c in t])
+    write_table_csv(paths["csv"], t)
     write_json(paths["json"], {"case": result.case.as_dict(), "resonance_speeds": result.resonance_speeds,
                                "wall_seconds": result.wall_seconds, "table": t}, indent=1)
     plot_speed_sweep(result, paths["plot"])

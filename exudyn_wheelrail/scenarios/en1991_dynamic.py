@@ -69,12 +69,13 @@ from .deck import en1990_cutoff_Hz
 from .defaults import (CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_RESONANCES, CHECK_SPEED_STEP_KM_H,
                        LATERAL_EI_RATIO)
 from .en1991_report import write_figures_and_report
-from .outputs import write_json
+from .outputs import write_json, write_table_csv
 from .sweep import EXECUTOR_ERROR, run_tasks
 
-__all__ = ["BridgeSpec", "read_bridge_file", "damping_ratio_table_6_6", "additional_damping_ratio",
-           "n_modes_to_cutoff", "first_frequency_Hz", "speed_grid_kmh", "DynamicCheck", "run_dynamic_check",
-           "check_summary", "run_fingerprint", "section", "N_RESONANCES", "ENVELOPE_COLUMNS", "SPEED_STEP_KM_H", "REFINE_KM_H", "MIN_SPEED_KM_H", "STRUCTURES"]
+__all__ = ["BridgeSpec", "read_bridge_file", "damping_ratio_table_6_6", "additional_damping_ratio", "n_modes_to_cutoff",
+           "first_frequency_Hz", "speed_grid_kmh", "DynamicCheck", "run_dynamic_check", "check_summary",
+           "run_fingerprint", "section", "N_RESONANCES", "ENVELOPE_COLUMNS", "SPEED_STEP_KM_H", "REFINE_KM_H",
+           "MIN_SPEED_KM_H", "STRUCTURES"]
 
 #: §6.4.6.2(1): the lowest speed of the check [km/h] (40 m/s); the largest step of the speed grid [km/h]; the step
 #: of the refinement around a resonance speed [km/h]; the resonance speeds f1 d / i refined around (i = 1 ... N)
@@ -359,20 +360,11 @@ def run_dynamic_check(check: DynamicCheck, out_dir, *, executor=None, workers: i
     run_tasks(executor, workers, crossing_row, [(check, *key) for key in missing], finished, failed)
     envelope = [rows[key] for key in runs]
     summary = check_summary(check, envelope)
-    _write_envelope(out / "envelope.csv", envelope)
-    write_json(out / "summary.json", summary)
+    write_table_csv(out / "envelope.csv", {c: [r.get(c) for r in envelope] for c in ENVELOPE_COLUMNS})
     resonances = {(t, b): check.resonances_kmh(t, b) for t in check.trains for b in check.bridge.masses}
     summary["paths"] = write_figures_and_report(envelope, summary, resonances, out)
     write_json(out / "summary.json", summary)
     return summary
-
-
-def _write_envelope(path: Path, envelope: list) -> None:
-    with open(path, "w") as fh:
-        fh.write(",".join(ENVELOPE_COLUMNS) + "\n")
-        for r in envelope:
-            fh.write(",".join("" if r.get(c) is None else (repr(r[c]) if isinstance(r[c], float) else str(r[c]))
-                              for c in ENVELOPE_COLUMNS) + "\n")
 
 
 def check_summary(check: DynamicCheck, envelope: list) -> dict:

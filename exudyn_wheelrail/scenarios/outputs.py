@@ -16,7 +16,8 @@ from .drawing import FigureProcess
 from .plots import FIGURES, save_group_figure
 from .result import ScenarioResult
 
-__all__ = ["jsonable", "finite_or_none", "write_scenario_outputs", "write_csv", "write_json"]
+__all__ = ["jsonable", "finite_or_none", "write_scenario_outputs", "write_csv", "write_json", "table_cell",
+           "write_table_csv"]
 
 
 def jsonable(o):
@@ -86,6 +87,29 @@ def write_csv(path, ts: dict) -> None:
         if cols and len(ts[cols[0]]):
             for row in np.column_stack([ts[c] for c in cols]):
                 w.writerow([f"{v:.10g}" for v in row])
+
+
+def table_cell(v) -> str:
+    """One cell of a results table's CSV: empty for None, a float in full (``repr``: it reads back exactly), a list
+    or dict as JSON, anything else as its text."""
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return repr(float(v))
+    if isinstance(v, (list, dict)):
+        return json.dumps(v)
+    return str(v)
+
+
+def write_table_csv(path, table: dict) -> None:
+    """A results table (column -> list, one entry per row: a sweep's cases, a check's crossings) as CSV
+    (:func:`table_cell`)."""
+    cols = list(table)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for i in range(len(table[cols[0]]) if cols else 0):
+            w.writerow([table_cell(table[c][i]) for c in cols])
 
 
 def finite_or_none(o):

@@ -52,7 +52,6 @@ The returned :class:`SweepResult` holds ``table`` (a plain dict: column name -> 
 """
 from __future__ import annotations
 
-import csv
 import itertools
 import json
 import math
@@ -65,14 +64,15 @@ from multiprocessing import get_context
 from pathlib import Path
 
 from .drawing import pyplot
-from .outputs import write_json
+from .outputs import write_json, write_table_csv
 from .overrides import apply_overrides, set_dotted
 from .run import run_scenario
 from .spec import ScenarioError, as_scenario
 from .spec_crossing import is_crossing
 
-__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "run_tasks", "MAX_ATTEMPTS", "SHARED_ROUNDS", "EXECUTOR_ERROR", "sweep_cases", "DEFAULT_PLOT_RESULT",
-           "CROSSING_PLOT_RESULT", "default_plot_result", "TIMING_COLUMNS"]
+__all__ = ["SweepResult", "SerialExecutor", "sweep", "run_case", "run_tasks", "MAX_ATTEMPTS", "SHARED_ROUNDS",
+           "EXECUTOR_ERROR", "sweep_cases", "DEFAULT_PLOT_RESULT", "CROSSING_PLOT_RESULT", "default_plot_result",
+           "TIMING_COLUMNS"]
 
 #: the scalar plotted by default (present in every case of a vehicle scenario that ran)
 DEFAULT_PLOT_RESULT = "max_abs_Y_any_wheel_N"
@@ -305,25 +305,10 @@ def _table(combos, case_dirs, summaries) -> dict:
     return table
 
 
-def _cell(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return repr(v)
-    if isinstance(v, (list, dict)):
-        return json.dumps(v)
-    return str(v)
-
-
 def _write(result: SweepResult, base: dict, out: Path, plot_result: str, plot_parameter: str) -> dict:
     t = result.table
-    n = len(t["case"])
     paths = {"csv": out / "sweep.csv", "json": out / "sweep.json"}
-    with open(paths["csv"], "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(list(t))
-        for i in range(n):
-            w.writerow([_cell(t[c][i]) for c in t])
+    write_table_csv(paths["csv"], t)
     write_json(paths["json"], {"base_scenario": base, "parameters": result.parameters, "table": t}, indent=1)
     if plot_result not in t:
         result.notes.append(f"plot_result = {plot_result!r}: not in the table (no case produced it); no plot "
