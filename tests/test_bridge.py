@@ -508,7 +508,7 @@ def test_bad_section_modes_and_exudyn_input(span_modes):
     mbs = exu.SystemContainer().AddSystem()
     with pytest.raises(ValueError, match="formulation"):
         add_bridge(mbs, span_modes, formulation="fem")
-    with pytest.raises(TypeError, match="BridgeModes"):
+    with pytest.raises(TypeError, match="expected a ModalBasis"):
         add_bridge(mbs, model)
     br = add_bridge(mbs, span_modes)
     with pytest.raises(ValueError, match=r"shape \(1, 2\)"):

@@ -19,6 +19,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -30,6 +31,7 @@ from exudyn_wheelrail.structures.load_models import (HSLM_A, HSLM_NAMES, AxleTra
                                                      flexural_rigidity_Nm2, hslm_a, modal_moving_load_response,
                                                      quasi_static_midspan_deflection_m, read_axle_file,
                                                      resonance_speeds_m_s)
+from exudyn_wheelrail.validation import InputWarning
 
 L, M, F1, ZETA = 20.0, 15e3, 5.0, 0.01
 EI = flexural_rigidity_Nm2(L, M, F1)
@@ -301,6 +303,19 @@ def test_bad_axle_files_name_the_file_and_line(tmp_path, capsys, rows, extra, ex
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and err.startswith("error: ") and expected in err, err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("rows, expected", [
+    (["0,170", "2.5,170"], "largest axle load is 170 N, below 10000 N: loads in kN?"),
+    (["0,1.7e5", "2500,1.7e5"], "consecutive axles 2500 m apart, more than 40 m: positions in mm?"),
+    (["0,1.7e5", "2.5,-1.7e4"], "1 axle load(s) upward"),
+    (["0,-1.7e5", "2.5,-1.7e5"], "the axle loads sum to -340000 N, not a downward weight"),
+    (["0,1.7e7", "2.5,1.7e5"], "an axle load of 1.7e+07 N, above 400000 N"),
+])
+def test_a_plausible_slip_in_an_axle_file_is_a_warning(tmp_path, rows, expected):
+    f = _axle_file(tmp_path / "axles.csv", rows)
+    with pytest.warns(InputWarning, match=re.escape(expected)):
+        read_axle_file(f)
 
 
 def test_an_axle_file_without_the_columns(tmp_path, capsys):

@@ -217,3 +217,22 @@ def test_a_bad_bridge_file_is_one_line_before_any_work(tmp_path, capsys, body, e
     err = capsys.readouterr().err.strip()
     assert code == 2 and err.count("\n") == 0 and expected in err and str(f) in err, err
     assert not (tmp_path / "o" / "runs").exists()
+
+
+def test_on_a_terminal_the_crossings_are_a_bar_redrawn_in_place():
+    import io
+
+    from exudyn_wheelrail.cli.common import CountBar
+    out = io.StringIO()
+    bar = CountBar(out)
+    bar("  2 of 6 crossings taken from DIR/runs")
+    for k in range(3, 7):
+        bar(f"  [{k}/6] A1 lower {140 + 10 * k:g} km/h: ok")
+    text = out.getvalue()
+    lines = text.split("\n")
+    # the kept line as it is, then one line redrawn by carriage returns, ended at 6/6
+    assert lines[0] == "  2 of 6 crossings taken from DIR/runs" and lines[-1] == ""
+    redraws = lines[1].split("\r")[1:]
+    assert len(redraws) == 4
+    assert redraws[0].startswith("[" + "#" * 15 + "." * 15 + "] 3/6")
+    assert redraws[-1].startswith("[" + "#" * 30 + "] 6/6") and "A1 lower 2" in redraws[-1]

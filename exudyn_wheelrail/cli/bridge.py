@@ -1,6 +1,6 @@
-"""The bridge commands: ``bridge-crossing`` (a train over a simply supported span or a chain of them: deck response,
-EN 1990 deck acceleration) and ``bridge-crossing-sweep`` (the crossing over many speeds in parallel: peaks against
-speed, resonance speeds)."""
+"""The bridge commands: ``bridge-crossing`` (a train over a simply supported span, a chain of them, a continuous deck or
+a modes file's deck: deck response, EN 1990 deck acceleration) and ``bridge-crossing-sweep`` (the crossing over many
+speeds in parallel: peaks against speed, resonance speeds)."""
 from __future__ import annotations
 
 import math
@@ -32,7 +32,8 @@ BRIDGE_CROSSING_OPTIONS = {"span_m": "--span-m", "mass_kg_m": "--bridge-mass-kg-
                            "solver": "--solver", "track_form": "--track-form", "spans_m": "--spans-m",
                            "lateral_modes": "--lateral-modes", "lateral_f1_Hz": "--lateral-frequency-hz",
                            "sprung_frequency_Hz": "--sprung-frequency-hz",
-                           "sprung_damping_ratio": "--sprung-damping-ratio"}
+                           "sprung_damping_ratio": "--sprung-damping-ratio", "modes_file": "--modes-file",
+                           "continuous": "--continuous"}
 
 
 def _bridge_crossing_spans(args):
@@ -66,14 +67,25 @@ def _check_bridge_crossing(args) -> None:
         args.speeds = _sweep_speeds_kmh(args)
         args.speed_kmh = args.speeds[0]
     SPAN_M.check("--span-m", args.span_m)
-    MASS_KG_M.check("--bridge-mass-kg-per-m", args.bridge_mass_kg_per_m)
-    F1_HZ.check("--bridge-frequency-hz", args.bridge_frequency_hz)
+    if args.modes_file is None:
+        for option, value in (("--bridge-mass-kg-per-m", args.bridge_mass_kg_per_m),
+                              ("--bridge-frequency-hz", args.bridge_frequency_hz),
+                              ("--damping-ratio", args.damping_ratio)):
+            if value is None:
+                raise ValueError(f"{option}: missing (the built-in deck needs --bridge-mass-kg-per-m, "
+                                 "--bridge-frequency-hz and --damping-ratio; or give --modes-file)")
+    elif args.bridge_frequency_hz is not None:
+        raise ValueError("--bridge-frequency-hz: not with --modes-file (the file gives the frequencies)")
+    if args.bridge_mass_kg_per_m is not None:
+        MASS_KG_M.check("--bridge-mass-kg-per-m", args.bridge_mass_kg_per_m)
+    if args.bridge_frequency_hz is not None:
+        F1_HZ.check("--bridge-frequency-hz", args.bridge_frequency_hz)
     SPEED_KM_H.check("--speed-kmh", args.speed_kmh)
     FREE_VIBRATION_S.check("--free-vibration-s", args.free_vibration_s)
     if args.dt is not None:
         DT_S.check("--dt", args.dt)
     z = args.damping_ratio
-    if not (math.isfinite(z) and 0.0 <= z < 1.0):
+    if z is not None and not (math.isfinite(z) and 0.0 <= z < 1.0):
         raise ValueError(f"--damping-ratio: {z:g} must be in [0, 1) (a ratio, not a percentage: 2 % is 0.02)")
     spans = _bridge_crossing_spans(args)
     if args.lateral_frequency_hz is not None:
@@ -98,7 +110,8 @@ def _check_bridge_crossing(args) -> None:
                               spans_m=spans, lateral_modes=args.lateral_modes,
                               lateral_f1_Hz=args.lateral_frequency_hz,
                               sprung_frequency_Hz=args.sprung_frequency_hz,
-                              sprung_damping_ratio=args.sprung_damping_ratio)
+                              sprung_damping_ratio=args.sprung_damping_ratio, continuous=args.continuous,
+                              modes_file=args.modes_file)
     except ValueError as exc:
         name, _, problem = str(exc).partition(": ")
         raise ValueError(f"{BRIDGE_CROSSING_OPTIONS.get(name, name)}: {problem}") from None
@@ -223,7 +236,9 @@ def add_bridge_crossing_parsers(sub) -> None:
                                                 "the modal deck in Exudyn",
                         description="A train crosses a simply supported Euler-Bernoulli span (EI from f1, m, L; N "
                                     "vertical modes, modal damping) built in Exudyn, or a chain of them (--spans-m, "
-                                    "--n-spans), optionally with lateral modes (--lateral-modes); t = 0 when the "
+                                    "--n-spans), one deck continuous over them (--continuous) or a deck given by an "
+                                    "FE program's modes (--modes-file), optionally with lateral modes "
+                                    "(--lateral-modes); t = 0 when the "
                                     "first axle enters, the run ends when the last axle leaves (+ "
                                     "--free-vibration-s). Writes "
                                     "DIR/timeseries.csv and DIR/summary.json (deck values positive downward). Model: "
@@ -241,12 +256,23 @@ def add_bridge_crossing_parsers(sub) -> None:
 
 def _add_bridge_crossing_arguments(bc, sweep: bool) -> None:
     bc.add_argument("--span-m", type=float, required=True, help="span length L [m]")
-    bc.add_argument("--bridge-mass-kg-per-m", type=float, required=True, help="deck mass per length m [kg/m]")
-    bc.add_argument("--bridge-frequency-hz", type=float, required=True,
-                    help="first bending frequency f1 [Hz]; EI = m (2 L^2 f1 / pi)^2")
-    bc.add_argument("--damping-ratio", type=float, required=True, help="modal damping ratio of every mode, 0 <= z < 1")
+    bc.add_argument("--bridge-mass-kg-per-m", type=float, default=None,
+                    help="deck mass per length m [kg/m] (the built-in deck; with --modes-file only reported)")
+    bc.add_argument("--bridge-frequency-hz", type=float, default=None,
+                    help="first bending frequency f1 [Hz] of the first span as simply supported; EI = m (2 L^2 f1 / "
+                         "pi)^2 (the built-in deck)")
+    bc.add_argument("--damping-ratio", type=float, default=None,
+                    help="modal damping ratio of every mode, 0 <= z < 1 (with --modes-file: default the file's)")
     bc.add_argument("--modes", type=positive_int("--modes"), required=True,
-                    help=f"vertical bending modes kept per span (1 to {MAX_MODES})")
+                    help=f"vertical bending modes kept per span (1 to {MAX_MODES}); a continuous deck keeps N x "
+                         "spans, a modes file its N lowest modes")
+    bc.add_argument("--continuous", action="store_true",
+                    help="the spans (--spans-m, --n-spans) form one deck continuous over the intermediate supports")
+    bc.add_argument("--modes-file", default=None, metavar="FILE.npz|FILE.csv",
+                    help="the deck's modes from an FE program instead of the built-in beam: frequency_hz, "
+                         "modal_mass_kg, x_m (from the first abutment), vertical (n x k, + down), optional lateral, "
+                         "torsion, damping_ratio (exudyn_wheelrail/structures/modes_file.py); the spans give its "
+                         "supports")
     bc.add_argument("--n-spans", type=positive_int("--n-spans"), default=None, metavar="K",
                     help="a chain of K equal simply supported spans of --span-m (default 1); each span an independent "
                          "deck; the deck_midspan_* columns and keys are the first span's, deck_span<k>_* each span's")

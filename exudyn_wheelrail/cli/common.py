@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import re
+import shutil
 import sys
 import time
 import warnings
@@ -126,6 +127,59 @@ def progress_lines(args):
     if not show_progress(args):
         return None
     return lambda text: print(text, file=sys.stderr, flush=True)
+
+
+#: a progress line of one finished task of many: ``[k/N] ...``
+_COUNTED = re.compile(r"\s*\[(\d+)/(\d+)\]\s*(.*)")
+#: the width of a counting bar's bar [characters]
+COUNT_BAR_WIDTH = 30
+
+
+class CountBar:
+    """A bar of finished tasks redrawn in place on a terminal (:func:`progress_count`): every line ``[k/N] text``
+    redraws ``[#####.....] k/N, elapsed, remaining (from the mean rate), the text``; other lines are printed as they
+    are; the bar ends its line at N."""
+
+    def __init__(self, stream):
+        self.stream = stream
+        self.start = time.perf_counter()
+        self.first = None
+
+    def __call__(self, text: str) -> None:
+        m = _COUNTED.match(text)
+        if m is None:
+            print(text, file=self.stream, flush=True)
+            return
+        k, n, rest = int(m.group(1)), int(m.group(2)), m.group(3)
+        if self.first is None:
+            self.first = k - 1                          # tasks taken from an earlier run: not in the rate
+        elapsed = time.perf_counter() - self.start
+        done = k - self.first
+        left = (n - k) * elapsed / done if done > 0 else 0.0
+        full = COUNT_BAR_WIDTH * k // max(n, 1)
+        bar = "#" * full + "." * (COUNT_BAR_WIDTH - full)
+        line = f"[{bar}] {k}/{n}  {_clock(elapsed)} elapsed, {_clock(left)} left  {rest}"
+        self.stream.write("\r" + line[:_terminal_columns() - 1].ljust(_terminal_columns() - 1))
+        if k >= n:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def _clock(seconds: float) -> str:
+    m, s = divmod(int(round(seconds)), 60)
+    return f"{m}:{s:02d}" if m < 60 else f"{m // 60}:{m % 60:02d}:{s:02d}"
+
+
+def _terminal_columns() -> int:
+    return shutil.get_terminal_size((100, 24)).columns
+
+
+def progress_count(args):
+    """The progress of a command of many tasks (``[k/N] ...`` lines): a :class:`CountBar` on a terminal, whole lines
+    (:func:`progress_lines`) into a file or a pipe, or ``None``."""
+    if not show_progress(args):
+        return None
+    return CountBar(sys.stderr) if sys.stderr.isatty() else progress_lines(args)
 
 
 def _figure_suffixes() -> tuple[str, ...]:

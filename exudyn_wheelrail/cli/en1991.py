@@ -9,7 +9,7 @@ from ..simulation.settings import SPEED_KM_H
 from ..scenarios.defaults import CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_SPEED_STEP_KM_H
 from ..standards import EN1991_DAMPING_PERCENT, HSLM_NAMES, TRACK_FORMS
 from ..validation import output_dir
-from .common import add_progress_argument, positive_int, progress_lines
+from .common import add_progress_argument, positive_int, progress_count
 
 
 def add_en1991_dynamic_parser(sub) -> None:
@@ -25,10 +25,12 @@ def add_en1991_dynamic_parser(sub) -> None:
                                    "Writes DIR/summary.json (verdict, max_deck_acceleration_m_s2, "
                                    "acceleration_limit_m_s2, governing, damping_ratio_used, modes, "
                                    "max_dynamic_enhancement), DIR/envelope.csv (one row per crossing), "
-                                   "DIR/envelope.png and DIR/report.html; a line per finished crossing [k/N] on stderr "
+                                   "DIR/envelope.png and DIR/report.html; a bar of the finished crossings on a terminal, "
+                                   "else a line per finished crossing [k/N] on stderr "
                                    "(exudyn_wheelrail/scenarios/en1991_dynamic.py).")
     p.add_argument("--bridge", required=True, metavar="FILE.toml",
-                   help="the bridge file: [bridge] spans_m, EI_Nm2, mass_kg_per_m (a number or [lower, upper]), "
+                   help="the bridge file: [bridge] spans_m, EI_Nm2 (and continuous) or modes_file (and "
+                        "modes_mass_kg_per_m), mass_kg_per_m (a number or [lower, upper]), "
                         f"structure ({', '.join(EN1991_DAMPING_PERCENT)}) or "
                         f"damping_ratio, track_form ({', '.join(TRACK_FORMS)}), additional_damping (true/false)")
     p.add_argument("--max-line-speed-kmh", type=float, required=True, metavar="V",
@@ -83,7 +85,7 @@ def cmd_en1991_dynamic(args) -> int:
     print(f"EN 1991-2 dynamic check of {args.bridge}: {len(check.trains)} train(s), "
           f"{len(check.bridge.masses)} mass bound(s), {n} crossings, damping "
           f"{100 * check.bridge.damping_ratio_used:.3g} %")
-    s = run_dynamic_check(check, args.out, workers=args.workers, progress=progress_lines(args))
+    s = run_dynamic_check(check, args.out, workers=args.workers, progress=progress_count(args))
     g = s["governing"] or {}
     a = s["max_deck_acceleration_m_s2"]
     print(f"verdict: {s['verdict'].upper()} — {s['verdict_reason']}"

@@ -28,7 +28,10 @@ def cmd_run_scenario(args):
     if is_crossing(scn):                          # a bridge crossing: as the bridge-crossing command shows it
         st, source = scn["structure"], veh.get("hslm") or veh.get("axles") or veh.get("consist")
         print(f"scenario {scn['scenario']['name']}: bridge crossing, {veh['load_model']}, {source}, spans "
-              f"{' + '.join(f'{x:g}' for x in st['spans_m'])} m, f1 = {st['f1_Hz']:g} Hz, {st['modes']} modes, "
+              f"{' + '.join(f'{x:g}' for x in st['spans_m'])} m"
+              + (f", modes file {st['modes_file']}" if "modes_file" in st else
+                 f"{' continuous' if st.get('continuous') else ''}, f1 = {st['f1_Hz']:g} Hz")
+              + f", {st['modes']} modes, "
               f"{veh['speed_km_h']:g} km/h, {scn['run']['solver']}")
         with inputs_checked():
             result = run_scenario(scn, args.out, progress=progress_bar(args))

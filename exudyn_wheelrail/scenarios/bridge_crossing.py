@@ -1,5 +1,6 @@
-r"""A train crossing a simply supported span (or a chain of them): the deck in Exudyn, the train by a load model,
-one run through the project's runner, the deck's outputs (``python -m exudyn_wheelrail bridge-crossing``).
+r"""A train crossing a simply supported span (a chain of them, a continuous deck, a deck from a modes file): the deck
+in Exudyn, the train by a load model, one run through the project's runner, the deck's outputs (``python -m
+exudyn_wheelrail bridge-crossing``).
 
 >>> case = BridgeCrossing(span_m=20.0, mass_kg_m=15e3, f1_Hz=5.0, damping_ratio=0.01, n_modes=3,
 ...                       axles=hslm_a("A1"), speed_m_s=300 / 3.6)                     # doctest: +SKIP
@@ -38,6 +39,20 @@ quasi-static deflection and the dynamic amplification) are the **first span's**;
 in ``summary.json`` ``spans`` (per span: place, ``f1``, frequencies, resonance speeds ``f1_k d/i``, peaks, the EN
 1990 A2 check with its own cut-off) and ``EN1990_A2_all_spans_passed``.  A single span (``spans_m`` None or one
 length) gives the single-span run, bit for bit.
+
+A continuous deck, a modes file
+-------------------------------
+``continuous=True`` (``--continuous``): the spans form **one deck continuous over its intermediate supports** (the
+built-in beam, :func:`~.bridge_crossing_deck.continuous_modes`): its ``N K`` lowest vertical (and ``N_L K``
+lateral) modes, the section of the first span (``EI`` from ``f1`` as for a simply supported first span); the time
+step's highest frequency is bounded by the N-th clamped–clamped frequency of the stiffest span
+(:data:`~.bridge_crossing_case.CLAMPED_BAND`).  ``modes_file`` (``--modes-file``): the deck of an FE program's modes
+(:mod:`~exudyn_wheelrail.structures.modes_file`: mass-normalised with the given modal masses, splines between the
+positions broken at the spans' supports; :func:`~.bridge_crossing_deck.file_modes`), its ``N`` lowest modes, its
+damping ratios unless one is given, a mass bound by ``mass_scale``.  For both, a span's modes are those that move
+it, its ``f1`` (resonance speeds) and EN 1990 cut-off ``max(30 Hz, 1.5 f1, f3)`` from its first and third vertical
+modes, and the quasi-static deflection is the static response of the modes kept
+(:class:`~.bridge_crossing_probes.FirstAxleProbe`); ``summary.json``'s ``deck`` says which deck ran.
 
 Lateral modes
 -------------

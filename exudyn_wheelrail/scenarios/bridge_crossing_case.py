@@ -3,21 +3,25 @@ deck's inputs and the default time step (:func:`default_dt_s`).  The crossing is
 :mod:`exudyn_wheelrail.scenarios.bridge_crossing`, its public import path."""
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ..conventions import speed_km_h
 from ..simulation.solvers import RESOLUTION_LIMIT, SOLVERS
 from ..structures.load_models import AxleTrain
+from ..structures.modes_file import half_waves, mode_kinds, read_modes_file
 from ..validation import Quantity
 from .deck import TRACK_FORMS, bending_stiffness_Nm2
 from .defaults import (DEFAULT_SOLVER, LATERAL_EI_RATIO, LOAD_MODELS, MAX_MODES, MODEL_NAMES, SPRUNG_DAMPING_RATIO,
                        SPRUNG_FREQUENCY_HZ, STEPS_PER_PERIOD)
 
 __all__ = ["BridgeCrossing", "default_dt_s", "step_rounded_down", "positive_number", "SPAN_M", "MASS_KG_M", "F1_HZ",
-           "FREE_VIBRATION_S", "MAX_DEFAULT_DT_S", "MIN_ELEMENTS", "ELEMENTS_PER_MODE", "MAX_SPANS"]
+           "FREE_VIBRATION_S", "MAX_DEFAULT_DT_S", "MIN_ELEMENTS", "ELEMENTS_PER_MODE", "MAX_SPANS", "CLAMPED_BAND",
+           "file_sha256"]
 
 #: plausibility of the deck's inputs (a value outside is an error, outside ``typical`` a warning)
 SPAN_M = Quantity("span length", "m", 1.0, 500.0, typical=(5.0, 150.0))
@@ -31,6 +35,14 @@ MIN_ELEMENTS = 20
 ELEMENTS_PER_MODE = 8
 #: most spans of a chain
 MAX_SPANS = 50
+#: a clamped–clamped beam's N-th frequency is at most ``(N + CLAMPED_BAND)²`` times the simply supported first
+#: (β_N L = 4.730, 7.853, 10.996, … ≈ (N + 1/2) π; 1.5056² = 2.267 ≤ 1.51²)
+CLAMPED_BAND = 0.51
+
+
+def file_sha256(path) -> str:
+    """The SHA-256 of a file's bytes (a crossing's fingerprint holds its modes file's)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 # ================================================================================================= the case
@@ -49,9 +61,12 @@ def positive_number(name, value, *, allow_zero=False) -> float:
 class BridgeCrossing:
     """A crossing (module docstring).  Errors: ``ValueError`` ``"<field>: <problem>"``.
 
-    span_m, mass_kg_m, f1_Hz : span length [m], deck mass per length [kg/m], first bending frequency [Hz].
-    damping_ratio : modal damping ratio ζ of every mode, 0 ≤ ζ < 1.
-    n_modes : vertical bending modes kept (1 … :data:`MAX_MODES`).
+    span_m, mass_kg_m, f1_Hz : span length [m], deck mass per length [kg/m], first bending frequency [Hz] of the
+        first span as a simply supported span (it sets the section's ``EI``).  With a modes file: ``mass_kg_m``
+        only reported (None allowed), ``f1_Hz`` None (the file's first vertical frequency is taken).
+    damping_ratio : modal damping ratio ζ of every mode, 0 ≤ ζ < 1; with a modes file None takes the file's.
+    n_modes : vertical bending modes kept per span (1 … :data:`MAX_MODES`); a continuous deck keeps its
+        ``n_modes × spans`` lowest; a modes file its ``n_modes`` lowest modes (of any kind).
     axles : the train as axle loads (:class:`~exudyn_wheelrail.structures.load_models.AxleTrain`); None only
         for a load model that builds the train itself (``train_file``).
     speed_m_s : running speed [m/s].
@@ -69,6 +84,11 @@ class BridgeCrossing:
         :data:`LATERAL_EI_RATIO` ``EI_y``.
     sprung_frequency_Hz, sprung_damping_ratio : the suspension of the ``sprung-masses`` model (its module
         docstring).
+    continuous : the spans form one deck continuous over the intermediate supports (the built-in beam; at least
+        two spans).
+    modes_file : a modes file from an FE program (:mod:`~exudyn_wheelrail.structures.modes_file`) instead of the
+        built-in beam; the spans then give its supports.
+    mass_scale : with a modes file, the deck mass over the mass its modes were computed with (a mass bound).
     """
 
     span_m: float
@@ -90,17 +110,31 @@ class BridgeCrossing:
     lateral_f1_Hz: float | None = None
     sprung_frequency_Hz: float = SPRUNG_FREQUENCY_HZ
     sprung_damping_ratio: float = SPRUNG_DAMPING_RATIO
+    continuous: bool = False
+    modes_file: str | None = None
+    mass_scale: float = 1.0
 
     def __post_init__(self):
+        if self.modes_file is not None:
+            self._check_modes_file()
         for name in ("span_m", "mass_kg_m", "f1_Hz", "speed_m_s"):
+            if name == "mass_kg_m" and self.modes_file is not None and self.mass_kg_m is None:
+                continue
             object.__setattr__(self, name, positive_number(name, getattr(self, name)))
-        z = positive_number("damping_ratio", self.damping_ratio, allow_zero=True)
-        if not z < 1.0:
-            raise ValueError(f"damping_ratio: {z:g} must be < 1 (a ratio, not a percentage: 2 % is 0.02)")
-        object.__setattr__(self, "damping_ratio", z)
+        if self.damping_ratio is None and self.modes_file is not None:
+            if self.file_modes.damping_ratio is None:
+                raise ValueError(f"damping_ratio: missing: the modes file {self.modes_file} gives none")
+        else:
+            z = positive_number("damping_ratio", self.damping_ratio, allow_zero=True)
+            if not z < 1.0:
+                raise ValueError(f"damping_ratio: {z:g} must be < 1 (a ratio, not a percentage: 2 % is 0.02)")
+            object.__setattr__(self, "damping_ratio", z)
         n = self.n_modes
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_MODES:
             raise ValueError(f"n_modes: {n!r} must be an integer from 1 to {MAX_MODES}")
+        if self.modes_file is not None and n > self.file_modes.n_modes:
+            raise ValueError(f"n_modes: {n} modes asked, the modes file {self.modes_file} has "
+                             f"{self.file_modes.n_modes}")
         object.__setattr__(self, "n_modes", int(n))
         if self.axles is not None and not isinstance(self.axles, AxleTrain):
             raise ValueError(f"axles: expected an AxleTrain, got {type(self.axles).__name__}")
@@ -148,15 +182,60 @@ class BridgeCrossing:
         if not math.isfinite(start):
             raise ValueError(f"deck_start_m: {self.deck_start_m!r} is not a finite number")
         object.__setattr__(self, "deck_start_m", start)
+        if not isinstance(self.continuous, (bool, np.bool_)):
+            raise ValueError(f"continuous: {self.continuous!r}: expected true or false")
+        if self.continuous and self.n_spans < 2:
+            raise ValueError("continuous: a deck continuous over intermediate supports needs at least two spans "
+                             "(spans_m)")
+        if self.continuous and self.modes_file is not None:
+            raise ValueError("continuous: give either the built-in continuous deck or a modes file, not both")
+
+    def _check_modes_file(self):
+        """A modes file's case: the file read and checked (its errors name the file and key), ``f1_Hz`` its first
+        vertical frequency at the mass scale, no lateral modes asked (the file's modes are taken as given)."""
+        r = positive_number("mass_scale", self.mass_scale)
+        object.__setattr__(self, "mass_scale", r)
+        object.__setattr__(self, "modes_file", str(self.modes_file))
+        try:
+            data = read_modes_file(self.modes_file)
+        except ValueError as exc:
+            raise ValueError(f"modes_file: {exc}") from None
+        if self.lateral_modes or self.lateral_f1_Hz is not None:
+            raise ValueError("lateral_modes: a modes file's modes are taken as given (its lateral rows, if any)")
+        vertical = [f for f, kind in zip(data.frequency_hz, mode_kinds(data)) if kind == "vertical"]
+        if not vertical:
+            raise ValueError(f"modes_file: {self.modes_file}: no vertical mode")
+        f1 = min(vertical) / math.sqrt(r)
+        if self.f1_Hz is not None and abs(float(self.f1_Hz) / f1 - 1.0) > 1e-9:
+            raise ValueError(f"f1_Hz: {self.f1_Hz!r} Hz is not the modes file's first vertical frequency {f1:.6g} Hz "
+                             "(leave it out: the file gives it)")
+        object.__setattr__(self, "f1_Hz", f1)
 
     @property
-    def EI_Nm2(self) -> float:
+    def file_modes(self):
+        """The modes file's contents (:class:`~exudyn_wheelrail.structures.modes_file.ModesFileData`; read once per
+        file version), None for the built-in beam."""
+        return None if self.modes_file is None else read_modes_file(self.modes_file)
+
+    @property
+    def global_modes(self) -> bool:
+        """Whether the deck's modes span the whole deck (a continuous deck, a modes file) rather than one span each
+        (a chain of simply supported spans)."""
+        return bool(self.continuous) or self.modes_file is not None
+
+    @property
+    def EI_Nm2(self) -> float | None:
+        """Vertical bending stiffness of the built-in beam (None with a modes file)."""
+        if self.modes_file is not None:
+            return None
         return bending_stiffness_Nm2(self.span_m, self.mass_kg_m, self.f1_Hz)[0]
 
     @property
-    def EI_z_Nm2(self) -> float:
+    def EI_z_Nm2(self) -> float | None:
         """Lateral bending stiffness: from ``lateral_f1_Hz`` on the first span, else :data:`LATERAL_EI_RATIO`
-        ``EI_y`` (:func:`~.deck.bending_stiffness_Nm2`)."""
+        ``EI_y`` (:func:`~.deck.bending_stiffness_Nm2`); None with a modes file."""
+        if self.modes_file is not None:
+            return None
         return bending_stiffness_Nm2(self.span_m, self.mass_kg_m, self.f1_Hz, self.lateral_f1_Hz)[1]
 
     @property
@@ -190,13 +269,28 @@ class BridgeCrossing:
     @property
     def f_N_Hz(self) -> float:
         """The Euler–Bernoulli frequency of the highest mode kept: ``N² f1`` of a single span without lateral modes;
-        the largest ``N² f1_k`` and ``N_L² f_L,k`` over the spans otherwise."""
+        the largest ``N² f1_k`` and ``N_L² f_L,k`` over the spans otherwise.  A continuous deck: the bound
+        ``(N + CLAMPED_BAND) ² f1_k`` (the N-th frequency of the stiffest span clamped at both ends: clamping every
+        support adds constraints, which raise every eigenvalue, so it bounds the deck's ``N K``-th mode).  A modes
+        file: its highest kept frequency at the mass scale."""
+        if self.modes_file is not None:
+            return float(np.sort(self.file_modes.frequency_hz)[self.n_modes - 1]) / math.sqrt(self.mass_scale)
+        band = CLAMPED_BAND if self.continuous else 0.0
         if self.spans_m is None and self.lateral_modes == 0:
             return self.n_modes ** 2 * self.f1_Hz
-        f = max(self.n_modes ** 2 * self.span_f1_Hz(k) for k in range(self.n_spans))
+        f = max((self.n_modes + band) ** 2 * self.span_f1_Hz(k) for k in range(self.n_spans))
         if self.lateral_modes:
-            f = max(f, max(self.lateral_modes ** 2 * self.span_lateral_f1_Hz(k) for k in range(self.n_spans)))
+            f = max(f, max((self.lateral_modes + band) ** 2 * self.span_lateral_f1_Hz(k)
+                           for k in range(self.n_spans)))
         return f
+
+    @property
+    def half_waves(self) -> int:
+        """The most half-waves of a kept shape along a span (the moving loads' spatial resolution): ``N`` (and
+        ``N_L``) of the built-in beam, counted from a modes file's shapes."""
+        if self.modes_file is not None:
+            return half_waves(self.file_modes)
+        return max(self.n_modes, self.lateral_modes)
 
     def as_dict(self) -> dict:
         return {"span_m": self.span_m, "mass_kg_m": self.mass_kg_m, "f1_Hz": self.f1_Hz,
@@ -206,6 +300,9 @@ class BridgeCrossing:
                 "train_file": self.train_file, "deck_start_m": self.deck_start_m, "spans_m": list(self.chain_m),
                 "lateral_modes": self.lateral_modes, "lateral_f1_Hz": self.lateral_f1_Hz,
                 "sprung_frequency_Hz": self.sprung_frequency_Hz, "sprung_damping_ratio": self.sprung_damping_ratio,
+                "continuous": bool(self.continuous), "modes_file": self.modes_file,
+                "modes_file_sha256": None if self.modes_file is None else file_sha256(self.modes_file),
+                "mass_scale": self.mass_scale,
                 "axles": None if self.axles is None else self.axles.as_dict()}
 
 
@@ -214,7 +311,7 @@ def default_dt_s(case: BridgeCrossing) -> float:
     shortest span, the highest mode of all spans, N the larger of the vertical and lateral mode counts)."""
     return step_rounded_down(min(
         1.0 / (STEPS_PER_PERIOD * case.f_N_Hz),
-        2.0 * min(case.chain_m) / (STEPS_PER_PERIOD * max(case.n_modes, case.lateral_modes) * case.speed_m_s),
+        2.0 * min(case.chain_m) / (STEPS_PER_PERIOD * case.half_waves * case.speed_m_s),
         MAX_DEFAULT_DT_S))
 
 

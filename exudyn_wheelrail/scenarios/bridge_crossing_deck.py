@@ -1,5 +1,6 @@
-"""The bridge crossing's deck: its section (:func:`deck_section`), the bending modes of every span computed alone
-(:func:`deck_modes`, :func:`vertical_modes`) and the EN 1990 cut-off frequency of a span (:func:`en1990_cutoff_Hz`)."""
+"""The bridge crossing's deck: its section (:func:`deck_section`), its modes (:func:`deck_modes`: a chain's span by
+span, a continuous deck's, a modes file's; :func:`vertical_modes`) and the EN 1990 cut-off frequency of a simply
+supported span (:func:`en1990_cutoff_Hz`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -8,10 +9,13 @@ import numpy as np
 
 from ..structures.beam import N_DOF_NODE, DeckSection
 from ..structures.bridge import BridgeModel, BridgeModes
+from ..structures.modes_file import SampledModes
 from .bridge_crossing_case import ELEMENTS_PER_MODE, MIN_ELEMENTS, BridgeCrossing
+from .deck import cutoff_of_frequencies_Hz
 from .deck import en1990_cutoff_Hz as span_cutoff_Hz
 
-__all__ = ["deck_section", "elements_per_span", "DeckModes", "deck_modes", "vertical_modes", "en1990_cutoff_Hz"]
+__all__ = ["deck_section", "elements_per_span", "DeckModes", "deck_modes", "chain_modes", "continuous_modes",
+           "file_modes", "vertical_modes", "en1990_cutoff_Hz"]
 
 
 def deck_section(case: BridgeCrossing):
@@ -58,16 +62,41 @@ def _span_modes(case: BridgeCrossing, k: int):
 
 @dataclass(frozen=True)
 class DeckModes:
-    """The modes of the deck (:func:`deck_modes`): ``modes`` (:class:`~exudyn_wheelrail.structures.bridge.
-    BridgeModes` of the whole chain), ``vertical`` and ``lateral`` (per span, the indices of its modes in
-    ``modes``)."""
+    """The modes of the deck (:func:`deck_modes`): ``modes`` (the
+    :class:`~exudyn_wheelrail.structures.modal_basis.ModalBasis` of the whole deck), ``vertical`` and ``lateral``
+    (per span, the indices of its modes in ``modes``: a span's own of a chain, every mode of that kind of a deck
+    whose modes span it whole), ``f1_Hz`` (per span, its first vertical frequency: the span's own of a chain, the
+    deck's otherwise; the resonance speeds ``f1 d/i``), ``cutoffs_Hz`` (per span, EN 1990's
+    ``max(30 Hz, 1.5 f1, f3)``) and, for a chain, ``euler_bernoulli_top_Hz`` (per span, ``N² f1_k``)."""
 
     modes: object
     vertical: tuple
     lateral: tuple
+    f1_Hz: tuple = ()
+    cutoffs_Hz: tuple = ()
+    euler_bernoulli_top_Hz: tuple = ()
+
+    def reaches_cutoff(self, k: int) -> bool:
+        """Whether span ``k``'s vertical modes reach its cut-off: the highest kept is at or above it (a chain's span
+        also when ``N² f1_k``, the Euler–Bernoulli value its mesh approximates from above, is:
+        ``euler_bernoulli_top_Hz``)."""
+        f = self.modes.frequencies_Hz[self.vertical[k]]
+        if f.size and f[-1] >= self.cutoffs_Hz[k]:
+            return True
+        return bool(self.euler_bernoulli_top_Hz) and self.euler_bernoulli_top_Hz[k] >= self.cutoffs_Hz[k]
 
 
 def deck_modes(case: BridgeCrossing) -> DeckModes:
+    """The deck's modes: a chain's span by span (:func:`chain_modes`), a continuous deck's
+    (:func:`continuous_modes`), a modes file's (:func:`file_modes`)."""
+    if case.modes_file is not None:
+        return file_modes(case)
+    if case.continuous:
+        return continuous_modes(case)
+    return chain_modes(case)
+
+
+def chain_modes(case: BridgeCrossing) -> DeckModes:
     """Every span's ``N`` vertical and ``N_L`` lateral bending modes, each span computed alone (the spans are
     independent simply supported decks: the modes of equal spans stay separate, never mixed as the eigenvectors
     of a repeated eigenvalue would be), as modes of the chain (:class:`~exudyn_wheelrail.structures.bridge.
@@ -87,7 +116,76 @@ def deck_modes(case: BridgeCrossing) -> DeckModes:
     first = [k * (n + n_l) for k in range(case.n_spans)]
     return DeckModes(BridgeModes(model, omega, shapes),
                      vertical=tuple(np.arange(i, i + n) for i in first),
-                     lateral=tuple(np.arange(i + n, i + n + n_l) for i in first))
+                     lateral=tuple(np.arange(i + n, i + n + n_l) for i in first),
+                     f1_Hz=tuple(case.span_f1_Hz(k) for k in range(case.n_spans)),
+                     cutoffs_Hz=tuple(en1990_cutoff_Hz(case, k) for k in range(case.n_spans)),
+                     euler_bernoulli_top_Hz=tuple(n ** 2 * case.span_f1_Hz(k) for k in range(case.n_spans)))
+
+
+def continuous_modes(case: BridgeCrossing) -> DeckModes:
+    """The ``N K`` lowest vertical and ``N_L K`` lowest lateral bending modes of the deck continuous over its ``K``
+    spans' intermediate supports (:class:`~exudyn_wheelrail.structures.bridge.BridgeModel` with
+    ``continuous=True``, the spans' common section, ``max(20, 8N)`` elements per span); a lateral mode keeps its
+    lateral DOFs only (as a chain's); vertical first."""
+    n, n_l, k_sp = case.n_modes, case.lateral_modes, case.n_spans
+    model = BridgeModel(case.chain_m, deck_section(case), continuous=True, damping_ratio=case.damping_ratio,
+                        rail_height_m=0.0, start_m=case.deck_start_m, elements_per_span=elements_per_span(case))
+    every = model.modes(f_max_Hz=1.05 * case.f_N_Hz)
+    idx = every.of_kind("vertical")[:n * k_sp]
+    if idx.size < n * k_sp:
+        raise RuntimeError(f"the continuous deck has {idx.size} vertical modes below {1.05 * case.f_N_Hz:g} Hz, "
+                           f"expected {n * k_sp}")
+    omega, shapes = every.omega_rad_s[idx], every.shapes[:, idx]
+    if n_l:
+        lat = every.of_kind("lateral")[:n_l * k_sp]
+        if lat.size < n_l * k_sp:
+            raise RuntimeError(f"the continuous deck has {lat.size} lateral modes below {1.05 * case.f_N_Hz:g} Hz, "
+                               f"expected {n_l * k_sp}")
+        keep = np.zeros(model.n_dof, dtype=bool)
+        keep[1::N_DOF_NODE] = keep[5::N_DOF_NODE] = True
+        omega = np.concatenate([omega, every.omega_rad_s[lat]])
+        shapes = np.concatenate([shapes, np.where(keep[:, None], every.shapes[:, lat], 0.0)], axis=1)
+    modes = BridgeModes(model, omega, shapes)
+    return _whole_deck(case, modes, np.arange(n * k_sp), np.arange(n * k_sp, n * k_sp + n_l * k_sp))
+
+
+def file_modes(case: BridgeCrossing) -> DeckModes:
+    """The ``N`` lowest modes of the case's modes file
+    (:class:`~exudyn_wheelrail.structures.modes_file.SampledModes`: mass-normalised, the splines broken at the
+    spans' supports, the mass scale of a mass bound; the case's damping ratio, else the file's)."""
+    data = case.file_modes.lowest(case.n_modes)
+    supports = np.concatenate([[0.0], np.cumsum(case.chain_m)])
+    modes = SampledModes(data, start_m=case.deck_start_m, supports_x_m=supports, mass_scale=case.mass_scale,
+                         damping_ratio=case.damping_ratio)
+    return _whole_deck(case, modes, modes.of_kind("vertical"), modes.of_kind("lateral"))
+
+
+#: a mode moves a span when its largest vertical displacement there is at least this fraction of its largest
+SPAN_SHARE = 1e-3
+
+
+def _whole_deck(case, modes, vertical, lateral) -> DeckModes:
+    """A :class:`DeckModes` whose modes span the whole deck: span ``k``'s modes are those that move it (a vertical
+    displacement there at least :data:`SPAN_SHARE` of the mode's largest: every mode of a continuous deck, a
+    span's own of a modes file of separate decks); its first frequency and cut-off from its first and third
+    vertical modes (with fewer than three the highest stands for f3, and the cut-off is then not reached)."""
+    vertical, lateral = np.asarray(vertical, dtype=np.int64), np.asarray(lateral, dtype=np.int64)
+    x = case.deck_start_m + np.linspace(0.0, case.length_m, 200 * case.n_spans + 1)
+    every = np.max(np.abs(modes.shape_at(x)), axis=(0, 1))                       # (n_modes,)
+    per_span, lat_span, f1s, cuts = [], [], [], []
+    for k in range(case.n_spans):
+        xs = case.span_start_m(k) + case.chain_m[k] * np.linspace(0.01, 0.99, 99)
+        moves = np.max(np.abs(modes.shape_at(xs)), axis=(0, 1)) >= SPAN_SHARE * every
+        mine = vertical[moves[vertical]]
+        f = modes.frequencies_Hz[mine]
+        if f.size == 0:
+            raise ValueError(f"span {k + 1} of the deck: no vertical mode moves it")
+        per_span.append(mine)
+        lat_span.append(lateral[moves[lateral]])
+        f1s.append(float(f[0]))
+        cuts.append(cutoff_of_frequencies_Hz(f[0], f[min(2, f.size - 1)]))
+    return DeckModes(modes, vertical=tuple(per_span), lateral=tuple(lat_span), f1_Hz=tuple(f1s),
+                     cutoffs_Hz=tuple(cuts))
 
 
 def vertical_modes(case: BridgeCrossing):

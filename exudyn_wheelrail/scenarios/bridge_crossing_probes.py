@@ -40,19 +40,35 @@ def deck_columns(case) -> tuple:
 
 class FirstAxleProbe:
     """``x_first_axle_m``: deck coordinate of the first axle, ``V t``; ``deck_midspan_static_displacement_m``: the
-    quasi-static mid-span deflection under the static axle loads at their places (functions of the time)."""
+    quasi-static deflection at the first span's middle under the static axle loads at their places (functions of the
+    time) — a simply supported span's influence line (:func:`~exudyn_wheelrail.structures.load_models.
+    quasi_static_midspan_deflection_m`), or, for a deck whose modes span it whole (continuous, a modes file),
+    the static response of the modes kept, ``w(x_m) = Σ_j φ_j(x_m) Σ_k P_k φ_j(s_k) / ω_j²`` (the same basis as the
+    dynamic response: their ratio is the dynamic enhancement of that model)."""
 
-    def __init__(self, case, axle_x_m, axle_load_N):
+    def __init__(self, case, axle_x_m, axle_load_N, deck=None):
         self.V = float(case.speed_m_s)
         self.axles = AxleTrain(np.asarray(axle_x_m, dtype=float), np.asarray(axle_load_N, dtype=float),
                                name="static axle loads")
         self.L, self.EI = case.span_m, case.EI_Nm2
+        self.x0 = case.deck_start_m
+        self.modal = None
+        if case.global_modes:
+            modes = deck.modes
+            self.modes = modes
+            self.modal = modes.shape_at(self.x0 + 0.5 * self.L)[1] / modes.omega_rad_s ** 2
         self.columns = [("axle", "x_first_axle_m"), ("axle", "deck_midspan_static_displacement_m")]
 
     def fill_rows(self, t, rows):
         rows[:, 0] = self.V * t
-        rows[:, 1] = quasi_static_midspan_deflection_m(t, self.axles, speed_m_s=self.V, span_m=self.L,
-                                                       EI_Nm2=self.EI)
+        if self.modal is None:
+            rows[:, 1] = quasi_static_midspan_deflection_m(t, self.axles, speed_m_s=self.V, span_m=self.L,
+                                                           EI_Nm2=self.EI)
+            return
+        q = np.zeros((np.size(t), self.modes.n_modes))
+        for x, p in zip(self.axles.x_m, self.axles.load_N):       # Σ_k P_k φ(s_k): one axle at a time (memory)
+            q += p * self.modes.shape_at(self.x0 + self.V * np.asarray(t) - x)[:, 1, :]
+        rows[:, 1] = q @ self.modal
 
 
 class DeckProbe:
@@ -66,7 +82,7 @@ class DeckProbe:
         phi, dphi = modes.shape_and_slope_at(np.array([x0 + 0.5 * L, x0, x0 + L]))
         self.phi_mid = phi[0, 1].copy()
         self.slopes = dphi[1:, 1].copy()                              # (2, n): dw/dx at the supports
-        if case.n_spans > 1:       # x0 + L is also the start of span 2: the end node of span 1, dw/dx = -θy
+        if case.n_spans > 1 and not case.global_modes:  # x0 + L also starts span 2: span 1's end node, dw/dx = -θy
             self.slopes[1] = -modes.shapes[N_DOF_NODE * elements_per_span(case) + 4]
         s_pts = x0 + L * np.asarray(CHECK_POINTS_X_OVER_L)
         self.phi_pts = modes.shape_at(s_pts)[:, 1, :].copy()

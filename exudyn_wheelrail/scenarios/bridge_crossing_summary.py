@@ -16,7 +16,7 @@ from .defaults import LATERAL_EI_RATIO, STEPS_PER_PERIOD
 from .result import ScenarioResult
 
 __all__ = ["SUMMARY_KEYS", "DEFLECTION_BOUND_MARGIN", "deflection_bound_m", "midspan_displacement_columns",
-           "deck_status", "crossing_summary", "crossing_scalars", "crossing_result"]
+           "deck_status", "crossing_summary", "deck_description", "crossing_scalars", "crossing_result"]
 
 #: keys every summary.json has (the command-line contract)
 SUMMARY_KEYS = ("status", "max_abs_deck_midspan_displacement_m", "max_abs_deck_midspan_acceleration_m_s2",
@@ -99,11 +99,11 @@ def _spans_summary(case, deck, cutoffs, ts, ok, spacing) -> list:
     for k in range(case.n_spans):
         f = deck.modes.frequencies_Hz[deck.vertical[k]]
         col = [c.format(k=k + 1) for c in SPAN_COLUMNS]
-        reach = bool(f[-1] >= cutoffs[k] or case.n_modes ** 2 * case.span_f1_Hz(k) >= cutoffs[k])
+        reach = deck.reaches_cutoff(k)
         entry = {"span": k + 1, "span_m": case.chain_m[k], "start_m": case.span_start_m(k),
-                 "f1_Hz": case.span_f1_Hz(k), "frequencies_Hz": [float(x) for x in f],
+                 "f1_Hz": deck.f1_Hz[k], "frequencies_Hz": [float(x) for x in f],
                  "resonance_speeds_km_h": ([] if spacing is None else
-                                           [speed_km_h(v) for v in resonance_speeds_m_s(case.span_f1_Hz(k), spacing)]),
+                                           [speed_km_h(v) for v in resonance_speeds_m_s(deck.f1_Hz[k], spacing)]),
                  "max_abs_midspan_displacement_m": _max_abs(ts[col[0]]) if ok else None,
                  "max_abs_midspan_acceleration_m_s2": _max_abs(ts[col[1]]) if ok else None,
                  "EN1990_A2_deck_acceleration": _en1990(case, f, cutoffs[k], reach, _max_abs(ts[col[2]]))
@@ -130,11 +130,11 @@ def crossing_summary(case, deck, cutoffs, handle, settings, outcome, ts, build_s
     f1_fe = float(f_first[0])
     res = []
     if spacing is not None:
-        for i, v in enumerate(resonance_speeds_m_s(case.f1_Hz, spacing), 1):
+        for i, v in enumerate(resonance_speeds_m_s(deck.f1_Hz[0], spacing), 1):
             res.append({"i": i, "speed_m_s": v, "speed_km_h": speed_km_h(v)})
     notes = []
     en = None
-    reach = bool(f_first[-1] >= cutoff or case.n_modes ** 2 * case.f1_Hz >= cutoff)
+    reach = deck.reaches_cutoff(0)
     if not reach:
         notes.append(f"the {case.n_modes} modes kept end at {f_first[-1]:.4g} Hz, below the EN 1990 "
                      f"cut-off {cutoff:.4g} Hz: keep more modes (--modes) for the deck-acceleration check")
@@ -158,7 +158,9 @@ def crossing_summary(case, deck, cutoffs, handle, settings, outcome, ts, build_s
         for c in deck_columns(case):
             peaks[f"max_abs_{c}"] = _max_abs(ts[c])
         w_st = _max_abs(ts["deck_midspan_static_displacement_m"])
-        quasi_static = {"rule": "mid-span influence line of the static axle loads, P a (3L^2 - 4a^2)/(48 EI)",
+        quasi_static = {"rule": ("the static response of the modes kept at the first span's middle, sum_j phi_j(x_m) "
+                                 "sum_k P_k phi_j(s_k) / omega_j^2" if case.global_modes else
+                                 "mid-span influence line of the static axle loads, P a (3L^2 - 4a^2)/(48 EI)"),
                         "max_midspan_displacement_m": w_st,
                         "dynamic_amplification": (peaks["max_abs_deck_midspan_displacement_m"] / w_st
                                                   if w_st else None)}
@@ -188,9 +190,11 @@ def crossing_summary(case, deck, cutoffs, handle, settings, outcome, ts, build_s
                        "axle_x_m": axle_x, "axle_load_N": np.asarray(handle.axle_load_N, dtype=float),
                        **({"details": extra} if extra is not None else {})},
         "EI_Nm2": case.EI_Nm2,
+        "deck": deck_description(case, deck),
         "frequencies_Hz": [float(f) for f in f_first],
-        "frequencies_euler_bernoulli_Hz": simply_supported_frequencies_Hz(case.f1_Hz, case.n_modes).tolist(),
-        "f1_fe_relative_error": f1_fe / case.f1_Hz - 1.0,
+        "frequencies_euler_bernoulli_Hz": (None if case.global_modes else
+                                           simply_supported_frequencies_Hz(case.f1_Hz, case.n_modes).tolist()),
+        "f1_fe_relative_error": None if case.global_modes else f1_fe / case.f1_Hz - 1.0,
         "characteristic_spacing_m": spacing,
         "resonance_speeds": res,
         "EN1990_A2_deck_acceleration": en,
@@ -217,6 +221,23 @@ def crossing_summary(case, deck, cutoffs, handle, settings, outcome, ts, build_s
         out["EN1990_A2_all_spans_passed"] = (None if not ok or any(c is None or c["passed"] is None for c in checks)
                                              else all(c["passed"] for c in checks))
     out["scalars"] = crossing_scalars(out)
+    return out
+
+
+def deck_description(case, deck) -> dict:
+    """What the deck is (``summary.json``'s ``deck``): its kind, where its modes come from, every mode's frequency
+    and kind, the resonances' first frequency and the EN 1990 cut-off."""
+    kind = ("modes file" if case.modes_file is not None else "continuous beam" if case.continuous
+            else "simply supported spans")
+    out = {"kind": kind, "spans_m": list(case.chain_m), "f1_Hz": deck.f1_Hz[0], "en1990_cutoff_Hz": deck.cutoffs_Hz[0],
+           "modes": [{"frequency_Hz": float(f), "kind": k, "damping_ratio": float(z)}
+                     for f, k, z in zip(deck.modes.frequencies_Hz, deck.modes.kinds, deck.modes.damping_ratio)]}
+    if case.modes_file is not None:
+        out.update({"modes_file": case.modes_file, "mass_scale": case.mass_scale,
+                    "mass_scale_rule": "every mass scaled by r with the stiffness kept: omega_j / sqrt(r), modal "
+                                       "masses r m_j, the same shapes",
+                    "interpolation": "cubic splines between the file's positions (not-a-knot, broken at the "
+                                     "supports), torsion linear"})
     return out
 
 

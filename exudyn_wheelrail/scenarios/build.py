@@ -49,7 +49,6 @@ from ..track.measured import read_irregularity_csv
 from ..track.rigid import Harmonic, IrregularitySum, RigidStraightTrack, SampledIrregularity, SpanDeflection
 from .bridge_crossing_case import BridgeCrossing, default_dt_s
 from .bridge_crossing_deck import deck_modes
-from .bridge_crossing_deck import en1990_cutoff_Hz as span_en1990_cutoff_Hz
 from .bridge_crossing_loads import resolve_load_model
 from .bridge_crossing_probes import DeckProbe, FirstAxleProbe
 from .curve_setup import LAYOUT_MARGIN_M, CurvingInputError, check_start_undisplaced, entry_layout
@@ -345,7 +344,7 @@ def build_crossing(case: BridgeCrossing, scenario: dict | None = None) -> Scenar
     load_model.check(case)
     t_build = time.perf_counter()
     deck = deck_modes(case)
-    cutoffs = [span_en1990_cutoff_Hz(case, k) for k in range(case.n_spans)]
+    cutoffs = list(deck.cutoffs_Hz)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     bridge = add_bridge(mbs, deck.modes, "modal", name="deck")
@@ -356,7 +355,7 @@ def build_crossing(case: BridgeCrossing, scenario: dict | None = None) -> Scenar
     if dt is None:
         dt = default_dt_s(case) if handle.max_dt_s is None else min(default_dt_s(case), float(handle.max_dt_s))
     run = RunSettings(solver=case.solver, dt_s=dt, duration_s=duration)
-    probes = [FirstAxleProbe(case, axle_x, handle.axle_load_N),
+    probes = [FirstAxleProbe(case, axle_x, handle.axle_load_N, deck),
               DeckProbe(case, bridge, deck, handle.modal_forces, cutoffs)] + list(handle.probes)
     recorder = Recorder(probes, n_rows_hint=run.steps + 2)
     mbs.Assemble()

@@ -54,7 +54,8 @@ from ..structures.support_motion import SmoothHarmonicSupportMotion
 from .defaults import LATERAL_EI_RATIO
 
 __all__ = ["DECK_GROUPS", "TRACK_FORMS", "EN1990_DECK_ACCELERATION_LIMITS_M_S2", "CHECK_POINTS_X_OVER_L",
-           "PLATEAU_AUTO", "support_motion_default", "en1990_cutoff_Hz", "support_motion", "deck_probes",
+           "PLATEAU_AUTO", "support_motion_default", "en1990_cutoff_Hz", "cutoff_of_frequencies_Hz", "support_motion",
+           "deck_probes",
            "deck_summary", "deck_scalars", "bending_stiffness_Nm2", "structure_section"]
 
 #: column groups of the deck beyond the recorder's ``deck`` group (module docstring), in the order they are written
@@ -97,7 +98,14 @@ def structure_section(st: dict) -> DeckSection:
 def en1990_cutoff_Hz(spans_m, sec: DeckSection) -> float:
     """EN 1990 A2.4.4.2.1(4)P: modes up to max(30 Hz, 1.5 f1, f3), the largest over the spans, with the simply
     supported Euler–Bernoulli bending frequencies ``f_n = n²π/(2L²) √(EI_y/m)`` of each span (section ``sec``)."""
-    return max(max(30.0, 1.5 * sec.vertical_frequency_Hz(L), sec.vertical_frequency_Hz(L, 3)) for L in spans_m)
+    return max(cutoff_of_frequencies_Hz(sec.vertical_frequency_Hz(L), sec.vertical_frequency_Hz(L, 3))
+               for L in spans_m)
+
+
+def cutoff_of_frequencies_Hz(f1_Hz: float, f3_Hz: float) -> float:
+    """EN 1990 A2.4.4.2.1(4)P's cut-off ``max(30 Hz, 1.5 f1, f3)`` of a deck's first and third vertical
+    frequencies."""
+    return max(30.0, 1.5 * float(f1_Hz), float(f3_Hz))
 
 
 def support_motion(sm: dict, end_time_s: float):

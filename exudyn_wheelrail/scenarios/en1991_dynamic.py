@@ -5,8 +5,11 @@ lower and upper bound of the deck mass, the deck acceleration against EN 1990 A2
 [--speeds-kmh ...] [--workers N] --out DIR``.  The bridge file (:func:`read_bridge_file`)::
 
     [bridge]
-    spans_m = [20.0]                  # simply supported spans (a chain: each span on its own supports)
-    EI_Nm2 = 1.2e10                   # the built-in beam deck (the spans' common bending stiffness)
+    spans_m = [20.0]                  # the spans between supports, in running order
+    EI_Nm2 = 1.2e10                   # the built-in beam deck (the spans' common bending stiffness) ...
+    continuous = false                #   true: one deck continuous over the intermediate supports
+    # modes_file = "deck_modes.npz"   # ... or the modes of an FE program (NPZ or CSV, relative to this file)
+    # modes_mass_kg_per_m = 14500     #   the deck mass the file's modes were computed with (for the bounds)
     mass_kg_per_m = [13000, 16000]    # a number, or [lower, upper]: the two bounds of §6.4.6.3.2
     structure = "prestressed_concrete"   # the damping of Table 6.6 for the span (damping_ratio overrides it)
     track_form = "ballasted"          # the EN 1990 A2.4.4.2.1 limit: 3.5 m/s² ballasted, 5 m/s² direct fastening
@@ -28,11 +31,17 @@ The procedure (each choice with its clause):
   explicit ``damping_ratio`` replaces it.
 * **Modes** (EN 1990 A2.4.4.2.1(4)P): every span's vertical modes up to the first at or above ``max(30 Hz, 1.5 f1,
   f3)`` (f3 = 9 f1 of a simply supported span; the largest over the spans; :func:`~.deck.en1990_cutoff_Hz`), at
-  least 3 — the bridge crossing's own check of the cut-off.
+  least 3 — the bridge crossing's own check of the cut-off.  A continuous deck: its ``N K`` lowest vertical modes
+  with the smallest ``N ≥ 3`` that reaches its cut-off (f1, f3 its own first and third vertical modes).  A modes
+  file (:mod:`~exudyn_wheelrail.structures.modes_file`): its modes up to the first vertical one at or above the
+  cut-off (all of them, with a warning, when none is); for the mass bounds its modes are scaled from
+  ``modes_mass_kg_per_m`` (every mass scaled, the stiffness kept: ``ω/√r``), and its ``damping_ratio`` column is not
+  used: the check's damping is Table 6.6's (or the given ``damping_ratio``).
 * **Verdict**: the largest deck acceleration over the deck's points, every run and speed (modes up to the cut-off:
   ``deck.en1990_peak_acceleration_m_s2``), against the limit of the track form; ``fail`` also when any crossing
   did not complete (its status in the envelope, never dropped).  The dynamic enhancement: the largest mid-span
-  displacement against the static one under the same train (single span).
+  displacement against the static one under the same train (a single span; the static one of a continuous deck
+  or a modes file is that of its modes kept, :class:`~.bridge_crossing_probes.FirstAxleProbe`).
 
 Scale and faults: the crossings run in parallel through the sweeps' executors (:func:`~.sweep.run_tasks`: a dead
 worker costs only time); every finished crossing is written at once to ``DIR/runs/`` with its fingerprint (its whole
@@ -51,9 +60,12 @@ import hashlib
 import json
 import math
 import tomllib
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field
 from decimal import Decimal
 from pathlib import Path
+
+import numpy as np
 
 from ..conventions import speed_km_h
 from ..jit import package_source_digest
@@ -62,7 +74,10 @@ from ..structures.beam import DeckSection
 from ..standards import (EN1990_DECK_ACCELERATION_LIMITS_M_S2, EN1991_ADDITIONAL_DAMPING_MAX_SPAN_M,
                          EN1991_DAMPING_PERCENT, HSLM_NAMES, TRACK_FORMS)
 from ..structures.load_models import hslm_a, resonance_speeds_m_s
+from ..structures.modes_file import MODES_FILE_SUFFIXES
+from ..validation import InputWarning
 from .bridge_crossing_case import BridgeCrossing
+from .bridge_crossing_deck import deck_modes
 from .bridge_crossing_loads import consist_axles
 from .bridge_crossing_run import run_bridge_crossing
 from .deck import en1990_cutoff_Hz
@@ -150,16 +165,26 @@ def speed_grid_kmh(max_line_speed_kmh: float, resonances_kmh=()) -> list[float]:
 
 @dataclass(frozen=True)
 class BridgeSpec:
-    """The bridge of a check (:func:`read_bridge_file`)."""
+    """The bridge of a check (:func:`read_bridge_file`): the built-in beam (``EI_Nm2``, ``continuous``) or a modes
+    file (``modes_file``, its ``modes_mass_kg_per_m``); ``masses``: mass bound -> mass per length [kg/m]
+    (``{"lower", "upper"}`` or ``{"nominal"}``; a modes file's nominal may be None: the file's own)."""
 
     spans_m: tuple
-    EI_Nm2: float
-    masses: dict                       # mass bound -> mass per length [kg/m]: {"lower", "upper"} or {"nominal"}
+    EI_Nm2: float | None
+    masses: dict
     structure: str | None
     damping_ratio: float | None
     additional_damping: bool
     track_form: str
     source: str = ""
+    continuous: bool = False
+    modes_file: str | None = None
+    modes_mass_kg_per_m: float | None = None
+
+    def mass_scale(self, bound: str) -> float:
+        """A modes file's mass scale at ``bound``: the bound's mass over the file's (1 without a mass)."""
+        m = self.masses[bound]
+        return 1.0 if m is None or self.modes_mass_kg_per_m is None else m / self.modes_mass_kg_per_m
 
     @property
     def damping_ratio_used(self) -> float:
@@ -171,8 +196,8 @@ class BridgeSpec:
                    + (additional_damping_ratio(L) if self.additional_damping else 0.0) for L in self.spans_m)
 
 
-_BRIDGE_KEYS = {"spans_m", "EI_Nm2", "modes_file", "mass_kg_per_m", "structure", "damping_ratio",
-                "additional_damping", "track_form"}
+_BRIDGE_KEYS = {"spans_m", "EI_Nm2", "continuous", "modes_file", "modes_mass_kg_per_m", "mass_kg_per_m", "structure",
+                "damping_ratio", "additional_damping", "track_form"}
 
 
 def read_bridge_file(path) -> BridgeSpec:
@@ -197,19 +222,44 @@ def read_bridge_file(path) -> BridgeSpec:
     spans = b.get("spans_m")
     if not isinstance(spans, list) or not spans or not all(_positive(x) for x in spans):
         raise bad("spans_m", f"{spans!r}: expected a list of positive span lengths [m]")
-    if "modes_file" in b:
-        raise bad("modes_file", "a bridge from an FE program's modes is not supported yet: give EI_Nm2 (the "
-                                "built-in beam deck)")
-    EI = b.get("EI_Nm2")
-    if not _positive(EI):
-        raise bad("EI_Nm2", f"{EI!r}: expected the positive bending stiffness of the spans [N m²]")
+    continuous = b.get("continuous", False)
+    if not isinstance(continuous, bool):
+        raise bad("continuous", f"{continuous!r}: expected true or false")
+    if continuous and len(spans) < 2:
+        raise bad("continuous", "a deck continuous over intermediate supports needs at least two spans")
+    modes_file, modes_mass, EI = b.get("modes_file"), b.get("modes_mass_kg_per_m"), None
+    if modes_file is not None:
+        if "EI_Nm2" in b or continuous:
+            raise bad("modes_file", "give either the built-in beam (EI_Nm2, continuous) or a modes file, not both")
+        if not isinstance(modes_file, str) or Path(modes_file).suffix.lower() not in MODES_FILE_SUFFIXES:
+            raise bad("modes_file", f"{modes_file!r}: expected the path of a {' or '.join(MODES_FILE_SUFFIXES)} file")
+        modes_file = str(path.parent / modes_file)
+        if not Path(modes_file).is_file():
+            raise bad("modes_file", f"{modes_file}: no such file")
+        if modes_mass is not None and not _positive(modes_mass):
+            raise bad("modes_mass_kg_per_m", f"{modes_mass!r}: expected the positive deck mass per length the "
+                                             "modes were computed with [kg/m]")
+    else:
+        if modes_mass is not None:
+            raise bad("modes_mass_kg_per_m", "only with a modes_file")
+        EI = b.get("EI_Nm2")
+        if not _positive(EI):
+            raise bad("EI_Nm2", f"{EI!r}: expected the positive bending stiffness of the spans [N m²] (or give a "
+                                "modes_file)")
     m = b.get("mass_kg_per_m")
-    if _positive(m):
+    if m is None and modes_file is not None:
+        masses = {"nominal": None}
+    elif _positive(m):
         masses = {"nominal": float(m)}
     elif isinstance(m, list) and len(m) == 2 and all(_positive(x) for x in m) and m[0] <= m[1]:
         masses = {"lower": float(m[0]), "upper": float(m[1])}
     else:
         raise bad("mass_kg_per_m", f"{m!r}: expected a positive number or [lower, upper] with lower <= upper [kg/m]")
+    if modes_file is not None and modes_mass is None:
+        if "lower" in masses:
+            raise bad("modes_mass_kg_per_m", "missing: the deck mass per length the modes file was computed with "
+                                             "(the mass bounds scale its modes)")
+        modes_mass = masses["nominal"]
     structure = b.get("structure")
     zeta = b.get("damping_ratio")
     if zeta is not None and not (isinstance(zeta, (int, float)) and 0.0 <= zeta < 1.0):
@@ -225,9 +275,10 @@ def read_bridge_file(path) -> BridgeSpec:
     track = b.get("track_form", TRACK_FORMS[0])
     if track not in TRACK_FORMS:
         raise bad("track_form", f"{track!r}: expected one of {', '.join(TRACK_FORMS)}")
-    return BridgeSpec(spans_m=tuple(float(x) for x in spans), EI_Nm2=float(EI), masses=masses, structure=structure,
-                      damping_ratio=None if zeta is None else float(zeta), additional_damping=extra,
-                      track_form=track, source=str(path))
+    return BridgeSpec(spans_m=tuple(float(x) for x in spans), EI_Nm2=None if EI is None else float(EI),
+                      masses=masses, structure=structure, damping_ratio=None if zeta is None else float(zeta),
+                      additional_damping=extra, track_form=track, source=str(path), continuous=continuous,
+                      modes_file=modes_file, modes_mass_kg_per_m=None if modes_mass is None else float(modes_mass))
 
 
 def _positive(x) -> bool:
@@ -244,28 +295,80 @@ class DynamicCheck:
     trains: tuple = HSLM_NAMES
     speeds_kmh: tuple | None = None
 
+    _modes: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __getstate__(self):                  # a worker computes its own modes: they are not sent with every task
+        return {k: v for k, v in self.__dict__.items() if k != "_modes"}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state, _modes={})
+
     def axles(self, train: str):
         return hslm_a(train) if train in HSLM_NAMES else consist_axles(train)
 
     def crossing(self, train: str, bound: str, v_kmh: float) -> BridgeCrossing:
+        return self._case(bound, self.n_modes(bound), self.axles(train), v_kmh / 3.6)
+
+    def _case(self, bound: str, n_modes: int, axles, speed_m_s: float) -> BridgeCrossing:
         b = self.bridge
         m = b.masses[bound]
-        f1 = first_frequency_Hz(b.spans_m[0], b.EI_Nm2, m)
-        return BridgeCrossing(span_m=b.spans_m[0], mass_kg_m=m, f1_Hz=f1, damping_ratio=b.damping_ratio_used,
-                              n_modes=n_modes_to_cutoff(b.spans_m, b.EI_Nm2, m), axles=self.axles(train),
-                              speed_m_s=v_kmh / 3.6, track_form=b.track_form,
-                              spans_m=b.spans_m if len(b.spans_m) > 1 else None)
+        spans = b.spans_m if len(b.spans_m) > 1 else None
+        if b.modes_file is not None:
+            return BridgeCrossing(span_m=b.spans_m[0], mass_kg_m=m, f1_Hz=None, damping_ratio=b.damping_ratio_used,
+                                  n_modes=n_modes, axles=axles, speed_m_s=speed_m_s, track_form=b.track_form,
+                                  spans_m=spans, modes_file=b.modes_file, mass_scale=b.mass_scale(bound))
+        return BridgeCrossing(span_m=b.spans_m[0], mass_kg_m=m, f1_Hz=first_frequency_Hz(b.spans_m[0], b.EI_Nm2, m),
+                              damping_ratio=b.damping_ratio_used, n_modes=n_modes, axles=axles, speed_m_s=speed_m_s,
+                              track_form=b.track_form, spans_m=spans, continuous=b.continuous)
+
+    def n_modes(self, bound: str) -> int:
+        """The crossings' ``n_modes`` at ``bound`` (module docstring, *Modes*)."""
+        return self.deck(bound)[0]
+
+    def deck(self, bound: str):
+        """``(n_modes, DeckModes)`` of the crossings at ``bound`` (module docstring, *Modes*), computed once."""
+        if bound in self._modes:
+            return self._modes[bound]
+        b = self.bridge
+        probe = hslm_a(HSLM_NAMES[0])
+        if b.modes_file is None and not b.continuous:
+            n = n_modes_to_cutoff(b.spans_m, b.EI_Nm2, b.masses[bound])
+            found = (n, deck_modes(self._case(bound, n, probe, 1.0)))
+        elif b.continuous:
+            n = 3
+            while True:
+                d = deck_modes(self._case(bound, n, probe, 1.0))
+                if all(d.reaches_cutoff(k) for k in range(len(b.spans_m))):
+                    break
+                n += 1
+            found = (n, d)
+        else:
+            everything = self._case(bound, 1, probe, 1.0).file_modes.n_modes
+            d = deck_modes(self._case(bound, everything, probe, 1.0))
+            f = d.modes.frequencies_Hz
+            firsts = [next((f[i] for i in d.vertical[k] if f[i] >= d.cutoffs_Hz[k]), None)
+                      for k in range(len(b.spans_m))]
+            if None in firsts:
+                n = everything
+                k = firsts.index(None)
+                warnings.warn(f"{b.modes_file}: the vertical modes of span {k + 1} end below EN 1990's cut-off "
+                              f"{d.cutoffs_Hz[k]:.4g} Hz (mass bound {bound}): the check uses all the file's modes",
+                              InputWarning, stacklevel=2)
+            else:
+                n = int(np.searchsorted(np.sort(f), max(firsts), side="right"))
+            found = (n, deck_modes(self._case(bound, n, probe, 1.0)) if n != everything else d)
+        self._modes[bound] = found
+        return found
 
     def resonances_kmh(self, train: str, bound: str) -> list[float]:
         """The resonance speeds ``f1 d / i`` (i = 1…:data:`N_RESONANCES`) of ``train`` on every span of the bridge
-        at the mass ``bound`` [km/h] (none for a train without a characteristic spacing)."""
+        (a chain's own first frequencies, the whole deck's otherwise) at the mass ``bound`` [km/h] (none for a train
+        without a characteristic spacing)."""
         spacing = self.axles(train).spacing_m
         if spacing is None:
             return []
-        m = self.bridge.masses[bound]
-        return sorted(speed_km_h(v) for L in self.bridge.spans_m
-                      for v in resonance_speeds_m_s(first_frequency_Hz(L, self.bridge.EI_Nm2, m),
-                                                    spacing)[:N_RESONANCES])
+        f1s = sorted(set(self.deck(bound)[1].f1_Hz))
+        return sorted(speed_km_h(v) for f1 in f1s for v in resonance_speeds_m_s(f1, spacing)[:N_RESONANCES])
 
     def runs(self) -> list[tuple]:
         """Every crossing ``(train, mass bound, speed [km/h])`` of the check, in the envelope's order."""
@@ -382,12 +485,17 @@ def check_summary(check: DynamicCheck, envelope: list) -> dict:
     verdict = "pass" if worst is not None and not failed and a_max <= limit else "fail"
     modes = {}
     for bound, m in b.masses.items():
-        sec = section(b.EI_Nm2, m)
-        n = n_modes_to_cutoff(b.spans_m, b.EI_Nm2, m)
-        modes[bound] = {"mass_kg_per_m": m, "f1_Hz": [sec.vertical_frequency_Hz(L) for L in b.spans_m],
-                        "n_modes": n, "frequencies_Hz": [[sec.vertical_frequency_Hz(L, k) for k in range(1, n + 1)]
-                                                         for L in b.spans_m],
-                        "cutoff_Hz": en1990_cutoff_Hz(b.spans_m, sec)}
+        n, deck = check.deck(bound)
+        f = deck.modes.frequencies_Hz
+        modes[bound] = {"mass_kg_per_m": m, "f1_Hz": list(deck.f1_Hz), "n_modes": n,
+                        "frequencies_Hz": [[float(f[i]) for i in idx] for idx in
+                                           (deck.vertical if b.modes_file is None and not b.continuous
+                                            else deck.vertical[:1])],
+                        "kinds": list(deck.modes.kinds),
+                        "cutoff_Hz": max(deck.cutoffs_Hz), "modes_reach_cutoff": all(
+                            deck.reaches_cutoff(k) for k in range(len(b.spans_m)))}
+        if b.modes_file is not None:
+            modes[bound]["mass_scale"] = b.mass_scale(bound)
     return {"verdict": verdict,
             "verdict_reason": (f"{len(failed)} crossing(s) did not complete" if failed else
                                "no crossing completed" if worst is None else
@@ -403,7 +511,11 @@ def check_summary(check: DynamicCheck, envelope: list) -> dict:
             "modes": modes, "speed_rule": check.speed_rule(),
             "max_dynamic_enhancement": max(enh) if enh else None,
             "crossings": len(envelope), "not_completed": failed,
+            "deck": ("modes file " + b.modes_file if b.modes_file is not None else
+                     "continuous beam" if b.continuous else "simply supported spans"),
             "inputs": {"bridge_file": b.source, "spans_m": list(b.spans_m), "EI_Nm2": b.EI_Nm2,
+                       "continuous": b.continuous, "modes_file": b.modes_file,
+                       "modes_mass_kg_per_m": b.modes_mass_kg_per_m,
                        "mass_kg_per_m": b.masses, "track_form": b.track_form, "structure": b.structure,
                        "max_line_speed_kmh": check.max_line_speed_kmh, "trains": list(check.trains),
                        "speeds_kmh": None if check.speeds_kmh is None else list(check.speeds_kmh)},

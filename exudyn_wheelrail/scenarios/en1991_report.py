@@ -67,16 +67,23 @@ def report_html(summary: dict, envelope: list, figure_png: bytes) -> str:
         x = r.get("max_deck_acceleration_m_s2")
         if x is not None and (r["train"] not in per_train or x > per_train[r["train"]][0]):
             per_train[r["train"]] = (x, r["speed_kmh"], r["mass_bound"])
-    modes = [(bound, f"{m['mass_kg_per_m']:g}", ", ".join(f"{f:.3f}" for f in m["f1_Hz"]), m["n_modes"],
-              f"{m['cutoff_Hz']:.1f}") for bound, m in summary["modes"].items()]
+    modes = [(bound, "as the modes file" if m['mass_kg_per_m'] is None else f"{m['mass_kg_per_m']:g}",
+              ", ".join(f"{f:.3f}" for f in m["f1_Hz"]), m["n_modes"], f"{m['cutoff_Hz']:.1f}",
+              "yes" if m["modes_reach_cutoff"] else "no") for bound, m in summary["modes"].items()]
     clauses = summary["clauses"]
     assumptions = [
         ("trains", "moving axle loads of " + ", ".join(inp["trains"]), clauses["trains"]),
         ("speeds", summary["speed_rule"], clauses["speeds"]),
-        ("mass", ", ".join(f"{k} {v:g} kg/m" for k, v in inp["mass_kg_per_m"].items()), clauses["mass"]),
+        ("mass", ", ".join(f"{k} {'as the modes file' if v is None else f'{v:g} kg/m'}"
+                           for k, v in inp["mass_kg_per_m"].items())
+         + ("; the modes file's modes scaled to each mass (every mass scaled, the stiffness kept: ω/√r)"
+            if inp.get("modes_file") else ""), clauses["mass"]),
         ("damping", f"ζ = {100 * summary['damping_ratio_used']:.3g} % ({summary['damping_rule']})",
          clauses["damping"]),
-        ("modes", "vertical bending modes of every span up to the first at or above max(30 Hz, 1.5 f1, f3)",
+        ("modes", ("the modes file's modes up to the first vertical one at or above max(30 Hz, 1.5 f1, f3)"
+                   if inp.get("modes_file") else "vertical bending modes of the continuous deck up to the first at "
+                   "or above max(30 Hz, 1.5 f1, f3)" if inp.get("continuous") else
+                   "vertical bending modes of every span up to the first at or above max(30 Hz, 1.5 f1, f3)"),
          clauses["modes"]),
         ("limit", f"{summary['acceleration_limit_m_s2']:g} m/s² ({inp['track_form']})", clauses["limit"]),
     ]
@@ -102,12 +109,16 @@ th{{background:#eee}}</style></head><body>
 <img alt="deck acceleration against speed" src="data:image/png;base64,{img}" style="max-width:100%">
 <h2>Inputs</h2>
 {_table([('bridge file', inp['bridge_file']), ('spans [m]', ', '.join(f'{x:g}' for x in inp['spans_m'])),
-         ('EI [N m²]', f"{inp['EI_Nm2']:.4g}"), ('structure', inp['structure']), ('track form', inp['track_form']),
+         ('deck', summary['deck']),
+         *([('EI [N m²]', f"{inp['EI_Nm2']:.4g}")] if inp['EI_Nm2'] is not None else []),
+         *([('modes computed with [kg/m]', f"{inp['modes_mass_kg_per_m']:g}")]
+           if inp.get('modes_mass_kg_per_m') is not None else []),
+         ('structure', inp['structure']), ('track form', inp['track_form']),
          ('maximum line speed [km/h]', f"{inp['max_line_speed_kmh']:g}")], ('input', 'value'))}
 <h2>Assumptions and clauses</h2>
 {_table(assumptions, ('item', 'assumption', 'clause'))}
 <h2>Modes</h2>
-{_table(modes, ('mass bound', 'mass [kg/m]', 'f1 per span [Hz]', 'modes per span', 'cut-off [Hz]'))}
+{_table(modes, ('mass bound', 'mass [kg/m]', 'f1 [Hz]', 'modes', 'cut-off [Hz]', 'modes reach it'))}
 <h2>Peak per train</h2>
 {_table([(t, f'{x:.4g}', v, b) for t, (x, v, b) in per_train.items()],
         ('train', 'max deck acceleration [m/s²]', 'at speed [km/h]', 'mass bound'))}

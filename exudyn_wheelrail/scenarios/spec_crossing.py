@@ -13,7 +13,10 @@ case.  The tables and keys::
                     sprung_frequency_Hz, sprung_damping_ratio (used by sprung-masses)
     [structure]     spans_m (a list: one span or a chain in running order), mass_kg_m, f1_Hz (of the first span),
                     damping_ratio, modes (vertical modes per span), lateral_modes (default 0), lateral_f1_Hz
-                    (optional), track_form
+                    (optional), track_form, continuous (default false: one deck over the intermediate
+                    supports); or, instead of mass_kg_m and f1_Hz, modes_file (an FE program's modes, NPZ or
+                    CSV: :mod:`~exudyn_wheelrail.structures.modes_file`; modes = how many of its lowest are kept;
+                    damping_ratio optional when the file gives it)
     [run]           solver (default rk44), dt_s (optional: the crossing's own rule), free_vibration_s (default 0)
 
 No ``[track]``, ``[layout]``, ``[flexible_track]``, ``[contact]`` or ``[outputs]``: the crossing writes its own
@@ -43,6 +46,7 @@ TRAIN_SOURCES = ("hslm", "axles", "consist")
 #: checks name (their errors then name the key)
 CASE_KEYS = {"span_m": "structure.spans_m", "mass_kg_m": "structure.mass_kg_m", "f1_Hz": "structure.f1_Hz",
              "damping_ratio": "structure.damping_ratio", "n_modes": "structure.modes",
+             "modes_file": "structure.modes_file", "continuous": "structure.continuous",
              "speed_m_s": "vehicle.speed_km_h", "model": "vehicle.load_model",
              "free_vibration_s": "run.free_vibration_s", "dt_s": "run.dt_s", "solver": "run.solver",
              "track_form": "structure.track_form", "spans_m": "structure.spans_m",
@@ -102,19 +106,30 @@ def normalise_crossing(c, data: dict, out: dict) -> dict:
     if "structure" not in data:
         raise c.error("structure", "missing: a crossing needs its deck (spans_m, mass_kg_m, f1_Hz, damping_ratio, "
                                    "modes)")
-    st = c.table(data["structure"], "structure", required=("spans_m", "mass_kg_m", "f1_Hz", "damping_ratio", "modes"),
-                 optional=("lateral_modes", "lateral_f1_Hz", "track_form"))
+    by_file = isinstance(data["structure"], dict) and "modes_file" in data["structure"]
+    st = c.table(data["structure"], "structure",
+                 required=("spans_m", "modes") + (("modes_file",) if by_file else ("mass_kg_m", "f1_Hz",
+                                                                                   "damping_ratio")),
+                 optional=("lateral_modes", "lateral_f1_Hz", "track_form", "continuous")
+                 + (("mass_kg_m", "damping_ratio") if by_file else ()))
     spans = c.array(st["spans_m"], "structure.spans_m", min_length=1)
     if len(spans) > MAX_SPANS:
         raise c.error("structure.spans_m", f"{len(spans)} spans, more than {MAX_SPANS}")
     structure = {
         "spans_m": [_plausible(c, SPAN_M, f"structure.spans_m.{k}", x) for k, x in enumerate(spans)],
-        "mass_kg_m": _plausible(c, MASS_KG_M, "structure.mass_kg_m", st["mass_kg_m"]),
-        "f1_Hz": _plausible(c, F1_HZ, "structure.f1_Hz", st["f1_Hz"]),
-        "damping_ratio": _damping_ratio(c, st["damping_ratio"]),
         "modes": c.integer(st["modes"], "structure.modes", lo=1, hi=MAX_MODES),
         "lateral_modes": c.integer(st.get("lateral_modes", 0), "structure.lateral_modes", lo=0, hi=MAX_MODES),
         "track_form": c.string(st.get("track_form", TRACK_FORMS[0]), "structure.track_form", choices=TRACK_FORMS)}
+    if "mass_kg_m" in st:
+        structure["mass_kg_m"] = _plausible(c, MASS_KG_M, "structure.mass_kg_m", st["mass_kg_m"])
+    if "f1_Hz" in st:
+        structure["f1_Hz"] = _plausible(c, F1_HZ, "structure.f1_Hz", st["f1_Hz"])
+    if "damping_ratio" in st:
+        structure["damping_ratio"] = _damping_ratio(c, st["damping_ratio"])
+    if by_file:
+        structure["modes_file"] = c.path(st["modes_file"], "structure.modes_file")
+    if "continuous" in st:
+        structure["continuous"] = c.boolean(st["continuous"], "structure.continuous")
     if "lateral_f1_Hz" in st:
         structure["lateral_f1_Hz"] = _plausible(c, F1_HZ, "structure.lateral_f1_Hz", st["lateral_f1_Hz"])
     # ----------------------------------------------------------------------------------------------- [run]
@@ -169,14 +184,15 @@ def crossing_case(scn: dict) -> BridgeCrossing:
 def _case(scn: dict, axles) -> BridgeCrossing:
     v, st, r = scn["vehicle"], scn["structure"], scn["run"]
     spans = tuple(float(x) for x in st["spans_m"])
-    return BridgeCrossing(span_m=spans[0], mass_kg_m=st["mass_kg_m"], f1_Hz=st["f1_Hz"],
-                          damping_ratio=st["damping_ratio"], n_modes=st["modes"], axles=axles,
+    return BridgeCrossing(span_m=spans[0], mass_kg_m=st.get("mass_kg_m"), f1_Hz=st.get("f1_Hz"),
+                          damping_ratio=st.get("damping_ratio"), n_modes=st["modes"], axles=axles,
                           speed_m_s=v["speed_km_h"] / 3.6, model=v["load_model"],
                           free_vibration_s=r["free_vibration_s"], dt_s=r.get("dt_s"), solver=r["solver"],
                           track_form=st["track_form"], train_file=v.get("consist"),
                           spans_m=spans if len(spans) > 1 else None, lateral_modes=st["lateral_modes"],
                           lateral_f1_Hz=st.get("lateral_f1_Hz"),
-                          sprung_frequency_Hz=v["sprung_frequency_Hz"], sprung_damping_ratio=v["sprung_damping_ratio"])
+                          sprung_frequency_Hz=v["sprung_frequency_Hz"], sprung_damping_ratio=v["sprung_damping_ratio"],
+                          continuous=st.get("continuous", False), modes_file=st.get("modes_file"))
 
 
 def crossing_scenario(case: BridgeCrossing, train: dict, name: str = "bridge_crossing",
@@ -191,9 +207,20 @@ def crossing_scenario(case: BridgeCrossing, train: dict, name: str = "bridge_cro
     vehicle = {"load_model": case.model, **{k: str(v) for k, v in train.items()},
                "speed_km_h": speed_km_h if speed_km_h is not None else case.speed_m_s * 3.6,
                "sprung_frequency_Hz": case.sprung_frequency_Hz, "sprung_damping_ratio": case.sprung_damping_ratio}
-    structure = {"spans_m": list(case.chain_m), "mass_kg_m": case.mass_kg_m, "f1_Hz": case.f1_Hz,
-                 "damping_ratio": case.damping_ratio, "modes": case.n_modes, "lateral_modes": case.lateral_modes,
+    if case.modes_file is not None and case.mass_scale != 1.0:
+        raise ValueError(f"mass_scale: {case.mass_scale:g}: a crossing's scenario takes a modes file as it is")
+    structure = {"spans_m": list(case.chain_m), "modes": case.n_modes, "lateral_modes": case.lateral_modes,
                  "track_form": case.track_form}
+    if case.modes_file is not None:
+        structure["modes_file"] = case.modes_file
+        if case.mass_kg_m is not None:
+            structure["mass_kg_m"] = case.mass_kg_m
+    else:
+        structure.update(mass_kg_m=case.mass_kg_m, f1_Hz=case.f1_Hz)
+    if case.damping_ratio is not None:
+        structure["damping_ratio"] = case.damping_ratio
+    if case.continuous:
+        structure["continuous"] = True
     if case.lateral_f1_Hz is not None:
         structure["lateral_f1_Hz"] = case.lateral_f1_Hz
     run = {"solver": case.solver, "free_vibration_s": case.free_vibration_s}

@@ -59,7 +59,8 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
 from .beam import DOF_GROUPS, N_DOF_NODE, DeckSection, element_matrices
-from .modal_shapes import NS_DV, NS_DW, NS_TH, NS_V, NS_W, ShapeTable, modal_shapes_many
+from .modal_basis import ModalBasis
+from .modal_shapes import NS_DV, NS_DW, NS_TH, NS_V, NS_W, ShapeTable
 from .checks import checked_number
 
 __all__ = ["BridgeModel", "BridgeModes"]
@@ -290,20 +291,16 @@ class BridgeModel:
 
 
 
-class BridgeModes:
-    """Mass-normalised eigenmodes of a :class:`BridgeModel` (from :meth:`BridgeModel.modes`).
+class BridgeModes(ModalBasis):
+    """Mass-normalised eigenmodes of a :class:`BridgeModel` (from :meth:`BridgeModel.modes`): a
+    :class:`~.modal_basis.ModalBasis` with the finite-element model behind it.
 
-    Attributes: ``model``, ``omega_rad_s``, ``frequencies_Hz``, ``damping_ratio`` (per mode), ``shapes``
-    (6 n_nodes × n_modes, all nodal DOFs, zero at the fixed ones), ``kinds`` ("vertical", "lateral", "torsion",
-    "axial": the DOF group carrying the mode's kinetic energy), ``energy_fractions`` (per group), ``table``
-    (:class:`ShapeTable`).  Modal equations: ``q̈ + diag(2ζω) q̇ + diag(ω²) q = Q``.  ``damping_ratio`` may be
-    edited per mode before :func:`add_bridge`."""
+    Attributes besides the basis's: ``model``, ``shapes`` (6 n_nodes × n_modes, all nodal DOFs, zero at the fixed
+    ones), ``energy_fractions`` (per DOF group); ``kinds`` ("vertical", "lateral", "torsion", "axial") is the DOF
+    group carrying the mode's kinetic energy."""
 
     def __init__(self, model: BridgeModel, omega_rad_s: np.ndarray, shapes: np.ndarray):
         self.model = model
-        self.omega_rad_s = np.asarray(omega_rad_s, dtype=float)
-        self.frequencies_Hz = self.omega_rad_s / (2.0 * math.pi)
-        self.damping_ratio = np.full(self.n_modes, model.damping_ratio)
         self.shapes = shapes
         M, _ = model.assemble(supported=False)
         self._mass_all_dofs = M
@@ -317,37 +314,19 @@ class BridgeModes:
         names = list(frac)
         F = np.array([frac[g] for g in names])
         self.energy_fractions = {g: F[i] for i, g in enumerate(names)}
-        self.kinds = tuple(names[i] for i in np.argmax(F, axis=0))
         mesh = model._mesh
         el = mesh["elements"]
-        node_shapes = np.empty((model.n_nodes, 5, self.n_modes))
+        n_modes = shapes.shape[1]
+        node_shapes = np.empty((model.n_nodes, 5, n_modes))
         node_shapes[:, NS_V] = shapes[1::6]
         node_shapes[:, NS_DV] = shapes[5::6]           # dv/dx = θz
         node_shapes[:, NS_W] = shapes[2::6]
         node_shapes[:, NS_DW] = -shapes[4::6]          # dw/dx = -θy
         node_shapes[:, NS_TH] = shapes[3::6]
-        self.table = ShapeTable(float(model.start_m), float(model.rail_height_m),
-                                np.array([e[2] for e in el], dtype=float), np.array([e[3] for e in el], dtype=float),
-                                np.array([[e[0], e[1]] for e in el], dtype=np.int64),
-                                np.ascontiguousarray(node_shapes))
-
-    @property
-    def n_modes(self) -> int:
-        return self.omega_rad_s.shape[0]
-
-    def __repr__(self):
-        f = ", ".join(f"{x:.3g}" for x in self.frequencies_Hz[:8])
-        return f"BridgeModes({self.n_modes} modes: {f}{', ...' if self.n_modes > 8 else ''} Hz)"
-
-    # modal matrices
-    def modal_mass(self) -> np.ndarray:
-        return np.eye(self.n_modes)
-
-    def modal_stiffness(self) -> np.ndarray:
-        return np.diag(self.omega_rad_s ** 2)
-
-    def modal_damping(self) -> np.ndarray:
-        return np.diag(2.0 * self.damping_ratio * self.omega_rad_s)
+        table = ShapeTable(float(model.start_m), float(model.rail_height_m),
+                           np.array([e[2] for e in el], dtype=float), np.array([e[3] for e in el], dtype=float),
+                           np.array([[e[0], e[1]] for e in el], dtype=np.int64), np.ascontiguousarray(node_shapes))
+        super().__init__(omega_rad_s, model.damping_ratio, tuple(names[i] for i in np.argmax(F, axis=0)), table)
 
     def participation_factors(self, direction: str = "lateral") -> np.ndarray:
         """``Γ_n = φ_nᵀ M r`` (n_modes,): modal participation factors of a rigid translation ``r`` of the whole deck
@@ -360,56 +339,3 @@ class BridgeModes:
         r = np.zeros(self.model.n_dof)
         r[dof::N_DOF_NODE] = 1.0
         return np.asarray(self.shapes.T @ (self._mass_all_dofs @ r), dtype=float)
-
-    def of_kind(self, kind: str) -> np.ndarray:
-        """Indices of the modes of one kind, in increasing frequency."""
-        if kind not in DOF_GROUPS:
-            raise ValueError(f"kind={kind!r}: expected one of {sorted(DOF_GROUPS)}")
-        return np.array([i for i, k in enumerate(self.kinds) if k == kind], dtype=np.int64)
-
-    # vectorised wrappers of the compiled functions
-    def shape_at(self, s_m) -> np.ndarray:
-        """``Φ(s)``: (..., 3, n_modes), rows y_rail, z_rail, θ_rail, at track distance(s) s (zero off the deck)."""
-        s = np.asarray(s_m, dtype=float)
-        out = np.empty((s.size, 3, self.n_modes))
-        modal_shapes_many(np.ascontiguousarray(s.ravel()), *self.table, out, out, False)
-        return out.reshape(s.shape + (3, self.n_modes))
-
-    def shape_and_slope_at(self, s_m) -> tuple[np.ndarray, np.ndarray]:
-        """``Φ(s)`` and ``dΦ/ds`` (each (..., 3, n_modes))."""
-        s = np.asarray(s_m, dtype=float)
-        out = np.empty((s.size, 3, self.n_modes))
-        out_ds = np.empty((s.size, 3, self.n_modes))
-        modal_shapes_many(np.ascontiguousarray(s.ravel()), *self.table, out, out_ds, True)
-        sh = s.shape + (3, self.n_modes)
-        return out.reshape(sh), out_ds.reshape(sh)
-
-    def rail_displacement(self, s_m, q) -> np.ndarray:
-        """``(y_rail, z_rail, θ_rail)`` (..., 3) at s for modal coordinates ``q`` (n_modes,)."""
-        q = self._check_q(q)
-        return self.shape_at(s_m) @ q
-
-    def rail_velocity(self, s_m, q_t) -> np.ndarray:
-        """Deck (material) velocity of the rail centre line ``Φ(s) q̇`` (..., 3)."""
-        return self.shape_at(s_m) @ self._check_q(q_t)
-
-    def rail_rate_moving(self, s_m, q, q_t, speed_m_s: float) -> np.ndarray:
-        """Rate of the rail displacement seen from a point moving along the track at ``speed_m_s``:
-        ``Φ(s) q̇ + V Φ'(s) q`` (..., 3)."""
-        phi, dphi = self.shape_and_slope_at(s_m)
-        return phi @ self._check_q(q_t) + float(speed_m_s) * (dphi @ self._check_q(q))
-
-    def project(self, s_m, forces) -> np.ndarray:
-        """Generalized modal forces ``Σ Φ(s_i)^T F_i`` of forces ``F_i = (Fy, Fz, Mx)`` (k, 3) at track distances
-        ``s_i`` (k,) on the rails' centre line at rail-top level."""
-        s = np.atleast_1d(np.asarray(s_m, dtype=float))
-        F = np.asarray(forces, dtype=float).reshape(-1, 3)
-        if F.shape[0] != s.size:
-            raise ValueError(f"project: {s.size} positions but {F.shape[0]} forces (Fy, Fz, Mx)")
-        return np.einsum("kij,ki->j", self.shape_at(s), F)
-
-    def _check_q(self, q):
-        q = np.asarray(q, dtype=float)
-        if q.shape[-1:] != (self.n_modes,):
-            raise ValueError(f"modal coordinates of shape {q.shape}: expected (..., {self.n_modes})")
-        return q

@@ -65,6 +65,7 @@ from exudyn.itemInterface import (CoordinateConstraint, MarkerNodeCoordinate, No
 
 from ..jit import compiled
 from .bridge import BridgeModes
+from .modal_basis import ModalBasis
 from .item_names import unique_name
 from .modal_shapes import add_projected_force
 from .checks import checked_number
@@ -144,7 +145,7 @@ class ExudynBridge:
     rigid_node, constraints : the FFRF reference-frame node and the constraints that hold it (``"ffrf"`` only).
     """
 
-    modes: BridgeModes
+    modes: ModalBasis
     formulation: str
     modal_node: int
     object: int
@@ -201,7 +202,7 @@ class ExudynBridge:
         return MovingForces(mbs, self, x_m, forces_N, speed_m_s, s_start_m, name=name)
 
 
-def add_bridge(mbs, modes: BridgeModes, formulation: str = "modal", name: str = "bridge") -> ExudynBridge:
+def add_bridge(mbs, modes: ModalBasis, formulation: str = "modal", name: str = "bridge") -> ExudynBridge:
     """Enter a modally reduced bridge (:meth:`BridgeModel.modes`) into the Exudyn ``MainSystem`` ``mbs`` (before
     ``mbs.Assemble()``).
 
@@ -213,15 +214,18 @@ def add_bridge(mbs, modes: BridgeModes, formulation: str = "modal", name: str = 
     """
     if formulation not in FORMULATIONS:
         raise ValueError(f"formulation={formulation!r}: expected one of {FORMULATIONS}")
-    if not isinstance(modes, BridgeModes):
-        raise TypeError(f"modes={modes!r}: expected BridgeModes (BridgeModel.modes(...))")
+    if not isinstance(modes, ModalBasis):
+        raise TypeError(f"modes={modes!r}: expected a ModalBasis (BridgeModel.modes(...), a modes file's "
+                        "SampledModes)")
+    if formulation == "ffrf" and not isinstance(modes, BridgeModes):
+        raise ValueError("formulation='ffrf' needs the finite-element deck (BridgeModes): a modes file has no mesh")
     name = unique_name(mbs, name)
     if formulation == "modal":
         return _add_modal(mbs, modes, name)
     return _add_ffrf(mbs, modes, name)
 
 
-def _add_modal(mbs, modes: BridgeModes, name: str) -> ExudynBridge:
+def _add_modal(mbs, modes: ModalBasis, name: str) -> ExudynBridge:
     n = modes.n_modes
     node = mbs.AddNode(NodeGenericODE2(name=f"{name}_modal", numberOfODE2Coordinates=n, referenceCoordinates=[0.0] * n,
                                        initialCoordinates=[0.0] * n, initialCoordinates_t=[0.0] * n))

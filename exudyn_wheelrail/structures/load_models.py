@@ -92,6 +92,7 @@ from __future__ import annotations
 
 import csv
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -102,7 +103,8 @@ from ..standards import (HSLM_A, HSLM_END_COACH_TO_BOGIE_M, HSLM_NAMES, HSLM_POW
 from ..validation import InputWarning
 
 __all__ = ["AxleTrain", "HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_POWER_CAR_TO_END_COACH_M",
-           "HSLM_END_COACH_TO_BOGIE_M", "AXLE_FILE_COLUMNS", "MIN_AXLE_SPACING_M", "hslm_a", "hslm_name",
+           "HSLM_END_COACH_TO_BOGIE_M", "AXLE_FILE_COLUMNS", "MIN_AXLE_SPACING_M", "PLAUSIBLE_AXLE_LOAD_N",
+           "MAX_PLAUSIBLE_AXLE_GAP_M", "axle_file_slips", "hslm_a", "hslm_name",
            "read_axle_file",
            "characteristic_spacing_m", "resonance_speeds_m_s", "flexural_rigidity_Nm2",
            "simply_supported_frequencies_Hz", "modal_moving_load_response", "quasi_static_midspan_deflection_m"]
@@ -111,6 +113,10 @@ __all__ = ["AxleTrain", "HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_
 AXLE_FILE_COLUMNS = ("x_m", "load_N")
 #: smallest distance between two axles [m] (closer ones are one axle given twice)
 MIN_AXLE_SPACING_M = 0.5
+#: an axle file's plausible axle loads [N] (light vehicles 50 kN … the heaviest freight axles ~350 kN) and the
+#: largest plausible gap between consecutive axles [m] (a coach's bogie centres ~19 m); outside: a warning
+PLAUSIBLE_AXLE_LOAD_N = (1.0e4, 4.0e5)
+MAX_PLAUSIBLE_AXLE_GAP_M = 40.0
 
 
 @dataclass(frozen=True)
@@ -247,12 +253,33 @@ def read_axle_file(path) -> AxleTrain:
     if header is None or not xs:
         raise ValueError(f"{path}: no axle (expected a header line with {', '.join(AXLE_FILE_COLUMNS)} and one "
                          "line per axle)")
-    if sum(ps) <= 0.0:
-        import warnings
-
-        warnings.warn(f"{path}: the axle loads sum to {sum(ps):g} N, not a downward weight (load_N is positive "
-                      "downwards); going on with them", InputWarning, stacklevel=2)
+    for note in axle_file_slips(np.array(xs), np.array(ps)):
+        warnings.warn(f"{path}: {note}; going on with them", InputWarning, stacklevel=2)
     return AxleTrain(np.array(xs), np.array(ps), name=path.stem, source=str(path))
+
+
+def axle_file_slips(x_m, load_N) -> list[str]:
+    """The plausible slips of an axle file (each a warning, the run goes on): loads not downward (upward ones, a sum
+    that is no weight), loads that look like kN (all below :data:`PLAUSIBLE_AXLE_LOAD_N`'s lower end) or are
+    heavier than any railway axle, a gap between consecutive axles longer than :data:`MAX_PLAUSIBLE_AXLE_GAP_M`
+    (positions in mm?)."""
+    notes = []
+    lo, hi = PLAUSIBLE_AXLE_LOAD_N
+    if np.sum(load_N) <= 0.0:
+        notes.append(f"the axle loads sum to {np.sum(load_N):g} N, not a downward weight (load_N is positive "
+                     "downwards)")
+    elif np.any(load_N < 0.0):
+        notes.append(f"{int(np.sum(load_N < 0.0))} axle load(s) upward (load_N is positive downwards)")
+    if np.sum(load_N) > 0.0 and np.max(load_N) < lo:
+        notes.append(f"the largest axle load is {np.max(load_N):g} N, below {lo:g} N: loads in kN? (load_N is in "
+                     "newtons: 170 kN is 170000)")
+    elif np.max(load_N) > hi:
+        notes.append(f"an axle load of {np.max(load_N):g} N, above {hi:g} N (load_N is in newtons)")
+    gaps = np.diff(x_m)
+    if gaps.size and np.max(gaps) > MAX_PLAUSIBLE_AXLE_GAP_M:
+        notes.append(f"consecutive axles {np.max(gaps):g} m apart, more than {MAX_PLAUSIBLE_AXLE_GAP_M:g} m: "
+                     "positions in mm? (x_m is in metres)")
+    return notes
 
 
 # --------------------------------------------------------------------------------------------- resonance
