@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..jit import compiled
 from ..structures.beam import N_DOF_NODE
 from ..structures.load_models import AxleTrain, quasi_static_midspan_deflection_m
 from .bridge_crossing_deck import elements_per_span
 from .deck import CHECK_POINTS_X_OVER_L
 
 __all__ = ["DECK_COLUMNS", "LATERAL_COLUMNS", "SPAN_COLUMNS", "SPAN_LATERAL_COLUMNS", "deck_columns",
-           "FirstAxleProbe", "DeckProbe"]
+           "FirstAxleProbe", "DeckProbe", "deck_row"]
 
 #: the recorded columns after ``time_s`` and ``x_first_axle_m`` (module docstring)
 DECK_COLUMNS = (("deck_midspan_displacement_m", "deck_midspan_velocity_m_s", "deck_midspan_acceleration_m_s2",
@@ -72,7 +73,9 @@ class FirstAxleProbe:
 
 
 class DeckProbe:
-    """The deck's columns (:func:`deck_columns`) from the modal state and the modal accelerations."""
+    """The deck's columns (:func:`deck_columns`) from the modal state and the modal accelerations: the modal state
+    read from Exudyn, the load model's modal forces, every column of the row in one compiled call
+    (:func:`deck_row`)."""
 
     def __init__(self, case, bridge, deck, modal_forces, cutoffs_Hz):
         modes = deck.modes
@@ -85,9 +88,9 @@ class DeckProbe:
         if case.n_spans > 1 and not case.global_modes:  # x0 + L also starts span 2: span 1's end node, dw/dx = -θy
             self.slopes[1] = -modes.shapes[N_DOF_NODE * elements_per_span(case) + 4]
         s_pts = x0 + L * np.asarray(CHECK_POINTS_X_OVER_L)
-        self.phi_pts = modes.shape_at(s_pts)[:, 1, :].copy()
+        self.phi_pts = np.ascontiguousarray(modes.shape_at(s_pts)[:, 1, :])
         keep = modes.frequencies_Hz <= 1.01 * cutoff_Hz          # FE frequencies lie slightly above the exact ones
-        self.phi_pts_cut = np.where(keep[None, :], self.phi_pts, 0.0)
+        self.phi_pts_cut = np.ascontiguousarray(np.where(keep[None, :], self.phi_pts, 0.0))
         self.w2 = np.diag(modes.modal_stiffness()).copy()
         self.d = np.diag(modes.modal_damping()).copy()
         self.columns = [("deck", c) for c in deck_columns(case)]
@@ -97,40 +100,74 @@ class DeckProbe:
         lat = np.zeros(modes.n_modes, dtype=bool)
         for idx in deck.lateral:
             lat[idx] = True
-        self.phi_lat_mid = np.where(lat, modes.shape_at(x0 + 0.5 * L)[0], 0.0) if self.lateral else None
-        self.spans = []
-        if case.n_spans > 1:
-            for k in range(case.n_spans):
-                xk, Lk = case.span_start_m(k), case.chain_m[k]
-                mid = modes.shape_at(xk + 0.5 * Lk)
-                mine = np.zeros(modes.n_modes, dtype=bool)
-                mine[deck.vertical[k]] = True
-                keep = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
-                pts = modes.shape_at(xk + Lk * np.asarray(CHECK_POINTS_X_OVER_L))[:, 1, :]
-                self.spans.append((mid[1].copy(), np.where(keep[None, :], pts, 0.0), np.where(lat, mid[0], 0.0)))
+        n = modes.n_modes
+        self.phi_lat_mid = (np.where(lat, modes.shape_at(x0 + 0.5 * L)[0], 0.0) if self.lateral
+                            else np.zeros(n))
+        k_sp = case.n_spans if case.n_spans > 1 else 0
+        self.span_mid = np.zeros((k_sp, n))
+        self.span_cut = np.zeros((k_sp, len(CHECK_POINTS_X_OVER_L), n))
+        self.span_lat = np.zeros((k_sp, n))
+        for k in range(k_sp):
+            xk, Lk = case.span_start_m(k), case.chain_m[k]
+            mid = modes.shape_at(xk + 0.5 * Lk)
+            mine = np.zeros(n, dtype=bool)
+            mine[deck.vertical[k]] = True
+            keep = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
+            pts = modes.shape_at(xk + Lk * np.asarray(CHECK_POINTS_X_OVER_L))[:, 1, :]
+            self.span_mid[k] = mid[1]
+            self.span_cut[k] = np.where(keep[None, :], pts, 0.0)
+            self.span_lat[k] = np.where(lat, mid[0], 0.0)
 
     def fill(self, mbs, t, out):
         q, q_t = (np.atleast_1d(v) for v in self.bridge.coordinates(mbs))      # a scalar for one mode
-        q_tt = self.modal_forces(mbs, t) - self.w2 * q - self.d * q_t          # modal equations, M = I
-        out[0] = self.phi_mid @ q
-        out[1] = self.phi_mid @ q_t
-        out[2] = self.phi_mid @ q_tt
-        out[3:5] = self.slopes @ q
-        k = 5 + self.phi_pts.shape[0]
-        out[5:k] = self.phi_pts @ q_tt
-        out[k] = np.max(np.abs(self.phi_pts_cut @ q_tt))
-        k += 1
-        if self.lateral:
-            out[k] = self.phi_lat_mid @ q
-            out[k + 1] = self.phi_lat_mid @ q_tt
-            k += 2
-        for phi_mid, phi_cut, phi_lat in self.spans:
-            out[k] = phi_mid @ q
-            out[k + 1] = phi_mid @ q_tt
-            out[k + 2] = np.max(np.abs(phi_cut @ q_tt))
-            k += 3
-            if self.lateral:
-                out[k] = phi_lat @ q
-                out[k + 1] = phi_lat @ q_tt
-                k += 2
+        deck_row(q, q_t, np.atleast_1d(self.modal_forces(mbs, t)), self.w2, self.d, self.phi_mid, self.slopes,
+                 self.phi_pts, self.phi_pts_cut, self.phi_lat_mid, self.lateral, self.span_mid, self.span_cut,
+                 self.span_lat, out)
 
+
+@compiled
+def deck_row(q, q_t, Q, w2, d, phi_mid, slopes, phi_pts, phi_pts_cut, phi_lat_mid, lateral, span_mid, span_cut,
+             span_lat, out):
+    """One row of the deck's columns (:func:`deck_columns`, in their order) into ``out`` from the modal state ``q``,
+    ``q_t`` and the modal forces ``Q``: the modal accelerations ``q̈ = Q − d q̇ − w2 q`` (mass-normalised modes),
+    then the mid-span displacement, velocity and acceleration, the support slopes, the check points'
+    accelerations, the largest of them with the modes up to the cut-off, the lateral ones and every span's."""
+    n = q.shape[0]
+    q_tt = np.empty(n)
+    for j in range(n):
+        q_tt[j] = Q[j] - d[j] * q_t[j] - w2[j] * q[j]
+    out[0] = np.dot(phi_mid, q)
+    out[1] = np.dot(phi_mid, q_t)
+    out[2] = np.dot(phi_mid, q_tt)
+    out[3] = np.dot(slopes[0], q)
+    out[4] = np.dot(slopes[1], q)
+    k = 5
+    for i in range(phi_pts.shape[0]):
+        out[k + i] = np.dot(phi_pts[i], q_tt)
+    k += phi_pts.shape[0]
+    out[k] = _max_abs_rows(phi_pts_cut, q_tt)
+    k += 1
+    if lateral:
+        out[k] = np.dot(phi_lat_mid, q)
+        out[k + 1] = np.dot(phi_lat_mid, q_tt)
+        k += 2
+    for s in range(span_mid.shape[0]):
+        out[k] = np.dot(span_mid[s], q)
+        out[k + 1] = np.dot(span_mid[s], q_tt)
+        out[k + 2] = _max_abs_rows(span_cut[s], q_tt)
+        k += 3
+        if lateral:
+            out[k] = np.dot(span_lat[s], q)
+            out[k + 1] = np.dot(span_lat[s], q_tt)
+            k += 2
+
+
+@compiled
+def _max_abs_rows(A, x):
+    """``max_i |A[i] · x|``."""
+    m = 0.0
+    for i in range(A.shape[0]):
+        v = abs(np.dot(A[i], x))
+        if v > m:
+            m = v
+    return m
