@@ -115,6 +115,7 @@ class MovingForces:
         self.table = bridge.modes.table
         n = bridge.modes.n_modes
         self._f = np.zeros(n)
+        self._t = np.nan                               # the time self._f holds (none yet)
         self._work = np.zeros((3, n))
         self._jac = np.zeros((n, n))
         self.object = mbs.AddObject(ObjectGenericODE2(
@@ -123,9 +124,14 @@ class MovingForces:
             visualization=VObjectGenericODE2(show=False)))
 
     def forces(self, t: float) -> np.ndarray:
-        """Generalized modal forces at time t."""
-        _moving_forces_core(float(t), self.s_start_m, self.speed_m_s, self.x_m, self.forces_N, *self.table,
-                            self._work, self._f)
+        """Generalized modal forces at time t (kept for the next call at the same time: an RK stage or a step's
+        end and the next step's start evaluate one time twice).  The array is overwritten by the next call at
+        another time."""
+        t = float(t)
+        if t != self._t:
+            _moving_forces_core(t, self.s_start_m, self.speed_m_s, self.x_m, self.forces_N, *self.table,
+                                self._work, self._f)
+            self._t = t
         return self._f
 
     def _force_uf(self, mbs, t, itemIndex, q, q_t):
