@@ -57,6 +57,8 @@ def test_a_two_span_continuous_deck_has_the_simply_supported_and_the_pinned_clam
     assert f_fe.shape == (6,)
     np.testing.assert_allclose(f_fe, f_exact, rtol=1e-4)
     assert np.all(f_fe >= f_exact * (1 - 1e-12))                    # a conforming element: from above
+    # the time step's highest frequency bounds the deck's highest kept mode (clamped–clamped band bound)
+    assert case.f_N_Hz >= f_fe[-1]
     assert deck.f1_Hz == (pytest.approx(F1, rel=1e-5),) * 2
     # EN 1990's cut-off: max(30 Hz, 1.5 f1, f3) with the deck's own f1 and f3 (the third mode: 20 Hz)
     assert deck.cutoffs_Hz[0] == pytest.approx(max(30.0, 1.5 * f_fe[0], f_fe[2]))
@@ -150,7 +152,8 @@ def test_the_modes_file_path_reproduces_the_built_in_beam(tmp_path, spans):
     # amplitude, kh = 3π/200 for the third mode: 6e-8; the same frequencies and the same step: the deck's columns
     # agree to 1e-6 of their peaks
     for col in ("deck_midspan_displacement_m", "deck_midspan_acceleration_m_s2",
-                "deck_en1990_max_abs_acceleration_m_s2", "deck_acceleration_p3_m_s2"):
+                "deck_en1990_max_abs_acceleration_m_s2", "deck_acceleration_p3_m_s2",
+                "deck_support_rotation_start_rad", "deck_support_rotation_end_rad"):
         a, b = np.asarray(ref.timeseries[col]), np.asarray(by_npz.timeseries[col])
         assert a.shape == b.shape
         assert np.max(np.abs(a - b)) <= 1e-6 * np.max(np.abs(a)), col
@@ -265,3 +268,51 @@ def test_a_modes_files_deck_carries_every_load_model_as_the_built_in_beam(tmp_pa
     for col in ("deck_midspan_displacement_m", "deck_midspan_acceleration_m_s2"):
         x, y = np.asarray(a.timeseries[col]), np.asarray(b.timeseries[col])
         assert np.max(np.abs(x - y)) <= 1e-4 * np.max(np.abs(x)), col
+
+
+def test_with_fewer_than_three_vertical_modes_kept_the_cutoff_is_the_whole_decks_and_not_reached(tmp_path):
+    # 2 x 10 m continuous, f1 = 20 Hz, one mode per span: 20 and 31.2 Hz kept; the deck's f3 (80 Hz) sets the
+    # cut-off, which the two modes do not reach
+    case = BridgeCrossing(span_m=10.0, mass_kg_m=MASS, f1_Hz=20.0, damping_ratio=ZETA, n_modes=1, axles=hslm_a("A1"),
+                          speed_m_s=50.0, spans_m=(10.0, 10.0), continuous=True)
+    deck = deck_modes(case)
+    assert deck.modes.frequencies_Hz[-1] < 40.0
+    assert deck.cutoffs_Hz[0] == pytest.approx(80.0, rel=1e-3) and not deck.reaches_cutoff(0)
+    # a modes file with 10, 40, 90 Hz keeping two: the cut-off is the file's f3 = 90 Hz, not reached
+    x = np.linspace(0.0, L, 101)
+    npz = _write(tmp_path, "three.npz", frequency_hz=np.array([10.0, 40.0, 90.0]), modal_mass_kg=np.full(3, 1e5),
+                 x_m=x, vertical=np.vstack([np.sin(k * np.pi * x / L) for k in (1, 2, 3)]))
+    kept = deck_modes(_beam_case(mass_kg_m=None, f1_Hz=None, n_modes=2, modes_file=str(npz)))
+    assert kept.cutoffs_Hz[0] == pytest.approx(90.0) and not kept.reaches_cutoff(0)
+    assert deck_modes(_beam_case(mass_kg_m=None, f1_Hz=None, n_modes=3, modes_file=str(npz))).reaches_cutoff(0)
+
+
+def test_supports_match_positions_despite_the_spans_sum_rounding(tmp_path, recwarn):
+    spans = (12.3, 12.3, 12.3, 12.3)                          # 36.900000000000006 m for the third support
+    x = np.round(np.linspace(0.0, sum(spans), 121), 9)
+    npz = _write(tmp_path, "four.npz", frequency_hz=np.array([5.0]), modal_mass_kg=np.array([1e5]), x_m=x,
+                 vertical=np.abs(np.sin(np.pi * x / 12.3))[None, :])
+    deck_modes(_beam_case(span_m=12.3, spans_m=spans, mass_kg_m=None, f1_Hz=None, n_modes=1, modes_file=str(npz)))
+    assert not [w for w in recwarn if "not one of the positions" in str(w.message)]
+
+
+@pytest.mark.parametrize("x, message", [
+    ([0.0, 0.0, 10.0, 20.0], "x_m: 0 given twice at an end"),
+    ([0.0, 10.0, 20.0, 20.0], "x_m: 20 given twice at an end"),
+])
+def test_a_position_twice_at_an_end_is_refused(tmp_path, x, message):
+    x = np.array(x)
+    path = _write(tmp_path, "ends.npz", frequency_hz=np.array([5.0]), modal_mass_kg=np.array([1e5]), x_m=x,
+                  vertical=np.sin(np.pi * x / 20.0)[None, :])
+    with pytest.raises(ValueError, match=message):
+        read_modes_file(path)
+
+
+def test_kept_modes_without_a_vertical_one_are_refused_as_the_modes_count(tmp_path):
+    x = np.linspace(0.0, L, 21)
+    path = _write(tmp_path, "lat.npz", frequency_hz=np.array([3.0, 5.0]), modal_mass_kg=np.array([1e5, 1e5]),
+                  x_m=x, vertical=np.vstack([np.zeros_like(x), np.sin(np.pi * x / L)]),
+                  lateral=np.vstack([np.sin(np.pi * x / L), np.zeros_like(x)]))
+    with pytest.raises(ValueError, match="n_modes: the 1 lowest modes of the modes file .* have no vertical mode"):
+        _beam_case(mass_kg_m=None, f1_Hz=None, n_modes=1, modes_file=str(path))
+    assert _beam_case(mass_kg_m=None, f1_Hz=None, n_modes=2, modes_file=str(path)).f1_Hz == 5.0

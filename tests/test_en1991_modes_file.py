@@ -116,3 +116,18 @@ def test_a_modes_file_whose_shapes_disagree_with_its_positions_is_named_by_the_c
     code = main(["en1991-dynamic", "--bridge", str(f), "--max-line-speed-kmh", "200", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err.strip()
     assert code == 2 and err.count("\n") == 0 and "bad.npz: vertical: shape (1, 9) disagrees" in err, err
+
+
+def test_a_modes_file_of_many_modes_keeps_those_up_to_the_cutoff(tmp_path):
+    # 70 modes (n² 6 Hz, a simply supported span's): EN 1990's cut-off max(30, 9, 54) = 54 Hz is reached by the
+    # third; the check keeps three (the file's count is no limit)
+    x = np.linspace(0.0, L, 301)
+    n = np.arange(1, 71)
+    npz = write_modes_npz(tmp_path / "many.npz", frequency_hz=6.0 * n ** 2, modal_mass_kg=np.full(70, 1e5), x_m=x,
+                          vertical=np.sin(np.pi * n[:, None] * x[None, :] / L))
+    f = tmp_path / "many.toml"
+    f.write_text(f"[bridge]\nspans_m = [{L}]\nmodes_file = '{npz.name}'\nmass_kg_per_m = 1.0e4\n"
+                 "structure = 'filler_beam'\n")
+    check = E.DynamicCheck(bridge=E.read_bridge_file(f), max_line_speed_kmh=200.0, trains=("A1",))
+    assert check.n_modes("nominal") == 3
+    assert check.deck("nominal")[1].cutoffs_Hz[0] == pytest.approx(54.0)

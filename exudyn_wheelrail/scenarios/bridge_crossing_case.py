@@ -6,6 +6,7 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -41,8 +42,16 @@ CLAMPED_BAND = 0.51
 
 
 def file_sha256(path) -> str:
-    """The SHA-256 of a file's bytes (a crossing's fingerprint holds its modes file's)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    """The SHA-256 of a file's bytes (a crossing's fingerprint holds its modes file's), read once per file version
+    (its path, modification time and size)."""
+    p = Path(path)
+    st = p.stat()
+    return _sha256(str(p.resolve()), st.st_mtime_ns, st.st_size)
+
+
+@lru_cache(maxsize=16)
+def _sha256(resolved: str, mtime_ns: int, size: int) -> str:
+    return hashlib.sha256(Path(resolved).read_bytes()).hexdigest()
 
 
 # ================================================================================================= the case
@@ -135,6 +144,9 @@ class BridgeCrossing:
         if self.modes_file is not None and n > self.file_modes.n_modes:
             raise ValueError(f"n_modes: {n} modes asked, the modes file {self.modes_file} has "
                              f"{self.file_modes.n_modes}")
+        if self.modes_file is not None and "vertical" not in mode_kinds(self.file_modes.lowest(n)):
+            raise ValueError(f"n_modes: the {n} lowest modes of the modes file {self.modes_file} have no vertical "
+                             "mode (keep more)")
         object.__setattr__(self, "n_modes", int(n))
         if self.axles is not None and not isinstance(self.axles, AxleTrain):
             raise ValueError(f"axles: expected an AxleTrain, got {type(self.axles).__name__}")
@@ -289,7 +301,8 @@ class BridgeCrossing:
         """The most half-waves of a kept shape along a span (the moving loads' spatial resolution): ``N`` (and
         ``N_L``) of the built-in beam, counted from a modes file's shapes."""
         if self.modes_file is not None:
-            return half_waves(self.file_modes)
+            supports = np.concatenate([[0.0], np.cumsum(self.chain_m)])
+            return half_waves(self.file_modes.lowest(self.n_modes), supports)
         return max(self.n_modes, self.lateral_modes)
 
     def as_dict(self) -> dict:

@@ -10,12 +10,13 @@ import numpy as np
 from ..structures.beam import N_DOF_NODE, DeckSection
 from ..structures.bridge import BridgeModel, BridgeModes
 from ..structures.modes_file import SampledModes
-from .bridge_crossing_case import ELEMENTS_PER_MODE, MIN_ELEMENTS, BridgeCrossing
+from .bridge_crossing_case import CLAMPED_BAND, ELEMENTS_PER_MODE, MIN_ELEMENTS, BridgeCrossing
 from .deck import cutoff_of_frequencies_Hz
 from .deck import en1990_cutoff_Hz as span_cutoff_Hz
 
 __all__ = ["deck_section", "elements_per_span", "DeckModes", "deck_modes", "chain_modes", "continuous_modes",
-           "file_modes", "vertical_modes", "en1990_cutoff_Hz"]
+           "file_modes", "file_reference", "file_modes_to_cutoff", "span_mode_sets", "span_references",
+           "SPAN_SHARE", "vertical_modes", "en1990_cutoff_Hz"]
 
 
 def deck_section(case: BridgeCrossing):
@@ -75,11 +76,15 @@ class DeckModes:
     f1_Hz: tuple = ()
     cutoffs_Hz: tuple = ()
     euler_bernoulli_top_Hz: tuple = ()
+    cutoff_known: tuple = ()
 
     def reaches_cutoff(self, k: int) -> bool:
         """Whether span ``k``'s vertical modes reach its cut-off: the highest kept is at or above it (a chain's span
         also when ``N² f1_k``, the Euler–Bernoulli value its mesh approximates from above, is:
-        ``euler_bernoulli_top_Hz``)."""
+        ``euler_bernoulli_top_Hz``); never when the cut-off is not known (``cutoff_known``: a deck with fewer
+        than three vertical modes has no f3)."""
+        if self.cutoff_known and not self.cutoff_known[k]:
+            return False
         f = self.modes.frequencies_Hz[self.vertical[k]]
         if f.size and f[-1] >= self.cutoffs_Hz[k]:
             return True
@@ -130,7 +135,9 @@ def continuous_modes(case: BridgeCrossing) -> DeckModes:
     n, n_l, k_sp = case.n_modes, case.lateral_modes, case.n_spans
     model = BridgeModel(case.chain_m, deck_section(case), continuous=True, damping_ratio=case.damping_ratio,
                         rail_height_m=0.0, start_m=case.deck_start_m, elements_per_span=elements_per_span(case))
-    every = model.modes(f_max_Hz=1.05 * case.f_N_Hz)
+    # enough modes for every span's f3 too (the cut-off's reference): (3 + CLAMPED_BAND)² f1_k bounds the third
+    f_ref = max(case.f_N_Hz, max((3 + CLAMPED_BAND) ** 2 * case.span_f1_Hz(k) for k in range(k_sp)))
+    every = model.modes(f_max_Hz=1.05 * f_ref)
     idx = every.of_kind("vertical")[:n * k_sp]
     if idx.size < n * k_sp:
         raise RuntimeError(f"the continuous deck has {idx.size} vertical modes below {1.05 * case.f_N_Hz:g} Hz, "
@@ -146,46 +153,99 @@ def continuous_modes(case: BridgeCrossing) -> DeckModes:
         omega = np.concatenate([omega, every.omega_rad_s[lat]])
         shapes = np.concatenate([shapes, np.where(keep[:, None], every.shapes[:, lat], 0.0)], axis=1)
     modes = BridgeModes(model, omega, shapes)
-    return _whole_deck(case, modes, np.arange(n * k_sp), np.arange(n * k_sp, n * k_sp + n_l * k_sp))
+    reference = span_references(every, every.of_kind("vertical"), case.chain_m, case.deck_start_m)
+    return _whole_deck(case, modes, np.arange(n * k_sp), np.arange(n * k_sp, n * k_sp + n_l * k_sp), reference)
+
+
+def _sampled(case: BridgeCrossing, data) -> SampledModes:
+    supports = np.concatenate([[0.0], np.cumsum(case.chain_m)])
+    return SampledModes(data, start_m=case.deck_start_m, supports_x_m=supports, mass_scale=case.mass_scale,
+                        damping_ratio=case.damping_ratio)
+
+
+def file_reference(case: BridgeCrossing) -> tuple:
+    """Every span's first frequency, EN 1990 cut-off and whether it is known (:func:`span_references`) from **all**
+    the modes of the case's modes file — whatever number of them a crossing keeps."""
+    every = _sampled(case, case.file_modes)
+    return span_references(every, every.of_kind("vertical"), case.chain_m, case.deck_start_m)
+
+
+def file_modes_to_cutoff(case: BridgeCrossing) -> int | None:
+    """How many of the modes file's lowest modes reach every span's EN 1990 cut-off (the first vertical mode of the
+    span at or above it, and every mode below); None when a span's vertical modes end below it or its cut-off is
+    not known."""
+    every = _sampled(case, case.file_modes)
+    vertical = every.of_kind("vertical")
+    f1s, cuts, known = span_references(every, vertical, case.chain_m, case.deck_start_m)
+    f = every.frequencies_Hz
+    firsts = []
+    for k, mine in enumerate(span_mode_sets(every, vertical, case.chain_m, case.deck_start_m)):
+        above = [f[i] for i in mine if f[i] >= cuts[k]]
+        if not known[k] or not above:
+            return None
+        firsts.append(min(above))
+    return int(np.count_nonzero(f <= max(firsts)))
 
 
 def file_modes(case: BridgeCrossing) -> DeckModes:
     """The ``N`` lowest modes of the case's modes file
     (:class:`~exudyn_wheelrail.structures.modes_file.SampledModes`: mass-normalised, the splines broken at the
-    spans' supports, the mass scale of a mass bound; the case's damping ratio, else the file's)."""
-    data = case.file_modes.lowest(case.n_modes)
-    supports = np.concatenate([[0.0], np.cumsum(case.chain_m)])
-    modes = SampledModes(data, start_m=case.deck_start_m, supports_x_m=supports, mass_scale=case.mass_scale,
-                         damping_ratio=case.damping_ratio)
-    return _whole_deck(case, modes, modes.of_kind("vertical"), modes.of_kind("lateral"))
+    spans' supports, the mass scale of a mass bound; the case's damping ratio, else the file's); every span's
+    first frequency and cut-off from all the file's modes (:func:`file_reference`)."""
+    modes = _sampled(case, case.file_modes.lowest(case.n_modes))
+    return _whole_deck(case, modes, modes.of_kind("vertical"), modes.of_kind("lateral"), file_reference(case))
 
 
 #: a mode moves a span when its largest vertical displacement there is at least this fraction of its largest
 SPAN_SHARE = 1e-3
 
 
-def _whole_deck(case, modes, vertical, lateral) -> DeckModes:
-    """A :class:`DeckModes` whose modes span the whole deck: span ``k``'s modes are those that move it (a vertical
-    displacement there at least :data:`SPAN_SHARE` of the mode's largest: every mode of a continuous deck, a
-    span's own of a modes file of separate decks); its first frequency and cut-off from its first and third
-    vertical modes (with fewer than three the highest stands for f3, and the cut-off is then not reached)."""
-    vertical, lateral = np.asarray(vertical, dtype=np.int64), np.asarray(lateral, dtype=np.int64)
-    x = case.deck_start_m + np.linspace(0.0, case.length_m, 200 * case.n_spans + 1)
-    every = np.max(np.abs(modes.shape_at(x)), axis=(0, 1))                       # (n_modes,)
-    per_span, lat_span, f1s, cuts = [], [], [], []
-    for k in range(case.n_spans):
-        xs = case.span_start_m(k) + case.chain_m[k] * np.linspace(0.01, 0.99, 99)
-        moves = np.max(np.abs(modes.shape_at(xs)), axis=(0, 1)) >= SPAN_SHARE * every
-        mine = vertical[moves[vertical]]
-        f = modes.frequencies_Hz[mine]
+def span_mode_sets(modes, indices, chain_m, start_m) -> list:
+    """Per span (``chain_m`` from track distance ``start_m``), the modes of ``indices`` that move it: a displacement
+    there at least :data:`SPAN_SHARE` of the mode's largest over the deck (every mode of a continuous deck, a span's
+    own of a modes file of separate decks)."""
+    indices = np.asarray(indices, dtype=np.int64)
+    length = float(sum(chain_m))
+    x = start_m + np.linspace(0.0, length, 200 * len(chain_m) + 1)
+    largest = np.max(np.abs(modes.shape_at(x)), axis=(0, 1))                       # (n_modes,)
+    out, x0 = [], start_m
+    for L in chain_m:
+        xs = x0 + L * np.linspace(0.01, 0.99, 99)
+        moves = np.max(np.abs(modes.shape_at(xs)), axis=(0, 1)) >= SPAN_SHARE * largest
+        out.append(indices[moves[indices]])
+        x0 += L
+    return out
+
+
+def span_references(modes, vertical, chain_m, start_m) -> tuple:
+    """``(f1, cut-off, known)`` per span from the vertical modes of ``modes`` that move it
+    (:func:`span_mode_sets`): its first frequency and EN 1990's ``max(30 Hz, 1.5 f1, f3)`` — with fewer than three
+    vertical modes f3 is not known (the highest stands for it and ``known`` is False: the cut-off is then never
+    reached)."""
+    f1s, cuts, known = [], [], []
+    for k, mine in enumerate(span_mode_sets(modes, vertical, chain_m, start_m)):
+        f = np.sort(modes.frequencies_Hz[mine])
         if f.size == 0:
             raise ValueError(f"span {k + 1} of the deck: no vertical mode moves it")
-        per_span.append(mine)
-        lat_span.append(lateral[moves[lateral]])
         f1s.append(float(f[0]))
         cuts.append(cutoff_of_frequencies_Hz(f[0], f[min(2, f.size - 1)]))
-    return DeckModes(modes, vertical=tuple(per_span), lateral=tuple(lat_span), f1_Hz=tuple(f1s),
-                     cutoffs_Hz=tuple(cuts))
+        known.append(bool(f.size >= 3))
+    return tuple(f1s), tuple(cuts), tuple(known)
+
+
+def _whole_deck(case, modes, vertical, lateral, reference) -> DeckModes:
+    """A :class:`DeckModes` whose modes span the whole deck: span ``k``'s modes are those that move it
+    (:func:`span_mode_sets`); its first frequency and cut-off are ``reference``'s (:func:`span_references` of the
+    deck's fuller basis: its f3 whatever number of modes is kept)."""
+    vertical, lateral = np.asarray(vertical, dtype=np.int64), np.asarray(lateral, dtype=np.int64)
+    per_span = span_mode_sets(modes, vertical, case.chain_m, case.deck_start_m)
+    lat_span = span_mode_sets(modes, lateral, case.chain_m, case.deck_start_m)
+    for k, mine in enumerate(per_span):
+        if mine.size == 0:
+            raise ValueError(f"n_modes: none of the {modes.n_modes} modes kept moves span {k + 1} vertically")
+    f1s, cuts, known = reference
+    return DeckModes(modes, vertical=tuple(per_span), lateral=tuple(lat_span), f1_Hz=f1s, cutoffs_Hz=cuts,
+                     cutoff_known=known)
 
 
 def vertical_modes(case: BridgeCrossing):

@@ -87,6 +87,8 @@ class DeckProbe:
         self.slopes = dphi[1:, 1].copy()                              # (2, n): dw/dx at the supports
         if case.n_spans > 1 and not case.global_modes:  # x0 + L also starts span 2: span 1's end node, dw/dx = -θy
             self.slopes[1] = -modes.shapes[N_DOF_NODE * elements_per_span(case) + 4]
+        elif case.n_spans > 1:       # the slope at x0 + L from the left: the first span's end (a joint's other side
+            self.slopes[1] = modes.shape_and_slope_at(np.nextafter(x0 + L, -np.inf))[1][1]   # starts the next deck)
         s_pts = x0 + L * np.asarray(CHECK_POINTS_X_OVER_L)
         self.phi_pts = np.ascontiguousarray(modes.shape_at(s_pts)[:, 1, :])
         keep = modes.frequencies_Hz <= 1.01 * cutoff_Hz          # FE frequencies lie slightly above the exact ones

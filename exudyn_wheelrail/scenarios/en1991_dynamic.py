@@ -77,11 +77,11 @@ from ..structures.load_models import hslm_a, resonance_speeds_m_s
 from ..structures.modes_file import MODES_FILE_SUFFIXES
 from ..validation import InputWarning
 from .bridge_crossing_case import BridgeCrossing
-from .bridge_crossing_deck import deck_modes
+from .bridge_crossing_deck import deck_modes, file_modes_to_cutoff
 from .bridge_crossing_loads import consist_axles
 from .bridge_crossing_run import run_bridge_crossing
 from .deck import en1990_cutoff_Hz
-from .defaults import (CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_RESONANCES, CHECK_SPEED_STEP_KM_H,
+from .defaults import (CHECK_MIN_SPEED_KM_H, CHECK_REFINE_KM_H, CHECK_RESONANCES, CHECK_SPEED_STEP_KM_H, MAX_MODES,
                        LATERAL_EI_RATIO)
 from .en1991_report import write_figures_and_report
 from .outputs import write_json, write_table_csv
@@ -233,7 +233,7 @@ def read_bridge_file(path) -> BridgeSpec:
             raise bad("modes_file", "give either the built-in beam (EI_Nm2, continuous) or a modes file, not both")
         if not isinstance(modes_file, str) or Path(modes_file).suffix.lower() not in MODES_FILE_SUFFIXES:
             raise bad("modes_file", f"{modes_file!r}: expected the path of a {' or '.join(MODES_FILE_SUFFIXES)} file")
-        modes_file = str(path.parent / modes_file)
+        modes_file = str((path.parent / modes_file).resolve())
         if not Path(modes_file).is_file():
             raise bad("modes_file", f"{modes_file}: no such file")
         if modes_mass is not None and not _positive(modes_mass):
@@ -295,13 +295,14 @@ class DynamicCheck:
     trains: tuple = HSLM_NAMES
     speeds_kmh: tuple | None = None
 
-    _modes: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    _n: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    _decks: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
-    def __getstate__(self):                  # a worker computes its own modes: they are not sent with every task
-        return {k: v for k, v in self.__dict__.items() if k != "_modes"}
+    def __getstate__(self):                  # the modes counts go with a task, the modes themselves do not
+        return {k: v for k, v in self.__dict__.items() if k != "_decks"}
 
     def __setstate__(self, state):
-        self.__dict__.update(state, _modes={})
+        self.__dict__.update(state, _decks={})
 
     def axles(self, train: str):
         return hslm_a(train) if train in HSLM_NAMES else consist_axles(train)
@@ -322,43 +323,43 @@ class DynamicCheck:
                               track_form=b.track_form, spans_m=spans, continuous=b.continuous)
 
     def n_modes(self, bound: str) -> int:
-        """The crossings' ``n_modes`` at ``bound`` (module docstring, *Modes*)."""
-        return self.deck(bound)[0]
+        """The crossings' ``n_modes`` at ``bound`` (module docstring, *Modes*), found once (and sent with the check
+        to the workers)."""
+        if bound not in self._n:
+            self._n[bound] = self._modes_count(bound)
+        return self._n[bound]
 
-    def deck(self, bound: str):
-        """``(n_modes, DeckModes)`` of the crossings at ``bound`` (module docstring, *Modes*), computed once."""
-        if bound in self._modes:
-            return self._modes[bound]
+    def _modes_count(self, bound: str) -> int:
         b = self.bridge
         probe = hslm_a(HSLM_NAMES[0])
         if b.modes_file is None and not b.continuous:
-            n = n_modes_to_cutoff(b.spans_m, b.EI_Nm2, b.masses[bound])
-            found = (n, deck_modes(self._case(bound, n, probe, 1.0)))
-        elif b.continuous:
+            return n_modes_to_cutoff(b.spans_m, b.EI_Nm2, b.masses[bound])
+        if b.continuous:
             n = 3
-            while True:
-                d = deck_modes(self._case(bound, n, probe, 1.0))
-                if all(d.reaches_cutoff(k) for k in range(len(b.spans_m))):
-                    break
+            while not all(deck_modes(self._case(bound, n, probe, 1.0)).reaches_cutoff(k)
+                          for k in range(len(b.spans_m))):
                 n += 1
-            found = (n, d)
-        else:
-            everything = self._case(bound, 1, probe, 1.0).file_modes.n_modes
-            d = deck_modes(self._case(bound, everything, probe, 1.0))
-            f = d.modes.frequencies_Hz
-            firsts = [next((f[i] for i in d.vertical[k] if f[i] >= d.cutoffs_Hz[k]), None)
-                      for k in range(len(b.spans_m))]
-            if None in firsts:
-                n = everything
-                k = firsts.index(None)
-                warnings.warn(f"{b.modes_file}: the vertical modes of span {k + 1} end below EN 1990's cut-off "
-                              f"{d.cutoffs_Hz[k]:.4g} Hz (mass bound {bound}): the check uses all the file's modes",
-                              InputWarning, stacklevel=2)
-            else:
-                n = int(np.searchsorted(np.sort(f), max(firsts), side="right"))
-            found = (n, deck_modes(self._case(bound, n, probe, 1.0)) if n != everything else d)
-        self._modes[bound] = found
-        return found
+            return n
+        one = self._case(bound, 1, probe, 1.0)
+        n = file_modes_to_cutoff(one)
+        everything = one.file_modes.n_modes
+        if n is None:
+            warnings.warn(f"{b.modes_file}: the file's vertical modes do not reach EN 1990's cut-off on every span "
+                          f"(mass bound {bound}; a span needs its first and third vertical modes and one at or "
+                          f"above max(30 Hz, 1.5 f1, f3)): the check uses all the file's modes", InputWarning,
+                          stacklevel=3)
+            n = everything
+        if n > MAX_MODES:
+            raise ValueError(f"modes_file: {n} of its modes are needed to reach EN 1990's cut-off, more than "
+                             f"{MAX_MODES}")
+        return n
+
+    def deck(self, bound: str):
+        """``(n_modes, DeckModes)`` of the crossings at ``bound`` (module docstring, *Modes*), computed once."""
+        if bound not in self._decks:
+            n = self.n_modes(bound)
+            self._decks[bound] = (n, deck_modes(self._case(bound, n, hslm_a(HSLM_NAMES[0]), 1.0)))
+        return self._decks[bound]
 
     def resonances_kmh(self, train: str, bound: str) -> list[float]:
         """The resonance speeds ``f1 d / i`` (i = 1…:data:`N_RESONANCES`) of ``train`` on every span of the bridge

@@ -67,7 +67,7 @@ from .modal_basis import ModalBasis
 from .modal_shapes import NS_DV, NS_DW, NS_TH, NS_V, NS_W, ShapeTable
 
 __all__ = ["MODES_FILE_REQUIRED", "MODES_FILE_OPTIONAL", "MODES_FILE_SUFFIXES", "ModesFileData", "read_modes_file",
-           "SampledModes", "half_waves", "mode_kinds", "write_modes_npz"]
+           "SampledModes", "half_waves", "mode_kinds", "write_modes_npz", "SUPPORT_MATCH_M"]
 
 #: the keys (NPZ) and columns (CSV) of a modes file
 MODES_FILE_REQUIRED = ("frequency_hz", "modal_mass_kg", "x_m", "vertical")
@@ -75,6 +75,8 @@ MODES_FILE_OPTIONAL = ("lateral", "torsion", "damping_ratio")
 MODES_FILE_SUFFIXES = (".npz", ".csv")
 #: a value of a mode's shape below this fraction of its largest is a zero (sign changes, :func:`half_waves`)
 _ZERO_FRACTION = 1e-6
+#: a support matches a position within this fraction of its distance (at least 1 m): the rounding of the spans' sum
+SUPPORT_MATCH_M = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +148,8 @@ def _read_csv(path, shown) -> dict:
                 continue
             if header is None:
                 header = cells
+                if "" in header:
+                    raise ValueError(f"{shown}:{lineno}: an empty column name (a trailing comma?)")
                 for c in header:
                     if c not in allowed:
                         raise ValueError(f"{shown}:{lineno}: {c}: unknown column (expected {', '.join(allowed)})")
@@ -230,6 +234,9 @@ def _checked(raw: dict, shown: str) -> ModesFileData:
         raise bad("x_m", f"{x[1:][dx < 0.0][0]:g} after {x[:-1][dx < 0.0][0]:g}: the positions must increase")
     if np.any((dx[1:] == 0.0) & (dx[:-1] == 0.0)):
         raise bad("x_m", "a position given three times (at most twice: a joint between two decks)")
+    if dx[0] == 0.0 or dx[-1] == 0.0:
+        raise bad("x_m", f"{x[0] if dx[0] == 0.0 else x[-1]:g} given twice at an end (a position given twice is a "
+                         "joint between two decks: it needs positions on both sides)")
     for key in ("modal_mass_kg", "damping_ratio"):
         if key in out and out[key].shape != (n,):
             raise bad(key, f"shape {out[key].shape}: expected one value per mode ({n},), as frequency_hz")
@@ -248,6 +255,8 @@ def _checked(raw: dict, shown: str) -> ModesFileData:
     if zero.size:
         warnings.warn(f"{shown}: mode {zero[0] + 1} ({f[zero[0]]:g} Hz) has a zero shape: it carries no load",
                       InputWarning, stacklevel=3)
+    for a in out.values():
+        a.setflags(write=False)                          # shared by every caller of the cached reading
     return ModesFileData(shown, f, m, x, out["vertical"], out.get("lateral"), out.get("torsion"), z)
 
 
@@ -264,10 +273,11 @@ def write_modes_npz(path, *, frequency_hz, modal_mass_kg, x_m, vertical, lateral
     return p
 
 
-def half_waves(data: ModesFileData) -> int:
-    """The largest number of half-waves of a vertical or lateral shape along the track (sign changes + 1): the
-    spatial resolution a moving load needs."""
+def half_waves(data: ModesFileData, supports_x_m=()) -> int:
+    """The largest number of half-waves of a vertical or lateral shape along one stretch between supports (sign
+    changes + 1): the spatial resolution a moving load needs on a span."""
     most = 1
+    segs = _segments(data.x_m, supports_x_m, data.source, warn=False)
     for key in ("vertical", "lateral"):
         a = getattr(data, key)
         if a is None:
@@ -276,8 +286,10 @@ def half_waves(data: ModesFileData) -> int:
             big = np.max(np.abs(row))
             if big == 0.0:
                 continue
-            s = np.sign(row[np.abs(row) > _ZERO_FRACTION * big])
-            most = max(most, int(np.count_nonzero(s[1:] != s[:-1])) + 1)
+            for lo, hi in segs:
+                part = row[lo:hi]
+                s = np.sign(part[np.abs(part) > _ZERO_FRACTION * big])
+                most = max(most, int(np.count_nonzero(s[1:] != s[:-1])) + 1)
     return most
 
 
@@ -291,7 +303,7 @@ def mode_kinds(data: ModesFileData) -> tuple:
     return tuple(("vertical", "lateral", "torsion")[i] for i in np.argmax(rms, axis=0))
 
 
-def _segments(x, supports_x_m) -> list:
+def _segments(x, supports_x_m, source="", warn=True) -> list:
     """Index ranges ``[a, b)`` of the positions between consecutive supports and joints (a position given twice):
     each one spline."""
     x = np.asarray(x)
@@ -304,13 +316,13 @@ def _segments(x, supports_x_m) -> list:
         inner = [float(s) for s in supports_x_m if x[a] < s < x[b - 1]]
         start = a
         for s in inner:                                  # a support inside a stretch: split there (shared position)
-            j = int(np.searchsorted(x[a:b], s)) + a
-            if j < b and abs(x[j] - s) <= 1e-9 * max(1.0, abs(s)):
+            j = a + int(np.argmin(np.abs(x[a:b] - s)))
+            if abs(x[j] - s) <= SUPPORT_MATCH_M * max(1.0, abs(s)):
                 segs.append((start, j + 1))
                 start = j
-            else:
-                warnings.warn(f"x_m: the support at {s:g} m is not one of the positions: the spline of the shapes "
-                              "runs across it (give the shapes at the supports)", InputWarning, stacklevel=4)
+            elif warn:
+                warnings.warn(f"{source}: x_m: the support at {s:g} m is not one of the positions: the spline of the "
+                              "shapes runs across it (give the shapes at the supports)", InputWarning, stacklevel=4)
         segs.append((start, b))
     return segs
 
@@ -349,7 +361,7 @@ class SampledModes(ModalBasis):
         scale = 1.0 / np.sqrt(r * data.modal_mass_kg)                     # mass normalisation
         n, k = data.n_modes, x.size
         rows = {NS_W: (data.vertical, NS_DW), NS_V: (data.lateral, NS_DV)}
-        segs = _segments(x, supports_x_m)
+        segs = _segments(x, supports_x_m, data.source)
         n_nodes = sum(b - a for a, b in segs)
         node_shapes = np.zeros((n_nodes, 5, n))
         elem_x0, elem_len, elem_nodes = [], [], []
