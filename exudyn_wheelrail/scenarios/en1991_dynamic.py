@@ -335,11 +335,10 @@ class DynamicCheck:
         if b.modes_file is None and not b.continuous:
             return n_modes_to_cutoff(b.spans_m, b.EI_Nm2, b.masses[bound])
         if b.continuous:
-            n = 3
-            while not all(deck_modes(self._case(bound, n, probe, 1.0)).reaches_cutoff(k)
-                          for k in range(len(b.spans_m))):
-                n += 1
-            return n
+            for n in range(3, MAX_MODES + 1):
+                if all(deck_modes(self._case(bound, n, probe, 1.0)).reaches_cutoff(k) for k in range(len(b.spans_m))):
+                    return n
+            raise ValueError(f"continuous: {MAX_MODES} modes per span do not reach EN 1990's cut-off")
         one = self._case(bound, 1, probe, 1.0)
         n = file_modes_to_cutoff(one)
         everything = one.file_modes.n_modes
