@@ -131,3 +131,29 @@ def test_a_modes_file_of_many_modes_keeps_those_up_to_the_cutoff(tmp_path):
     check = E.DynamicCheck(bridge=E.read_bridge_file(f), max_line_speed_kmh=200.0, trains=("A1",))
     assert check.n_modes("nominal") == 3
     assert check.deck("nominal")[1].cutoffs_Hz[0] == pytest.approx(54.0)
+
+
+def test_a_changed_modes_file_is_computed_again_on_a_resumed_check(tmp_path):
+    import re
+    npz = _modes_file(tmp_path)
+    f = tmp_path / "file.toml"
+    f.write_text(f"[bridge]\nspans_m = [{L}]\nmodes_file = '{npz.name}'\nmass_kg_per_m = {M_NOMINAL}\n"
+                 "structure = 'steel_composite'\n")
+    out = tmp_path / "out"
+
+    def run():
+        lines = []
+        check = E.DynamicCheck(bridge=E.read_bridge_file(f), max_line_speed_kmh=200.0, trains=("A1",),
+                               speeds_kmh=(200.0,))
+        s = E.run_dynamic_check(check, out, executor=SerialExecutor(), progress=lines.append)
+        return s, [ln for ln in lines if re.match(r"\s+\[\d+/\d+\]", ln)]
+    first, computed = run()
+    assert len(computed) == 1
+    assert run()[1] == []                                            # the same file: taken from DIR/runs
+    with np.load(npz) as z:
+        data = {k: z[k] for k in z.files}
+    write_modes_npz(npz, **{**data, "modal_mass_kg": 2.0 * data["modal_mass_kg"]})   # another deck, same name
+    again, computed = run()
+    assert len(computed) == 1
+    # twice the modal mass for the same shapes: half the modal forces' response
+    assert again["max_deck_acceleration_m_s2"] == pytest.approx(0.5 * first["max_deck_acceleration_m_s2"], rel=1e-9)
