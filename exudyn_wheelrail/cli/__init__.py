@@ -15,6 +15,7 @@ bridge-crossing  a train (axle loads, HSLM-A, or vehicles) over a simply support
 bridge-crossing-sweep  the crossing over many speeds in parallel: peak deck response against speed, resonances
 curving    steady curving through an entry transition into a canted curve: sum Y, Y/Q, shift, attack angle
 en1991-dynamic  a bridge's dynamic check to EN 1991-2 6.4.6: every train, speed and mass bound; verdict, report
+critical-speed  running stability: linear critical speed and hunting mode, nonlinear critical speed, bifurcation
 
 Lateral shifts are positive towards the **right** rail; all values in SI units.
 
@@ -48,6 +49,7 @@ from .curving import add_curving_parser
 from .en1991 import add_en1991_dynamic_parser
 from .rtri import add_explore_parser, add_rtri_parser, add_rtri_sweep_parser, add_validation_report_parser
 from .scenario import add_run_parser, add_sweep_parser
+from .stability import add_critical_speed_parser
 
 __all__ = ["SPEED_KM_H", "build_parser", "main", "plot_sweep"]
 
@@ -59,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     for add_parser in (add_geometry_parser, add_conicity_parser, add_creep_table_parser, add_rtri_parser,
                        add_rtri_sweep_parser, add_run_parser, add_sweep_parser, add_validation_report_parser,
                        add_explore_parser, add_bridge_crossing_parsers, add_curving_parser,
-                       add_en1991_dynamic_parser):
+                       add_en1991_dynamic_parser, add_critical_speed_parser):
         add_parser(sub)
     return parser
 

@@ -51,6 +51,19 @@ Flexible car body (``rtri --car-body flexible``; ASSUMPTION: the vehicle file ``
     2 % of critical (ASSUMPTION: structural damping of welded car-body shells of 1–3 % is the usual modelling
     range).  ``EA`` = 1e10 N (first axial mode 54 Hz, not kept).  Values in ``vehicles/manchester_vehicle1_
     flexible.toml``.
+The substitute's running stability at 250 km/h (a consequence of the vehicle ASSUMPTION)
+    The ``critical-speed`` command (docs/stability.md) on the Manchester vehicle 1, S1002/UIC60 1:40: linear critical
+    speed 333.5 km/h (hunting 4.62 Hz), **nonlinear critical speed 169.5 km/h** — at the case's 250 km/h the
+    centred running is linearly stable, but a disturbance (the span's deviation is one) leaves the bogies on a
+    limit cycle (S1002/UIC60 1:40's contact point jumps between two tread zones 0.25 mm off the centre: conicity
+    0.11 at the centre, 0.62 at 0.5 mm).  The 20 m case run for 8 s keeps 2.4 mm (leading) and 1.5 mm (trailing
+    wheelset) lateral amplitude after the span.  The paper's test car (not published) certainly runs stably at the
+    plant's 250 km/h; the substitute does not, and no substitute stable there was found: the same vehicle with
+    assumed yaw dampers (250 kN s/m per bogie side) has 164.8 km/h, on 1:20 rails 205.5 km/h.  What depends on
+    it: the lateral motion and the car-body accelerations **after** the span (a limit cycle instead of a decay) and
+    the wheelsets' lateral position when they enter the span (the cycle's phase); the peak forces over the span and
+    the flange approach of the 20 m span are driven by the deviation itself (how much they would change with a
+    stable vehicle is not measured: no stable substitute was found).
 """
 from __future__ import annotations
 

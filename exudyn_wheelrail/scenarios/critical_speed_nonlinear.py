@@ -1,0 +1,81 @@
+r"""Constant-speed runs of the full nonlinear model after a lateral disturbance: does a limit cycle persist, and how
+large is it (:func:`limit_cycle_run`)?
+
+Each run is a scenario of the ``run`` command (:func:`~.run.run_scenario`): the vehicle on straight rigid track with
+one lateral alignment defect of both rails — a 1 − cos bump :data:`~.critical_speed_defaults.BUMP_DEPTH_M` deep and
+:data:`~.critical_speed_defaults.BUMP_LENGTH_M` long, :data:`~.critical_speed_defaults.BUMP_POSITION_M` ahead of the
+leading wheelset (``track`` type ``defect``, ``shape = "bump"``, ``direction = "lateral"``) — over
+:data:`~.critical_speed_defaults.RUN_DISTANCE_M`, with the full contact (profiles, Hertz, the creep table).  From
+the recorded lateral displacement of every wheelset relative to its rails (``y_rel_w<j>_m``) against the distance
+run, the limit-cycle amplitude is the largest |y| over the last :data:`~.critical_speed_defaults.CYCLE_WINDOW_M`, and
+the cycle persists when it is at least :data:`~.critical_speed_defaults.PERSIST_AMPLITUDE_M` and has not fallen
+below :data:`~.critical_speed_defaults.PERSIST_RATIO` of the window before twice in a row over the last three windows
+(:func:`~exudyn_wheelrail.analysis.stability.limit_cycle`).  The same scenario runs with
+``python -m exudyn_wheelrail run`` (:func:`disturbance_scenario` gives it).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..analysis.stability import limit_cycle, zero_crossing_frequency_hz
+from .critical_speed_defaults import (BUMP_DEPTH_M, BUMP_LENGTH_M, BUMP_POSITION_M, CYCLE_WINDOW_M, MIN_RUN_DURATION_S,
+                                      PERSIST_AMPLITUDE_M, PERSIST_RATIO, RUN_DISTANCE_M, RUN_DT_S, RUN_SOLVER)
+from .critical_speed_linear import vehicle_entry
+from .run import run_scenario
+
+__all__ = ["disturbance_scenario", "limit_cycle_run", "bump_component"]
+
+
+def bump_component(depth_m: float = BUMP_DEPTH_M, length_m: float = BUMP_LENGTH_M,
+                   position_m: float = BUMP_POSITION_M) -> dict:
+    """The lateral disturbance as a scenario ``[[track]]`` component."""
+    return {"type": "defect", "shape": "bump", "position_m": float(position_m), "length_m": float(length_m),
+            "depth_m": float(depth_m), "rail": "both", "direction": "lateral"}
+
+
+def disturbance_scenario(vehicle: str, speed_kmh: float, depth_m: float = BUMP_DEPTH_M,
+                         distance_m: float = RUN_DISTANCE_M) -> dict:
+    """The scenario of one constant-speed run after the lateral disturbance (module docstring)."""
+    duration = max(distance_m / (speed_kmh / 3.6), MIN_RUN_DURATION_S)
+    return {"schema_version": 2, "scenario": {"name": f"stability_{speed_kmh:g}kmh"},
+            "vehicle": {**vehicle_entry(vehicle), "speed_km_h": float(speed_kmh)},
+            "track": [bump_component(depth_m)],
+            "run": {"duration_s": duration, "solver": RUN_SOLVER, "dt_s": RUN_DT_S},
+            "outputs": {"timeseries": ["wheelset_lateral", "flange"], "plots": False, "criteria": False,
+                        "formats": ["npz"]}}
+
+
+def limit_cycle_run(vehicle: str, speed_kmh: float, depth_m: float = BUMP_DEPTH_M,
+                    distance_m: float = RUN_DISTANCE_M) -> dict:
+    """One run (module docstring); a plain dict: ``speed_kmh``, ``status`` (the run's), ``amplitude_m`` (per
+    wheelset, front first), ``persists`` (per wheelset), ``frequency_hz`` (of a persisting cycle, from the zero
+    crossings over the last window; NaN otherwise), ``limit_cycle`` (any wheelset's persists),
+    ``flange_contact`` (in the last window), ``seconds`` (build and solve), ``simulated_s``.  A run that derails or
+    diverges counts as a persisting (unbounded) oscillation with NaN amplitudes.  Runs in a worker process."""
+    t0 = time.perf_counter()
+    scn = disturbance_scenario(vehicle, speed_kmh, depth_m, distance_m)
+    res = run_scenario(scn, None, progress=False)
+    status = res.summary["status"]
+    ts = res.timeseries
+    s = ts["time_s"] * speed_kmh / 3.6
+    cols = sorted(c for c in ts if c.startswith("y_rel_w"))
+    amps, persist, freq = [], [], []
+    last = s >= np.nanmax(s) - CYCLE_WINDOW_M if len(s) else np.zeros(0, dtype=bool)
+    for c in cols:
+        a, p = limit_cycle(s, ts[c], CYCLE_WINDOW_M, PERSIST_AMPLITUDE_M, PERSIST_RATIO)
+        amps.append(a)
+        persist.append(p)
+        freq.append(zero_crossing_frequency_hz(ts["time_s"][last], ts[c][last]) if p else float("nan"))
+    flange = [c for c in ts if c.startswith("flange_")]
+    unbounded = status != "ok"
+    if unbounded:
+        amps = freq = [float("nan")] * len(cols)
+        persist = [True] * len(cols)
+    return {"speed_kmh": float(speed_kmh), "status": status, "amplitude_m": amps, "persists": persist,
+            "frequency_hz": freq,
+            "limit_cycle": bool(any(persist)),
+            "flange_contact": bool(any(np.any(ts[c][last] > 0.5) for c in flange)),
+            "seconds": time.perf_counter() - t0, "simulated_s": float(ts["time_s"][-1]) if len(s) else 0.0,
+            "disturbance_depth_m": float(depth_m)}

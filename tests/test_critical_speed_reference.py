@@ -1,0 +1,153 @@
+"""The linear stability tools (exudyn_wheelrail/analysis/stability.py) against independent references: Klingel's
+kinematic frequency of a free wheelset, the characteristic polynomial of the restrained two-degree-of-freedom
+wheelset (derived here) and its Routh-Hurwitz stability boundary, the rigid bogie's kinematic wavelength, the known
+trends of the critical speed; the mode tracking, the zero crossing and the limit-cycle measure on constructed data.
+
+Data: the Manchester vehicle 1 wheelset (m = 1813 kg, I_z = 1120 kg m², r0 = 0.46 m), b = 0.75 m, conicity 0.2,
+Kalker's creep coefficients of the order of 10 MN (Knothe & Stichel, Rail Vehicle Dynamics, 2017)."""
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from exudyn_wheelrail.analysis.stability import (ModeSet, bogie_kinematic_wavelength_m, bogie_state_matrix,
+                                                 first_zero_crossing, frequency_damping, klingel_frequency_hz,
+                                                 limit_cycle, modes_of, track_modes, wheelset_state_matrix)
+
+M_WS, I_WS, R0, B, CON = 1813.0, 1120.0, 0.46, 0.75, 0.2
+F = 10e6
+KY, KPSI = 2 * 3.884e6 / 100.0, 2 * 31.391e6 * 1.0 ** 2 / 100.0      # soft restraint: critical speed in range
+
+
+def _oscillating(A):
+    ms = modes_of(A)
+    osc = ms.listed & (ms.eigenvalues.imag > 0)
+    return ms.eigenvalues[osc]
+
+
+@pytest.mark.parametrize("speed", [10.0, 30.0, 80.0])
+def test_free_wheelset_klingel_limit(speed):
+    """Without creep damping (f11 = f22 -> inf: pure rolling) the free wheelset's oscillating mode has Klingel's
+    frequency.  Tolerance 1 %: the inertia terms change the frequency by O((m V ω / f)²) (the Wickens
+    expansion of the quartic), here below 1e-6 with f = 1e11 N."""
+    A = wheelset_state_matrix(speed, M_WS, I_WS, CON, B, R0, 1e11, 1e11)
+    lam = _oscillating(A)
+    assert len(lam) == 1
+    f = lam[0].imag / (2 * math.pi)
+    assert f == pytest.approx(klingel_frequency_hz(speed, CON, B, R0), rel=0.01)
+    # and the textbook wavelength 2π √(b r0 / λ) (independent of the speed)
+    assert speed / f == pytest.approx(2 * math.pi * math.sqrt(B * R0 / CON), rel=0.01)
+
+
+def _quartic(speed, f11, f22, ky, kpsi, con=CON):
+    """The characteristic polynomial det(s² M + s C + K) of the restrained wheelset, coefficients of s⁴ ... s⁰:
+
+        m ÿ + 2 f22 (ẏ/V - ψ) + ky y = 0,   I ψ̈ + 2 f11 b (b ψ̇/V + λ y/r0) + kψ ψ = 0
+        (m s² + c1 s + ky)(I s² + c2 s + kψ) + 2 f22 · 2 f11 b λ / r0 = 0,  c1 = 2 f22 / V, c2 = 2 f11 b² / V
+    """
+    c1, c2 = 2 * f22 / speed, 2 * f11 * B * B / speed
+    return np.array([M_WS * I_WS, M_WS * c2 + I_WS * c1, M_WS * kpsi + c1 * c2 + ky * I_WS, c1 * kpsi + c2 * ky,
+                     ky * kpsi + 4 * f11 * f22 * B * con / R0])
+
+
+def _hurwitz(speed, f11=F, f22=F, ky=KY, kpsi=KPSI, con=CON):
+    """The Routh-Hurwitz determinant of the quartic whose sign change is the stability boundary (a4..a0 > 0):
+    a3 a2 a1 - a3² a0 - a4 a1²."""
+    a4, a3, a2, a1, a0 = _quartic(speed, f11, f22, ky, kpsi, con)
+    return (a3 * a2 * a1 - a3 * a3 * a0 - a4 * a1 * a1) / (a3 * a2 * a1)
+
+
+@pytest.mark.parametrize("speed", [20.0, 60.0, 120.0])
+def test_restrained_wheelset_against_characteristic_polynomial(speed):
+    """The state matrix's eigenvalues are the roots of the quartic derived above (the same linear ODE in two
+    forms: agreement to round-off; 1e-6 relative)."""
+    A = wheelset_state_matrix(speed, M_WS, I_WS, CON, B, R0, F, F, KY, KPSI)
+    lam = np.sort_complex(np.linalg.eigvals(A))
+    roots = np.sort_complex(np.roots(_quartic(speed, F, F, KY, KPSI)))
+    assert np.allclose(lam, roots, rtol=1e-6, atol=1e-9 * np.abs(roots).max())
+
+
+def _min_damping(speed, **kw):
+    p = dict(f11=F, f22=F, ky=KY, kpsi=KPSI, con=CON)
+    p.update(kw)
+    A = wheelset_state_matrix(speed, M_WS, I_WS, p["con"], B, R0, p["f11"], p["f22"], p["ky"], p["kpsi"])
+    return float(np.min(modes_of(A).damping_ratio))
+
+
+def test_restrained_wheelset_critical_speed_routh_hurwitz():
+    """The speed where the least damped mode's damping ratio crosses zero (on a 1 m/s grid, interpolated by
+    first_zero_crossing) is the Routh-Hurwitz boundary.  Tolerance 1 %: linear interpolation of ζ(V) over a step
+    of 1 m/s around a crossing near 100 m/s (ζ is smooth; the interpolation error is O(step²) ≈ 1e-4 relative)."""
+    v_rh = brentq(_hurwitz, 5.0, 500.0)
+    grid = np.arange(5.0, 500.0, 1.0)
+    v_grid = first_zero_crossing(grid, [_min_damping(v) for v in grid])
+    assert v_grid == pytest.approx(v_rh, rel=0.01)
+    assert _min_damping(0.99 * v_rh) > 0.0 > _min_damping(1.01 * v_rh)
+
+
+def test_trends_of_the_critical_speed():
+    """Higher conicity -> lower critical speed; a stiffer yaw restraint -> higher (Wickens; Knothe & Stichel,
+    Rail Vehicle Dynamics): the Routh-Hurwitz boundary of the restrained wheelset."""
+    def v_crit(**kw):
+        return brentq(lambda v: _hurwitz(v, **kw), 1.0, 5000.0)
+    assert v_crit(con=0.3) < v_crit(con=0.2) < v_crit(con=0.1)
+    assert v_crit(kpsi=2 * KPSI) > v_crit(kpsi=KPSI) > v_crit(kpsi=0.5 * KPSI)
+
+
+@pytest.mark.parametrize("speed,a", [(30.0, 1.28), (70.0, 1.28), (50.0, 1.0)])
+def test_rigid_bogie_kinematic_wavelength(speed, a):
+    """The rigid two-axle bogie with f11 = f22 and no creep damping (f -> inf) rolls with the wavelength
+    2π √(b r0 (1 + a²/b²) / λ).  Tolerance 1 %: inertia corrections O((m V ω / f)²) < 1e-6 with f = 1e11 N."""
+    m, izz = 2615.0 + 2 * M_WS, 3067.0 + 2 * (I_WS + M_WS * a * a)
+    A = bogie_state_matrix(speed, m, izz, CON, B, R0, a, 1e11, 1e11)
+    lam = _oscillating(A)
+    assert len(lam) == 1
+    wavelength = speed / (lam[0].imag / (2 * math.pi))
+    assert wavelength == pytest.approx(bogie_kinematic_wavelength_m(CON, B, R0, a), rel=0.01)
+    assert bogie_kinematic_wavelength_m(CON, B, R0, a) == pytest.approx(
+        2 * math.pi * math.sqrt(B * R0 * (1 + a * a / (B * B)) / CON), rel=1e-12)
+
+
+def test_frequency_and_damping_ratio_of_eigenvalues():
+    """λ = ω_n(-ζ ± i√(1-ζ²)) gives back f = ω_n√(1-ζ²)/2π and ζ; a real eigenvalue: f = 0, ζ = -sign(σ)."""
+    wn, z = 2 * math.pi * 5.0, 0.07
+    lam = np.array([wn * (-z + 1j * math.sqrt(1 - z * z)), -3.0 + 0j, 2.0 + 0j])
+    f, zeta = frequency_damping(lam)
+    assert f[0] == pytest.approx(5.0 * math.sqrt(1 - z * z), rel=1e-12)
+    assert zeta.tolist() == pytest.approx([z, 1.0, -1.0], rel=1e-12)
+
+
+def test_mode_tracking_follows_crossing_modes():
+    """Two modes whose frequencies cross between two speeds (shapes orthogonal) are followed by their shapes, not
+    swapped by their frequency order; a shuffled order is undone."""
+    shapes = np.eye(3, dtype=complex)
+    a = ModeSet([-1 + 10j, -1 + 12j, -5 + 0j], shapes)
+    b = ModeSet([-5 + 0j, -1.1 + 12.2j, -0.9 + 10.5j], shapes[:, [2, 0, 1]])     # modes 0 and 1 crossed, shuffled
+    ta, tb = track_modes([a, b])
+    assert np.allclose(tb.shapes, ta.shapes)
+    assert tb.eigenvalues[0] == -1.1 + 12.2j and tb.eigenvalues[2] == -5
+
+
+def test_first_zero_crossing():
+    assert first_zero_crossing([1, 2, 3], [0.3, 0.1, -0.1]) == pytest.approx(2.5)
+    assert first_zero_crossing([1, 2, 3], [0.3, 0.2, 0.1]) is None
+    assert first_zero_crossing([1, 2, 3], [-0.1, 0.2, 0.1]) == 1.0
+    assert first_zero_crossing([1, 2, 3], [0.2, float("nan"), -0.2]) == pytest.approx(2.0)
+
+
+def test_limit_cycle_measure():
+    """A sustained sine persists with its amplitude; a decaying one (5 % per wavelength of 20 m: 0.77 per 100 m
+    window, below the 0.9 ratio in every window) does not; a tiny one is below the amplitude threshold."""
+    s = np.linspace(0.0, 500.0, 50001)
+    sustained = 1e-3 * np.sin(2 * math.pi * s / 20.0)
+    decaying = 1e-3 * np.exp(-0.05 * s / 20.0 * math.log(1 / 0.95) / 0.05) * np.sin(2 * math.pi * s / 20.0)
+    amp, persists = limit_cycle(s, sustained, 100.0, 0.2e-3, 0.9)
+    assert amp == pytest.approx(1e-3, rel=1e-4) and persists
+    assert not limit_cycle(s, decaying, 100.0, 1e-9, 0.9)[1]
+    assert not limit_cycle(s, 1e-5 * np.sin(s), 100.0, 0.2e-3, 0.9)[1]
+    # a cycle that loses once (windows 1.0, 1.0, 0.8 mm, the last one lower): persists; twice in a row: decays
+    envelope = np.where(s >= 400.0, 0.8e-3, 1e-3)
+    assert limit_cycle(s, envelope * np.sin(2 * math.pi * s / 20.0), 100.0, 0.2e-3, 0.9)[1]
+    envelope = np.where(s >= 400.0, 0.64e-3, np.where(s >= 300.0, 0.8e-3, 1e-3))
+    assert not limit_cycle(s, envelope * np.sin(2 * math.pi * s / 20.0), 100.0, 0.2e-3, 0.9)[1]
