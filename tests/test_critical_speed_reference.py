@@ -137,17 +137,19 @@ def test_first_zero_crossing():
 
 
 def test_limit_cycle_measure():
-    """A sustained sine persists with its amplitude; a decaying one (5 % per wavelength of 20 m: 0.77 per 100 m
-    window, below the 0.9 ratio in every window) does not; a tiny one is below the amplitude threshold."""
-    s = np.linspace(0.0, 500.0, 50001)
-    sustained = 1e-3 * np.sin(2 * math.pi * s / 20.0)
-    decaying = 1e-3 * np.exp(-0.05 * s / 20.0 * math.log(1 / 0.95) / 0.05) * np.sin(2 * math.pi * s / 20.0)
-    amp, persists = limit_cycle(s, sustained, 100.0, 0.2e-3, 0.9)
-    assert amp == pytest.approx(1e-3, rel=1e-4) and persists
-    assert not limit_cycle(s, decaying, 100.0, 1e-9, 0.9)[1]
-    assert not limit_cycle(s, 1e-5 * np.sin(s), 100.0, 0.2e-3, 0.9)[1]
-    # a cycle that loses once (windows 1.0, 1.0, 0.8 mm, the last one lower): persists; twice in a row: decays
-    envelope = np.where(s >= 400.0, 0.8e-3, 1e-3)
-    assert limit_cycle(s, envelope * np.sin(2 * math.pi * s / 20.0), 100.0, 0.2e-3, 0.9)[1]
-    envelope = np.where(s >= 400.0, 0.64e-3, np.where(s >= 300.0, 0.8e-3, 1e-3))
-    assert not limit_cycle(s, envelope * np.sin(2 * math.pi * s / 20.0), 100.0, 0.2e-3, 0.9)[1]
+    """A sustained sine persists with its amplitude (half its peak-to-peak); sines whose envelope decays like a mode
+    of damping ratio ζ (per cycle of 20 m: amplitude e^(−2π ζ s/20)) give that ζ back and persist only below the
+    threshold 1e-3 — for a short wavelength and a long one alike; a tiny one is below the amplitude threshold; a
+    steady offset with a tiny oscillation is no cycle."""
+    s = np.linspace(0.0, 1500.0, 300001)
+    amp, zeta, persists = limit_cycle(s, 1e-3 * np.sin(2 * math.pi * s / 20.0), 100.0, 5, 0.2e-3, 1e-3)
+    assert amp == pytest.approx(1e-3, rel=1e-4) and zeta == pytest.approx(0.0, abs=1e-6) and persists
+    for wavelength in (20.0, 90.0):
+        for z_true, expected in ((0.02, False), (0.003, False), (0.0003, True), (-0.001, True)):
+            x = 1e-3 * np.exp(-2 * math.pi * z_true * s / wavelength) * np.sin(2 * math.pi * s / wavelength)
+            amp, zeta, persists = limit_cycle(s, x, 100.0, 5, 1e-12, 1e-3)
+            # the windows' peak-to-peak sample the envelope within a wavelength of their start, the crossings count
+            # the cycles to one in ~5 (90 m): ζ back to 25 % (the threshold's decisions are a factor 3 away)
+            assert zeta == pytest.approx(z_true, rel=0.25, abs=2e-5) and persists is expected, (wavelength, z_true)
+    assert not limit_cycle(s, 1e-5 * np.sin(s), 100.0, 5, 0.2e-3, 1e-3)[2]
+    assert not limit_cycle(s, 5e-3 + 1e-5 * np.sin(s), 100.0, 5, 0.2e-3, 1e-3)[2]

@@ -184,30 +184,39 @@ def _first_order(M, C, K) -> np.ndarray:
 
 
 def window_amplitude(distance_m, values, start_m: float, end_m: float) -> float:
-    """The largest ``|value|`` of the samples with ``start_m <= distance < end_m`` (NaN ignored; NaN without any)."""
+    """Half the peak-to-peak value of the samples with ``start_m <= distance < end_m`` (NaN ignored; NaN without
+    any): an oscillation's amplitude, blind to a steady offset."""
     s = np.asarray(distance_m, dtype=float)
     v = np.asarray(values, dtype=float)
     sel = v[(s >= start_m) & (s < end_m)]
     sel = sel[np.isfinite(sel)]
-    return float(np.max(np.abs(sel))) if sel.size else float("nan")
+    return float(0.5 * (np.max(sel) - np.min(sel))) if sel.size else float("nan")
 
 
-def limit_cycle(distance_m, values, window_m: float, min_amplitude: float, min_ratio: float) -> tuple[float, bool]:
-    """``(amplitude, persists)`` of an oscillation recorded against the distance run: the amplitude is
-    :func:`window_amplitude` over the last ``window_m``; it persists when that is at least ``min_amplitude`` and the
-    amplitude has not fallen below ``min_ratio`` of the window before twice in a row over the last three windows (a
-    decaying oscillation loses a steady fraction per window; a beating or irregular limit cycle may lose once)."""
+def limit_cycle(distance_m, values, window_m: float, n_windows: int, min_amplitude: float,
+                max_damping_ratio: float) -> tuple[float, float, bool]:
+    """``(amplitude, damping_ratio, persists)`` of an oscillation recorded against the distance run: ``amplitude`` is
+    :func:`window_amplitude` over the last ``window_m``; ``damping_ratio`` the equivalent damping ratio of its trend —
+    the least-squares decay per window of the log of the last ``n_windows`` windows' amplitudes over 2π times the
+    cycles per window (counted from the zero crossings about the mean over those windows): ``ζ = −ln(ratio)/(2π
+    n)``, negative when it grows; it persists when the amplitude is at least ``min_amplitude`` and the damping ratio
+    at most ``max_damping_ratio``.  Judged per cycle, the rule treats a slow mode and a fast one alike."""
     s = np.asarray(distance_m, dtype=float)
+    v = np.asarray(values, dtype=float)
     end = float(np.nanmax(s))
-    amps = [window_amplitude(s, values, end - (k + 1) * window_m, end - k * window_m + (1.0 if k == 0 else 0.0))
-            for k in range(3)]
-    last = amps[0]
-
-    def loses(a, b):
-        return np.isfinite(a) and np.isfinite(b) and a < min_ratio * b
-    persists = bool(np.isfinite(last) and last >= min_amplitude and
-                    not (loses(amps[0], amps[1]) and loses(amps[1], amps[2])))
-    return last, persists
+    amps = np.array([window_amplitude(s, v, end - (k + 1) * window_m, end - k * window_m + (1.0 if k == 0 else 0.0))
+                     for k in range(n_windows)])[::-1]                                 # oldest first
+    last = float(amps[-1])
+    ok = np.isfinite(amps) & (amps > 0.0)
+    span = (s >= end - n_windows * window_m) & np.isfinite(v)
+    x = v[span] - np.mean(v[span]) if span.any() else v[span]
+    crossings = int(np.count_nonzero(np.sign(x[1:]) * np.sign(x[:-1]) < 0))
+    if ok.sum() < 2 or crossings < 2:
+        return last, float("nan"), False
+    ratio = float(np.exp(np.polyfit(np.arange(n_windows)[ok], np.log(amps[ok]), 1)[0]))
+    cycles_per_window = 0.5 * crossings / n_windows
+    zeta = -math.log(ratio) / (2.0 * math.pi * cycles_per_window)
+    return last, zeta, bool(np.isfinite(last) and last >= min_amplitude and zeta <= max_damping_ratio)
 
 
 def zero_crossing_frequency_hz(time_s, values) -> float:

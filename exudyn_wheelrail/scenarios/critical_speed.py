@@ -46,10 +46,11 @@ from ..analysis.stability import ModeSet, first_zero_crossing, track_modes
 from ..contact.pair import WheelRailPair
 from ..rolling_stock.vehicle_data import load_vehicle
 from ..validation import output_dir, read_toml
-from .critical_speed_defaults import (BISECTION_TOLERANCE_KM_H, BUMP_DEPTH_M, BUMP_LENGTH_M, CYCLE_WINDOW_M,
-                                      DEFAULT_SPEED_RANGE_KM_H, LATERAL_SHARE_MIN, LINEAR_GRID_STEP_KM_H,
-                                      NONLINEAR_GRID_POINTS, PERSIST_AMPLITUDE_M, PERSIST_RATIO, RUN_DISTANCE_M,
-                                      RUN_DT_S, RUN_SOLVER, SETTLE_DURATION_S, SPEED_LIMITS_KM_H)
+from .critical_speed_defaults import (BISECTION_TOLERANCE_KM_H, BUMP_DEPTH_M, BUMP_LENGTH_M, CONICITY_AMPLITUDE_M,
+                                      CONICITY_STEP_M, CONICITY_SWEEP_M, CYCLE_WINDOW_M, DEFAULT_SPEED_RANGE_KM_H,
+                                      LATERAL_SHARE_MIN, LINEAR_GRID_STEP_KM_H, MOVING_BODY_SHARE,
+                                      NONLINEAR_GRID_POINTS, PERSIST_AMPLITUDE_M, PERSIST_DAMPING_RATIO, RUN_DISTANCE_M,
+                                      RUN_DT_S, RUN_SOLVER, SETTLE_DURATION_S, SPEED_LIMITS_KM_H, TREND_WINDOWS)
 from .critical_speed_linear import LinearisationError, linear_modes
 from .critical_speed_nonlinear import limit_cycle_run
 from .critical_speed_plots import write_figures
@@ -57,14 +58,7 @@ from .outputs import write_json, write_table_csv
 from .sweep import SerialExecutor, run_tasks
 
 __all__ = ["CriticalSpeedCase", "check_case", "run_critical_speed", "linear_critical_speed",
-           "nonlinear_critical_speed", "least_damped", "mode_shape", "read_summary", "CONICITY_AMPLITUDE_M",
-           "MOVING_BODY_SHARE"]
-
-#: a body "moves" in the hunting mode (``hunting_mode_bodies``) when its lateral amplitude is at least this fraction
-#: of the largest
-MOVING_BODY_SHARE = 0.2
-#: the amplitude of the equivalent conicity reported beside the results (EN 15302's reference amplitude) [m]
-CONICITY_AMPLITUDE_M = 0.003
+           "nonlinear_critical_speed", "least_damped", "same_mode", "mode_shape", "read_summary"]
 
 
 @dataclass(frozen=True)
@@ -118,6 +112,19 @@ def least_damped(point: dict) -> tuple[float, int | None]:
     return float(-lam[k].real / abs(lam[k])), k
 
 
+def same_mode(point: dict, index: int, other: dict) -> int:
+    """The index in ``other`` (a :func:`.linear_modes` result at a nearby speed) of mode ``index`` of ``point``: the
+    lateral oscillating mode of ``other`` with the largest modal assurance criterion against it, ties to the nearest
+    eigenvalue."""
+    a = np.asarray(point["shapes"])[:, index]
+    lam = np.asarray(point["eigenvalues"])[index]
+    cand = np.flatnonzero(other["candidate"])
+    B = np.asarray(other["shapes"])[:, cand]
+    mac = np.abs(np.conj(a) @ B) ** 2 / (np.real(np.conj(a) @ a) * np.real(np.sum(np.conj(B) * B, axis=0)))
+    near = np.abs(np.asarray(other["eigenvalues"])[cand] - lam)
+    return int(cand[np.lexsort((near, -np.round(mac, 6)))[0]])
+
+
 def mode_shape(point: dict, index: int) -> list:
     """The shape of mode ``index`` per rigid body: lateral displacement and yaw amplitude, scaled so that the largest
     lateral displacement is 1, with their phase [deg] (bodies in the model's order)."""
@@ -141,15 +148,19 @@ def _linear_grid(lo: float, hi: float) -> list:
 
 
 def _bisect(fn, lo, hi, lo_value, hi_value, unstable, progress, what):
-    """Bisect ``[lo, hi]`` (``lo`` stable, ``hi`` unstable by ``unstable(value)``) to the tolerance; every evaluated
-    ``(speed, value)`` is returned, and the final bracket."""
+    """Bisect ``[lo, hi]`` (``lo`` stable, ``hi`` unstable by ``unstable(value)``: True, False, or None for no answer,
+    which ends the bisection) to the tolerance; every evaluated ``(speed, value)`` is returned, and the final
+    bracket."""
     evaluated = []
     while hi - lo > BISECTION_TOLERANCE_KM_H:
         mid = 0.5 * (lo + hi)
         value = fn(mid)
         evaluated.append((mid, value))
-        progress(f"{what} {mid:.1f} km/h: {'unstable' if unstable(value) else 'stable'}")
-        if unstable(value):
+        verdict = unstable(value)
+        progress(f"{what} {mid:.1f} km/h: {'no answer' if verdict is None else 'unstable' if verdict else 'stable'}")
+        if verdict is None:             # a run that failed: the bracket so far is the answer
+            break
+        if verdict:
             hi, hi_value = mid, value
         else:
             lo, lo_value = mid, value
@@ -187,11 +198,12 @@ def linear_critical_speed(case: CriticalSpeedCase, progress=None) -> dict:
             points[speeds[i]], lambda p: least_damped(p)[0] <= 0.0, progress, "linear")
         for v, p in evaluated:
             points[v] = p
-        z_lo, z_hi = least_damped(p_lo)[0], least_damped(p_hi)[0]
-        critical = v_lo + (v_hi - v_lo) * z_lo / (z_lo - z_hi)
-        k_lo, k_hi = least_damped(p_lo)[1], least_damped(p_hi)[1]
-        f_lo = abs(np.asarray(p_lo["eigenvalues"])[k_lo].imag) / (2 * math.pi)
-        f_hi = abs(np.asarray(p_hi["eigenvalues"])[k_hi].imag) / (2 * math.pi)
+        z_hi, k_hi = least_damped(p_hi)
+        k_lo = same_mode(p_hi, k_hi, p_lo)             # the unstable mode followed back to the stable end
+        lam_lo, lam_hi = np.asarray(p_lo["eigenvalues"])[k_lo], np.asarray(p_hi["eigenvalues"])[k_hi]
+        z_lo = -lam_lo.real / abs(lam_lo)
+        critical = v_lo + (v_hi - v_lo) * z_lo / (z_lo - z_hi) if z_lo > 0.0 else v_lo
+        f_lo, f_hi = abs(lam_lo.imag) / (2 * math.pi), abs(lam_hi.imag) / (2 * math.pi)
         frequency = f_lo + (f_hi - f_lo) * (critical - v_lo) / (v_hi - v_lo)
         shape = mode_shape(p_hi, k_hi)
         bracket = [v_lo, v_hi]
@@ -203,6 +215,20 @@ def linear_critical_speed(case: CriticalSpeedCase, progress=None) -> dict:
                               "frequency_hz": abs(lam.imag) / (2 * math.pi), "shape": mode_shape(points[speeds[0]], k)}
     return {"points": points, "critical_kmh": critical, "frequency_hz": frequency, "shape": shape,
             "bracket_kmh": bracket, "failed": failed, "unstable_at_lowest": unstable_at_lowest}
+
+
+def _no_answer(speed_kmh: float, status: str) -> dict:
+    """A nonlinear run that gave no answer (its worker died, it raised): ``limit_cycle`` None, the status kept."""
+    return {"speed_kmh": float(speed_kmh), "status": status, "amplitude_m": [], "persists": [], "frequency_hz": [],
+            "limit_cycle": None, "seconds": None}
+
+
+def _run_or_no_answer(vehicle: str, speed_kmh: float) -> dict:
+    """:func:`.limit_cycle_run` in this process (the bisection); an exception is a run without an answer."""
+    try:
+        return limit_cycle_run(vehicle, speed_kmh)
+    except Exception as exc:
+        return _no_answer(speed_kmh, f"error: {type(exc).__name__}: {exc}".splitlines()[0])
 
 
 def nonlinear_critical_speed(case: CriticalSpeedCase, progress=None) -> dict:
@@ -220,11 +246,10 @@ def nonlinear_critical_speed(case: CriticalSpeedCase, progress=None) -> dict:
                  f"{'limit cycle' if r.get('limit_cycle') else 'decays'}")
 
     def failed(i, text):
-        return {"speed_kmh": grid[i], "status": text, "amplitude_m": [], "persists": [], "frequency_hz": [],
-                "limit_cycle": None, "seconds": None}
+        return _no_answer(grid[i], text)
     executor = SerialExecutor() if case.workers == 1 else None
     run_tasks(executor, case.workers, limit_cycle_run, [(case.vehicle, v) for v in grid], done, failed)
-    speeds = sorted(runs)
+    speeds = [v for v in sorted(runs) if runs[v]["limit_cycle"] is not None]    # runs with an answer
     flags = [runs[v]["limit_cycle"] for v in speeds]
     critical = bracket = None
     note = None
@@ -237,8 +262,8 @@ def nonlinear_critical_speed(case: CriticalSpeedCase, progress=None) -> dict:
                 "lies below the range")
         bracket = [None, speeds[0]]
     else:
-        evaluated, (v_lo, _), (v_hi, _) = _bisect(lambda v: limit_cycle_run(case.vehicle, v), speeds[first - 1],
-                                                  speeds[first], None, None, lambda r: bool(r["limit_cycle"]),
+        evaluated, (v_lo, _), (v_hi, _) = _bisect(lambda v: _run_or_no_answer(case.vehicle, v), speeds[first - 1],
+                                                  speeds[first], None, None, lambda r: r["limit_cycle"],
                                                   progress, "nonlinear")
         for v, r in evaluated:
             runs[v] = r
@@ -249,12 +274,13 @@ def nonlinear_critical_speed(case: CriticalSpeedCase, progress=None) -> dict:
 
 def _conicity(vehicle) -> dict:
     """The contact geometry's conicity beside the results: the local one at the centred position (what the
-    linearisation sees) and the equivalent conicity at :data:`CONICITY_AMPLITUDE_M` (harmonic linearisation)."""
+    linearisation sees) and the equivalent conicity at :data:`~.critical_speed_defaults.CONICITY_AMPLITUDE_M`
+    (harmonic linearisation)."""
     g = vehicle.geometry
     pair = WheelRailPair(g.wheel_profile, g.rail_profile, gauge_m=g.gauge_m, inclination=g.rail_inclination_tan,
                          back_to_back_m=g.back_to_back_m, r0_m=g.r0_m)
-    h = 2e-5
-    y = np.linspace(-0.006, 0.006, 601)
+    h = CONICITY_STEP_M
+    y = np.linspace(-CONICITY_SWEEP_M, CONICITY_SWEEP_M, int(round(2 * CONICITY_SWEEP_M / CONICITY_STEP_M)) + 1)
     sweep = contact_geometry_sweep(pair, y)
     centre = contact_geometry_sweep(pair, np.array([-h, h]))
     local = float((centre.delta_r_m[1] - centre.delta_r_m[0]) / (4.0 * h))
@@ -283,9 +309,11 @@ def _assumptions() -> dict:
                         "the shape's squared amplitude",
         "nonlinear_runs": f"constant speed, a {1e3 * BUMP_DEPTH_M:g} mm, {BUMP_LENGTH_M:g} m lateral bump of both "
                           f"rails, {RUN_DISTANCE_M:g} m, {RUN_SOLVER} {1e3 * RUN_DT_S:g} ms; amplitude: the "
-                          f"largest |y| of each wheelset relative to its rails over the last {CYCLE_WINDOW_M:g} m; "
-                          f"persisting: at least {1e3 * PERSIST_AMPLITUDE_M:g} mm and not below "
-                          f"{PERSIST_RATIO:g} of the window before twice in a row over the last three windows",
+                          f"half the peak-to-peak y of each wheelset relative to its rails over the last "
+                          f"{CYCLE_WINDOW_M:g} m; persisting: at least {1e3 * PERSIST_AMPLITUDE_M:g} mm and the "
+                          f"least-squares trend of the last {TREND_WINDOWS} windows' amplitudes decaying no faster than "
+                          f"a mode of damping ratio {PERSIST_DAMPING_RATIO:g} (per cycle); a derailed run persists, a "
+                          "diverged one is left out",
         "unstable_branch": "not computed: only the stable limit cycles reached from the disturbance are shown",
     }
 
@@ -321,9 +349,10 @@ def _summary(case, vehicle, lin, nl, conicity, linear_s, nonlinear_s) -> dict:
         notes.append(f"linear: every lateral mode is damped up to {case.speed_range_kmh[1]:g} km/h")
     if nl["note"]:
         notes.append(f"nonlinear: {nl['note']}")
-    statuses = [r["status"] for r in nl["runs"].values()]
-    bad = [s for s in statuses if s.startswith("error")]
+    bad = [f"the nonlinear run at {v:g} km/h ended {r['status']}" for v, r in sorted(nl["runs"].items())
+           if r["limit_cycle"] is None]                     # an executor's error, a diverged run: no answer
     residual = max(p["residual_acceleration"] for p in lin["points"].values())
+    notes += [f"nonlinear: {b}: that speed is left out" for b in bad]
     return {"status": "ok" if not bad else "error: " + bad[0],
             "vehicle": vehicle.name, "vehicle_source": case.vehicle,
             "speed_range_kmh": [float(v) for v in case.speed_range_kmh],

@@ -12,8 +12,9 @@ __all__ = ["SPEED_LIMITS_KM_H", "DEFAULT_SPEED_RANGE_KM_H", "LINEAR_GRID_STEP_KM
            "SETTLE_DURATION_S", "SETTLE_SOLVER", "SETTLE_DT_S", "POSITION_STEP_M", "ROTATION_STEP_RAD",
            "VELOCITY_STEP_M_S", "ANGULAR_VELOCITY_STEP_RAD_S", "LATERAL_SHARE_MIN", "RIGID_MODE_MAGNITUDE_1_S",
            "BUMP_DEPTH_M", "BUMP_LENGTH_M", "BUMP_POSITION_M", "RUN_DISTANCE_M", "MIN_RUN_DURATION_S",
-           "CYCLE_WINDOW_M", "PERSIST_AMPLITUDE_M", "PERSIST_RATIO", "NONLINEAR_GRID_POINTS", "RUN_SOLVER",
-           "RUN_DT_S"]
+           "CYCLE_WINDOW_M", "TREND_WINDOWS", "PERSIST_AMPLITUDE_M", "PERSIST_DAMPING_RATIO", "NONLINEAR_GRID_POINTS",
+           "RUN_SOLVER", "RUN_DT_S", "CONICITY_AMPLITUDE_M", "CONICITY_SWEEP_M", "CONICITY_STEP_M",
+           "MOVING_BODY_SHARE"]
 
 # ------------------------------------------------------------------------------------------------ speed range
 #: the speeds the analysis accepts [km/h]: below 10 km/h the creep forces' damping (∝ 1/V) makes every mode
@@ -60,18 +61,32 @@ RIGID_MODE_MAGNITUDE_1_S = 1e-3
 BUMP_DEPTH_M = 0.003
 BUMP_LENGTH_M = 12.0
 BUMP_POSITION_M = 10.0
-#: each constant-speed run covers this distance [m] (about 25 hunting wavelengths) ...
-RUN_DISTANCE_M = 500.0
+#: each constant-speed run covers this distance [m] (about 70 hunting wavelengths: long enough that an oscillation
+#: decaying by a few per cent per 100 m shows its trend) ...
+RUN_DISTANCE_M = 1500.0
 #: ... and lasts at least this long [s]
 MIN_RUN_DURATION_S = 4.0
-#: the limit-cycle amplitude: the largest |lateral displacement| of a wheelset relative to its rails over the last
-#: window of this length [m]; the window before it gives the trend
+#: the limit-cycle amplitude: half the peak-to-peak lateral displacement of a wheelset relative to its rails over
+#: the last window of this length [m] (a steady offset is no oscillation) ...
 CYCLE_WINDOW_M = 100.0
+#: ... and its trend: the least-squares growth per window of the log of the last this many windows' amplitudes
+TREND_WINDOWS = 5
 #: a limit cycle persists when a wheelset's amplitude over the last window is at least this large [m] ...
 PERSIST_AMPLITUDE_M = 0.2e-3
-#: ... and has not fallen below this fraction of the window before twice in a row over the last three windows (a
-#: decaying oscillation loses a steady fraction per window; a beating or irregular cycle may lose once)
-PERSIST_RATIO = 0.9
+#: ... and its trend decays no faster than a mode of this damping ratio (per cycle: a slow mode and a fast one
+#: alike): ζ ≤ 0.1 % halves an oscillation in more than 110 cycles — a limit cycle at the resolution of the runs;
+#: a mode of the linear analysis at ζ = 0.1 % is within a few km/h of its zero crossing (the Manchester vehicle's
+#: modes lose about 0.001 of ζ per 3 km/h there), which bounds the bias of the nonlinear critical speed where there
+#: is no subcritical cycle
+PERSIST_DAMPING_RATIO = 1e-3
+#: the conicity reported beside the results: the equivalent conicity at this amplitude (EN 15302's reference) [m],
+#: from a contact-geometry sweep over ±CONICITY_SWEEP_M in steps of CONICITY_STEP_M [m]
+CONICITY_AMPLITUDE_M = 0.003
+CONICITY_SWEEP_M = 0.006
+CONICITY_STEP_M = 2e-5
+#: a body "moves" in the hunting mode (``hunting_mode_bodies``) when its lateral amplitude is at least this share
+#: of the largest
+MOVING_BODY_SHARE = 0.2
 #: speeds of the nonlinear grid over the range (before the bisection)
 NONLINEAR_GRID_POINTS = 9
 #: the integrator and step of the nonlinear runs: the ``run`` command's defaults, Newmark's trapezoidal rule (β = 1/4,

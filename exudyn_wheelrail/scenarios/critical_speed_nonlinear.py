@@ -7,11 +7,13 @@ one lateral alignment defect of both rails — a 1 − cos bump :data:`~.critica
 leading wheelset (``track`` type ``defect``, ``shape = "bump"``, ``direction = "lateral"``) — over
 :data:`~.critical_speed_defaults.RUN_DISTANCE_M`, with the full contact (profiles, Hertz, the creep table).  From
 the recorded lateral displacement of every wheelset relative to its rails (``y_rel_w<j>_m``) against the distance
-run, the limit-cycle amplitude is the largest |y| over the last :data:`~.critical_speed_defaults.CYCLE_WINDOW_M`, and
-the cycle persists when it is at least :data:`~.critical_speed_defaults.PERSIST_AMPLITUDE_M` and has not fallen
-below :data:`~.critical_speed_defaults.PERSIST_RATIO` of the window before twice in a row over the last three windows
-(:func:`~exudyn_wheelrail.analysis.stability.limit_cycle`).  The same scenario runs with
-``python -m exudyn_wheelrail run`` (:func:`disturbance_scenario` gives it).
+run, the limit-cycle amplitude is half the peak-to-peak over the last
+:data:`~.critical_speed_defaults.CYCLE_WINDOW_M`, and the cycle persists when it is at least
+:data:`~.critical_speed_defaults.PERSIST_AMPLITUDE_M` and the trend of the last
+:data:`~.critical_speed_defaults.TREND_WINDOWS` windows' amplitudes decays no faster than a mode of damping ratio
+:data:`~.critical_speed_defaults.PERSIST_DAMPING_RATIO` (:func:`~exudyn_wheelrail.analysis.stability.limit_cycle`).  A run that derails is an unbounded oscillation (it persists); a run that diverges or has its step
+rejected is no answer (``limit_cycle`` None, its status kept: the analysis reports it and leaves the speed out).  The
+same scenario runs with ``python -m exudyn_wheelrail run`` (:func:`disturbance_scenario` gives it).
 """
 from __future__ import annotations
 
@@ -20,8 +22,10 @@ import time
 import numpy as np
 
 from ..analysis.stability import limit_cycle, zero_crossing_frequency_hz
+from ..simulation.status import DERAILED, OK
 from .critical_speed_defaults import (BUMP_DEPTH_M, BUMP_LENGTH_M, BUMP_POSITION_M, CYCLE_WINDOW_M, MIN_RUN_DURATION_S,
-                                      PERSIST_AMPLITUDE_M, PERSIST_RATIO, RUN_DISTANCE_M, RUN_DT_S, RUN_SOLVER)
+                                      PERSIST_AMPLITUDE_M, PERSIST_DAMPING_RATIO, RUN_DISTANCE_M, RUN_DT_S, RUN_SOLVER,
+                                      TREND_WINDOWS)
 from .critical_speed_linear import vehicle_entry
 from .run import run_scenario
 
@@ -51,9 +55,10 @@ def limit_cycle_run(vehicle: str, speed_kmh: float, depth_m: float = BUMP_DEPTH_
                     distance_m: float = RUN_DISTANCE_M) -> dict:
     """One run (module docstring); a plain dict: ``speed_kmh``, ``status`` (the run's), ``amplitude_m`` (per
     wheelset, front first), ``persists`` (per wheelset), ``frequency_hz`` (of a persisting cycle, from the zero
-    crossings over the last window; NaN otherwise), ``limit_cycle`` (any wheelset's persists),
-    ``flange_contact`` (in the last window), ``seconds`` (build and solve), ``simulated_s``.  A run that derails or
-    diverges counts as a persisting (unbounded) oscillation with NaN amplitudes.  Runs in a worker process."""
+    crossings over the last window; NaN otherwise), ``trend_damping_ratio`` (per wheelset, the equivalent damping ratio of
+    the amplitude's trend: negative when it grows), ``limit_cycle`` (any wheelset's persists; None when the run diverged or had its step rejected),
+    ``flange_contact`` (in the last window), ``seconds`` (build and solve), ``simulated_s``.  A run that derails
+    counts as a persisting (unbounded) oscillation with NaN amplitudes.  Runs in a worker process."""
     t0 = time.perf_counter()
     scn = disturbance_scenario(vehicle, speed_kmh, depth_m, distance_m)
     res = run_scenario(scn, None, progress=False)
@@ -61,21 +66,22 @@ def limit_cycle_run(vehicle: str, speed_kmh: float, depth_m: float = BUMP_DEPTH_
     ts = res.timeseries
     s = ts["time_s"] * speed_kmh / 3.6
     cols = sorted(c for c in ts if c.startswith("y_rel_w"))
-    amps, persist, freq = [], [], []
+    amps, ratios, persist, freq = [], [], [], []
     last = s >= np.nanmax(s) - CYCLE_WINDOW_M if len(s) else np.zeros(0, dtype=bool)
     for c in cols:
-        a, p = limit_cycle(s, ts[c], CYCLE_WINDOW_M, PERSIST_AMPLITUDE_M, PERSIST_RATIO)
+        a, r, p = limit_cycle(s, ts[c], CYCLE_WINDOW_M, TREND_WINDOWS, PERSIST_AMPLITUDE_M, PERSIST_DAMPING_RATIO)
         amps.append(a)
+        ratios.append(r)
         persist.append(p)
         freq.append(zero_crossing_frequency_hz(ts["time_s"][last], ts[c][last]) if p else float("nan"))
     flange = [c for c in ts if c.startswith("flange_")]
-    unbounded = status != "ok"
-    if unbounded:
-        amps = freq = [float("nan")] * len(cols)
-        persist = [True] * len(cols)
+    if status != OK:                     # derailed: unbounded; diverged, step rejected: no answer
+        amps = freq = ratios = [float("nan")] * len(cols)
+        persist = [True if status == DERAILED else None] * len(cols)
+    limit = True if status == DERAILED else bool(any(persist)) if status == OK else None
     return {"speed_kmh": float(speed_kmh), "status": status, "amplitude_m": amps, "persists": persist,
-            "frequency_hz": freq,
-            "limit_cycle": bool(any(persist)),
+            "trend_damping_ratio": ratios, "frequency_hz": freq,
+            "limit_cycle": limit,
             "flange_contact": bool(any(np.any(ts[c][last] > 0.5) for c in flange)),
             "seconds": time.perf_counter() - t0, "simulated_s": float(ts["time_s"][-1]) if len(s) else 0.0,
             "disturbance_depth_m": float(depth_m)}
