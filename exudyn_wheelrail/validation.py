@@ -16,6 +16,7 @@ issues an :class:`InputWarning` (printed by the command line as one line ``warni
 """
 from __future__ import annotations
 
+import csv
 import math
 import os
 import tomllib
@@ -24,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 __all__ = ["InputWarning", "finite", "poisson_ratio", "youngs_modulus", "POISSON_RATIO_RANGE", "Quantity",
-           "output_dir", "output_file", "read_toml"]
+           "output_dir", "output_file", "read_toml", "csv_rows"]
 
 
 class InputWarning(UserWarning):
@@ -206,3 +207,14 @@ def read_toml(path, error=ValueError) -> dict:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML: {exc}") from None
+
+
+def csv_rows(path):
+    """``(line number, cells)`` of every row of the CSV file ``path`` that holds something: cells stripped, blank rows
+    and rows whose first cell starts with ``#`` (comments) left out, a spreadsheet's byte-order mark not part of the
+    first name."""
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        for lineno, row in enumerate(csv.reader(fh), 1):
+            cells = [c.strip() for c in row]
+            if cells and any(cells) and not cells[0].startswith("#"):
+                yield lineno, cells

@@ -50,15 +50,21 @@ def _span_modes(case: BridgeCrossing, k: int):
         raise RuntimeError(f"the deck model has {idx.size} vertical modes below {1.05 * f_top:g} Hz, expected {n}")
     omega, shapes = every.omega_rad_s[idx], every.shapes[:, idx]
     if n_l:
-        lat = every.of_kind("lateral")[:n_l]
-        if lat.size < n_l:
-            raise RuntimeError(f"the deck model has {lat.size} lateral modes below {1.05 * f_top:g} Hz, expected "
-                               f"{n_l}")
-        keep = np.zeros(model.n_dof, dtype=bool)
-        keep[1::N_DOF_NODE] = keep[5::N_DOF_NODE] = True
-        omega = np.concatenate([omega, every.omega_rad_s[lat]])
-        shapes = np.concatenate([shapes, np.where(keep[:, None], every.shapes[:, lat], 0.0)], axis=1)
+        omega, shapes = _with_lateral(model, every, n_l, omega, shapes, f"the deck model below {1.05 * f_top:g} Hz")
     return model, omega, shapes
+
+
+def _with_lateral(model, every, n_l, omega, shapes, what):
+    """``omega``, ``shapes`` followed by the ``n_l`` lowest lateral modes of ``every``, each keeping its lateral DOFs
+    (v, θz) only: the section decouples them exactly from the others, so this removes the eigen-solver's rounding
+    and vertical loads leave them exactly at rest."""
+    lat = every.of_kind("lateral")[:n_l]
+    if lat.size < n_l:
+        raise RuntimeError(f"{what}: {lat.size} lateral modes, expected {n_l}")
+    keep = np.zeros(model.n_dof, dtype=bool)
+    keep[1::N_DOF_NODE] = keep[5::N_DOF_NODE] = True
+    return (np.concatenate([omega, every.omega_rad_s[lat]]),
+            np.concatenate([shapes, np.where(keep[:, None], every.shapes[:, lat], 0.0)], axis=1))
 
 
 @dataclass(frozen=True)
@@ -144,14 +150,8 @@ def continuous_modes(case: BridgeCrossing) -> DeckModes:
                            f"expected {n * k_sp}")
     omega, shapes = every.omega_rad_s[idx], every.shapes[:, idx]
     if n_l:
-        lat = every.of_kind("lateral")[:n_l * k_sp]
-        if lat.size < n_l * k_sp:
-            raise RuntimeError(f"the continuous deck has {lat.size} lateral modes below {1.05 * case.f_N_Hz:g} Hz, "
-                               f"expected {n_l * k_sp}")
-        keep = np.zeros(model.n_dof, dtype=bool)
-        keep[1::N_DOF_NODE] = keep[5::N_DOF_NODE] = True
-        omega = np.concatenate([omega, every.omega_rad_s[lat]])
-        shapes = np.concatenate([shapes, np.where(keep[:, None], every.shapes[:, lat], 0.0)], axis=1)
+        omega, shapes = _with_lateral(model, every, n_l * k_sp, omega, shapes,
+                                      f"the continuous deck below {1.05 * f_ref:g} Hz")
     modes = BridgeModes(model, omega, shapes)
     reference = span_references(every, every.of_kind("vertical"), case.chain_m, case.deck_start_m)
     return _whole_deck(case, modes, np.arange(n * k_sp), np.arange(n * k_sp, n * k_sp + n_l * k_sp), reference)

@@ -90,7 +90,6 @@ trains, Engineering Structures 23 (2001) 548–556.
 """
 from __future__ import annotations
 
-import csv
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -100,7 +99,7 @@ import numpy as np
 
 from ..standards import (HSLM_A, HSLM_END_COACH_TO_BOGIE_M, HSLM_NAMES, HSLM_POWER_CAR_AXLES_M,
                          HSLM_POWER_CAR_TO_END_COACH_M)
-from ..validation import InputWarning
+from ..validation import InputWarning, csv_rows
 
 __all__ = ["AxleTrain", "HSLM_A", "HSLM_NAMES", "HSLM_POWER_CAR_AXLES_M", "HSLM_POWER_CAR_TO_END_COACH_M",
            "HSLM_END_COACH_TO_BOGIE_M", "AXLE_FILE_COLUMNS", "MIN_AXLE_SPACING_M", "PLAUSIBLE_AXLE_LOAD_N",
@@ -215,41 +214,37 @@ def read_axle_file(path) -> AxleTrain:
         raise ValueError(f"{path}: no such axle file")
     xs, ps = [], []
     header = None
-    with path.open(newline="", encoding="utf-8-sig") as fh:            # a spreadsheet's byte-order mark is not a name
-        for lineno, row in enumerate(csv.reader(fh), 1):
-            cells = [c.strip() for c in row]
-            if not cells or all(not c for c in cells) or cells[0].startswith("#"):
-                continue
-            if header is None:
-                header = cells
-                missing = [c for c in AXLE_FILE_COLUMNS if c not in header]
-                if missing:
-                    raise ValueError(f"{path}:{lineno}: the header has no column {', '.join(missing)} (expected "
-                                     f"the columns {', '.join(AXLE_FILE_COLUMNS)}; got {', '.join(header)})")
-                ix, ip = header.index("x_m"), header.index("load_N")
-                continue
-            vals = []
-            for col, i in (("x_m", ix), ("load_N", ip)):
-                text = cells[i] if i < len(cells) else ""
-                try:
-                    v = float(text)
-                except ValueError:
-                    raise ValueError(f"{path}:{lineno}: {col} = {text!r} is not a number") from None
-                if not math.isfinite(v):
-                    raise ValueError(f"{path}:{lineno}: {col} = {text!r} is not a finite number")
-                vals.append(v)
-            x, p = vals
-            if x < 0.0:
-                raise ValueError(f"{path}:{lineno}: x_m = {x:g} is negative (distances behind the first axle are "
-                                 ">= 0)")
-            if not xs and x != 0.0:
-                raise ValueError(f"{path}:{lineno}: the first axle must be at x_m = 0 (distances behind the first "
-                                 f"axle), got {x:g}")
-            if xs and x - xs[-1] < MIN_AXLE_SPACING_M:
-                raise ValueError(f"{path}:{lineno}: x_m = {x:g} is not at least {MIN_AXLE_SPACING_M:g} m behind the "
-                                 f"axle before ({xs[-1]:g} m): overlapping or out of order")
-            xs.append(x)
-            ps.append(p)
+    for lineno, cells in csv_rows(path):
+        if header is None:
+            header = cells
+            missing = [c for c in AXLE_FILE_COLUMNS if c not in header]
+            if missing:
+                raise ValueError(f"{path}:{lineno}: the header has no column {', '.join(missing)} (expected "
+                                 f"the columns {', '.join(AXLE_FILE_COLUMNS)}; got {', '.join(header)})")
+            ix, ip = header.index("x_m"), header.index("load_N")
+            continue
+        vals = []
+        for col, i in (("x_m", ix), ("load_N", ip)):
+            text = cells[i] if i < len(cells) else ""
+            try:
+                v = float(text)
+            except ValueError:
+                raise ValueError(f"{path}:{lineno}: {col} = {text!r} is not a number") from None
+            if not math.isfinite(v):
+                raise ValueError(f"{path}:{lineno}: {col} = {text!r} is not a finite number")
+            vals.append(v)
+        x, p = vals
+        if x < 0.0:
+            raise ValueError(f"{path}:{lineno}: x_m = {x:g} is negative (distances behind the first axle are "
+                             ">= 0)")
+        if not xs and x != 0.0:
+            raise ValueError(f"{path}:{lineno}: the first axle must be at x_m = 0 (distances behind the first "
+                             f"axle), got {x:g}")
+        if xs and x - xs[-1] < MIN_AXLE_SPACING_M:
+            raise ValueError(f"{path}:{lineno}: x_m = {x:g} is not at least {MIN_AXLE_SPACING_M:g} m behind the "
+                             f"axle before ({xs[-1]:g} m): overlapping or out of order")
+        xs.append(x)
+        ps.append(p)
     if header is None or not xs:
         raise ValueError(f"{path}: no axle (expected a header line with {', '.join(AXLE_FILE_COLUMNS)} and one "
                          "line per axle)")

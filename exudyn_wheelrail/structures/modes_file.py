@@ -50,7 +50,6 @@ lateral displacement and of its torsion times half the rail-centre distance (the
 """
 from __future__ import annotations
 
-import csv
 import math
 import os
 import warnings
@@ -62,7 +61,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ..conventions import RAIL_CENTRE_DISTANCE_M
-from ..validation import InputWarning
+from ..validation import InputWarning, csv_rows
 from .modal_basis import ModalBasis
 from .modal_shapes import NS_DV, NS_DW, NS_TH, NS_V, NS_W, ShapeTable
 
@@ -141,31 +140,27 @@ def _read_npz(path, shown) -> dict:
 def _read_csv(path, shown) -> dict:
     allowed = ("mode",) + MODES_FILE_REQUIRED + MODES_FILE_OPTIONAL
     header, rows = None, []
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        for lineno, row in enumerate(csv.reader(fh), 1):
-            cells = [c.strip() for c in row]
-            if not cells or all(not c for c in cells) or cells[0].startswith("#"):
-                continue
-            if header is None:
-                header = cells
-                if "" in header:
-                    raise ValueError(f"{shown}:{lineno}: an empty column name (a trailing comma?)")
-                for c in header:
-                    if c not in allowed:
-                        raise ValueError(f"{shown}:{lineno}: {c}: unknown column (expected {', '.join(allowed)})")
-                for c in ("mode",) + MODES_FILE_REQUIRED:
-                    if c not in header:
-                        raise ValueError(f"{shown}:{lineno}: {c}: missing column (expected {', '.join(allowed)})")
-                continue
-            if len(cells) != len(header):
-                raise ValueError(f"{shown}:{lineno}: {len(cells)} cells, the header has {len(header)}")
-            vals = []
-            for c, text in zip(header, cells):
-                try:
-                    vals.append(float(text))
-                except ValueError:
-                    raise ValueError(f"{shown}:{lineno}: {c}: {text!r} is not a number") from None
-            rows.append((lineno, vals))
+    for lineno, cells in csv_rows(path):
+        if header is None:
+            header = cells
+            if "" in header:
+                raise ValueError(f"{shown}:{lineno}: an empty column name (a trailing comma?)")
+            for c in header:
+                if c not in allowed:
+                    raise ValueError(f"{shown}:{lineno}: {c}: unknown column (expected {', '.join(allowed)})")
+            for c in ("mode",) + MODES_FILE_REQUIRED:
+                if c not in header:
+                    raise ValueError(f"{shown}:{lineno}: {c}: missing column (expected {', '.join(allowed)})")
+            continue
+        if len(cells) != len(header):
+            raise ValueError(f"{shown}:{lineno}: {len(cells)} cells, the header has {len(header)}")
+        vals = []
+        for c, text in zip(header, cells):
+            try:
+                vals.append(float(text))
+            except ValueError:
+                raise ValueError(f"{shown}:{lineno}: {c}: {text!r} is not a number") from None
+        rows.append((lineno, vals))
     if header is None or not rows:
         raise ValueError(f"{shown}: no modes (expected a header line with {', '.join(('mode',) + MODES_FILE_REQUIRED)} "
                          "and one line per mode and position)")
