@@ -53,19 +53,20 @@ Flexible car body (``rtri --car-body flexible``; ASSUMPTION: the vehicle file ``
     flexible.toml``.
 The substitute's running stability at 250 km/h (a consequence of the vehicle ASSUMPTION)
     The ``critical-speed`` command (docs/stability.md) on the Manchester vehicle 1, S1002/UIC60 1:40: linear critical
-    speed 333.5 km/h (hunting 4.62 Hz), **nonlinear critical speed 169.5 km/h** — at the case's 250 km/h the
+    speed 333.5 km/h (hunting 4.62 Hz), **nonlinear critical speed 169.7 km/h** — at the case's 250 km/h the
     centred running is linearly stable, but a disturbance (the span's deviation is one) leaves the bogies on a
     limit cycle (S1002/UIC60 1:40's contact point jumps between two tread zones 0.25 mm off the centre: conicity
-    0.11 at the centre, 0.62 at 0.5 mm).  The 20 m case run for 8 s keeps 2.4 mm (leading) and 1.5 mm (trailing
-    wheelset) lateral amplitude after the span.  The paper's test car (not published) certainly runs stably at the
-    plant's 250 km/h; the substitute does not.  The same vehicle with assumed yaw dampers (250 kN s/m per bogie
-    side) has 163.9 km/h; on rails inclined 1:20 it is stable there (268.2 km/h), but that changes the wheel–rail pair
-    the case is about: its 20 m run at δ = 10 mm reaches the flange (largest |Y| 312 kN against 20.8 kN on 1:40; not
-    investigated further) and its lateral motion after the span decays slowly (3.6 mm over 200–555 m, the 0.9 Hz
-    mode at ζ ≈ 0.5 %).  The case keeps its substitute.  What depends on it: the lateral motion and the car-body accelerations **after** the span (a limit cycle instead of a decay) and
-    the wheelsets' lateral position when they enter the span (the cycle's phase); the peak forces over the span and
-    the flange approach of the 20 m span are driven by the deviation itself (how much they would change with a
-    stable vehicle is not measured: no stable substitute was found).
+    0.11 at the centre, 0.62 at 0.5 mm). The 20 m case run for 8 s keeps 2.4 mm (leading) and 1.5 mm (trailing
+    wheelset) lateral amplitude after the span. The paper's test car (not published) is expected to run stably at the
+    plant's 250 km/h; the substitute does not. The same vehicle with assumed yaw dampers (250 kN s/m per bogie side)
+    has 163.9 km/h; on rails inclined 1:20 it is stable there (268.2 km/h), but that changes the wheel–rail pair the
+    case is about: its 20 m run at δ = 10 mm reaches the flange (flange impacts: unfiltered |Y| up to 312 kN for 1–2
+    ms, against 20.8 kN on 1:40; not investigated further) and its lateral motion after the span decays slowly (3.6 mm
+    over 200–555 m, the 0.9 Hz mode at ζ ≈ 0.5 %). The case keeps its substitute. What depends on it: the lateral
+    motion and the car-body accelerations **after** the span (a limit cycle instead of a decay) and the wheelsets'
+    lateral position when they enter the span (the cycle's phase); the peak forces over the span and the flange
+    approach of the 20 m span are driven by the deviation itself (how much they would change with a stable vehicle is
+    not measured: no stable substitute was found).
 """
 from __future__ import annotations
 
