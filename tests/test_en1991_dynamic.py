@@ -22,6 +22,8 @@ from pathlib import Path
 
 import pytest
 
+from bridge_file_check import check_bridge_file
+
 from exudyn_wheelrail.cli import main
 from exudyn_wheelrail.scenarios import en1991_dynamic as E
 from exudyn_wheelrail.scenarios.bridge_crossing_run import run_bridge_crossing
@@ -211,12 +213,9 @@ def test_the_command_exits_with_the_crossings_status(tmp_path, capsys):
     ("spans_m = [15.0]\nEI = 1e10\nmass_kg_per_m = 12000.0\nstructure = 'filler_beam'\n", "bridge.EI: unknown key"),
 ])
 def test_a_bad_bridge_file_is_one_line_before_any_work(tmp_path, capsys, body, expected):
-    f = tmp_path / "b.toml"
-    f.write_text("[bridge]\n" + body)
-    code = main(["en1991-dynamic", "--bridge", str(f), "--max-line-speed-kmh", "200", "--out", str(tmp_path / "o")])
-    err = capsys.readouterr().err.strip()
+    code, err, f, out = check_bridge_file(tmp_path, capsys, body)
     assert code == 2 and err.count("\n") == 0 and expected in err and str(f) in err, err
-    assert not (tmp_path / "o" / "runs").exists()
+    assert not (out / "runs").exists()
 
 
 def test_on_a_terminal_the_crossings_are_a_bar_redrawn_in_place():

@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.cli import main
+from bridge_file_check import check_bridge_file
+
 from exudyn_wheelrail.scenarios import en1991_dynamic as E
 from exudyn_wheelrail.scenarios.bridge_crossing import BridgeCrossing, deck_modes
 from exudyn_wheelrail.scenarios.sweep import SerialExecutor
@@ -99,22 +100,16 @@ def test_a_continuous_decks_check_keeps_its_modes_to_the_cutoff(tmp_path):
 ])
 def test_a_bad_modes_bridge_file_is_one_line_before_any_work(tmp_path, capsys, body, expected):
     _modes_file(tmp_path)
-    f = tmp_path / "b.toml"
-    f.write_text("[bridge]\n" + body)
-    code = main(["en1991-dynamic", "--bridge", str(f), "--max-line-speed-kmh", "200", "--out", str(tmp_path / "o")])
-    err = capsys.readouterr().err.strip()
+    code, err, f, out = check_bridge_file(tmp_path, capsys, body)
     assert code == 2 and err.count("\n") == 0 and expected in err and str(f) in err, err
-    assert not (tmp_path / "o" / "runs").exists()
+    assert not (out / "runs").exists()
 
 
 def test_a_modes_file_whose_shapes_disagree_with_its_positions_is_named_by_the_command(tmp_path, capsys):
     x = np.linspace(0.0, L, 11)
     write_modes_npz(tmp_path / "bad.npz", frequency_hz=[5.0], modal_mass_kg=[1e5], x_m=x, vertical=np.zeros((1, 9)))
-    f = tmp_path / "b.toml"
-    f.write_text(f"[bridge]\nspans_m = [{L}]\nmodes_file = 'bad.npz'\nmass_kg_per_m = 1.0e4\n"
-                 "structure = 'filler_beam'\n")
-    code = main(["en1991-dynamic", "--bridge", str(f), "--max-line-speed-kmh", "200", "--out", str(tmp_path / "o")])
-    err = capsys.readouterr().err.strip()
+    code, err, _, _ = check_bridge_file(tmp_path, capsys, f"spans_m = [{L}]\nmodes_file = 'bad.npz'\n"
+                                        "mass_kg_per_m = 1.0e4\nstructure = 'filler_beam'\n")
     assert code == 2 and err.count("\n") == 0 and "bad.npz: vertical: shape (1, 9) disagrees" in err, err
 
 

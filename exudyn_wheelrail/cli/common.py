@@ -159,7 +159,8 @@ class CountBar:
         full = COUNT_BAR_WIDTH * k // max(n, 1)
         bar = "#" * full + "." * (COUNT_BAR_WIDTH - full)
         line = f"[{bar}] {k}/{n}  {_clock(elapsed)} elapsed, {_clock(left)} left  {rest}"
-        self.stream.write("\r" + line[:_terminal_columns() - 1].ljust(_terminal_columns() - 1))
+        width = _terminal_columns() - 1
+        self.stream.write("\r" + line[:width].ljust(width))
         if k >= n:
             self.stream.write("\n")
         self.stream.flush()

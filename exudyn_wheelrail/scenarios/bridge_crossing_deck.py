@@ -15,7 +15,7 @@ from .deck import cutoff_of_frequencies_Hz
 from .deck import en1990_cutoff_Hz as span_cutoff_Hz
 
 __all__ = ["deck_section", "elements_per_span", "DeckModes", "deck_modes", "chain_modes", "continuous_modes",
-           "file_modes", "file_reference", "file_modes_to_cutoff", "span_mode_sets", "span_references",
+           "file_modes", "file_reference", "file_modes_to_cutoff", "span_moves", "span_mode_sets", "span_references",
            "SPAN_SHARE", "vertical_modes", "en1990_cutoff_Hz"]
 
 
@@ -153,7 +153,7 @@ def continuous_modes(case: BridgeCrossing) -> DeckModes:
         omega, shapes = _with_lateral(model, every, n_l * k_sp, omega, shapes,
                                       f"the continuous deck below {1.05 * f_ref:g} Hz")
     modes = BridgeModes(model, omega, shapes)
-    reference = span_references(every, every.of_kind("vertical"), case.chain_m, case.deck_start_m)
+    reference = _reference_of(every, case)
     return _whole_deck(case, modes, np.arange(n * k_sp), np.arange(n * k_sp, n * k_sp + n_l * k_sp), reference)
 
 
@@ -166,8 +166,13 @@ def _sampled(case: BridgeCrossing, data) -> SampledModes:
 def file_reference(case: BridgeCrossing) -> tuple:
     """Every span's first frequency, EN 1990 cut-off and whether it is known (:func:`span_references`) from **all**
     the modes of the case's modes file — whatever number of them a crossing keeps."""
-    every = _sampled(case, case.file_modes)
-    return span_references(every, every.of_kind("vertical"), case.chain_m, case.deck_start_m)
+    return _reference_of(_sampled(case, case.file_modes), case)
+
+
+def _reference_of(every, case) -> tuple:
+    """:func:`span_references` of the vertical modes of ``every`` (a deck's fuller basis) on the case's spans."""
+    moves = span_moves(every, case.chain_m, case.deck_start_m)
+    return span_references(every, span_mode_sets(moves, every.of_kind("vertical")))
 
 
 def file_modes_to_cutoff(case: BridgeCrossing) -> int | None:
@@ -175,11 +180,11 @@ def file_modes_to_cutoff(case: BridgeCrossing) -> int | None:
     span at or above it, and every mode below); None when a span's vertical modes end below it or its cut-off is
     not known."""
     every = _sampled(case, case.file_modes)
-    vertical = every.of_kind("vertical")
-    f1s, cuts, known = span_references(every, vertical, case.chain_m, case.deck_start_m)
+    sets = span_mode_sets(span_moves(every, case.chain_m, case.deck_start_m), every.of_kind("vertical"))
+    f1s, cuts, known = span_references(every, sets)
     f = every.frequencies_Hz
     firsts = []
-    for k, mine in enumerate(span_mode_sets(every, vertical, case.chain_m, case.deck_start_m)):
+    for k, mine in enumerate(sets):
         above = [f[i] for i in mine if f[i] >= cuts[k]]
         if not known[k] or not above:
             return None
@@ -200,30 +205,33 @@ def file_modes(case: BridgeCrossing) -> DeckModes:
 SPAN_SHARE = 1e-3
 
 
-def span_mode_sets(modes, indices, chain_m, start_m) -> list:
-    """Per span (``chain_m`` from track distance ``start_m``), the modes of ``indices`` that move it: a displacement
+def span_moves(modes, chain_m, start_m) -> list:
+    """Per span (``chain_m`` from track distance ``start_m``), which modes move it (boolean, per mode): a displacement
     there at least :data:`SPAN_SHARE` of the mode's largest over the deck (every mode of a continuous deck, a span's
     own of a modes file of separate decks)."""
-    indices = np.asarray(indices, dtype=np.int64)
     length = float(sum(chain_m))
     x = start_m + np.linspace(0.0, length, 200 * len(chain_m) + 1)
     largest = np.max(np.abs(modes.shape_at(x)), axis=(0, 1))                       # (n_modes,)
     out, x0 = [], start_m
     for L in chain_m:
         xs = x0 + L * np.linspace(0.01, 0.99, 99)
-        moves = np.max(np.abs(modes.shape_at(xs)), axis=(0, 1)) >= SPAN_SHARE * largest
-        out.append(indices[moves[indices]])
+        out.append(np.max(np.abs(modes.shape_at(xs)), axis=(0, 1)) >= SPAN_SHARE * largest)
         x0 += L
     return out
 
 
-def span_references(modes, vertical, chain_m, start_m) -> tuple:
-    """``(f1, cut-off, known)`` per span from the vertical modes of ``modes`` that move it
-    (:func:`span_mode_sets`): its first frequency and EN 1990's ``max(30 Hz, 1.5 f1, f3)`` — with fewer than three
-    vertical modes f3 is not known (the highest stands for it and ``known`` is False: the cut-off is then never
-    reached)."""
+def span_mode_sets(moves, indices) -> list:
+    """Per span, the modes of ``indices`` that move it (``moves``: :func:`span_moves`)."""
+    indices = np.asarray(indices, dtype=np.int64)
+    return [indices[m[indices]] for m in moves]
+
+
+def span_references(modes, vertical_sets) -> tuple:
+    """``(f1, cut-off, known)`` per span from its vertical modes (``vertical_sets``: :func:`span_mode_sets`): its
+    first frequency and EN 1990's ``max(30 Hz, 1.5 f1, f3)`` — with fewer than three vertical modes f3 is not known
+    (the highest stands for it and ``known`` is False: the cut-off is then never reached)."""
     f1s, cuts, known = [], [], []
-    for k, mine in enumerate(span_mode_sets(modes, vertical, chain_m, start_m)):
+    for k, mine in enumerate(vertical_sets):
         f = np.sort(modes.frequencies_Hz[mine])
         if f.size == 0:
             raise ValueError(f"span {k + 1} of the deck: no vertical mode moves it")
@@ -235,11 +243,10 @@ def span_references(modes, vertical, chain_m, start_m) -> tuple:
 
 def _whole_deck(case, modes, vertical, lateral, reference) -> DeckModes:
     """A :class:`DeckModes` whose modes span the whole deck: span ``k``'s modes are those that move it
-    (:func:`span_mode_sets`); its first frequency and cut-off are ``reference``'s (:func:`span_references` of the
+    (:func:`span_moves`); its first frequency and cut-off are ``reference``'s (:func:`span_references` of the
     deck's fuller basis: its f3 whatever number of modes is kept)."""
-    vertical, lateral = np.asarray(vertical, dtype=np.int64), np.asarray(lateral, dtype=np.int64)
-    per_span = span_mode_sets(modes, vertical, case.chain_m, case.deck_start_m)
-    lat_span = span_mode_sets(modes, lateral, case.chain_m, case.deck_start_m)
+    moves = span_moves(modes, case.chain_m, case.deck_start_m)
+    per_span, lat_span = span_mode_sets(moves, vertical), span_mode_sets(moves, lateral)
     for k, mine in enumerate(per_span):
         if mine.size == 0:
             raise ValueError(f"n_modes: none of the {modes.n_modes} modes kept moves span {k + 1} vertically")

@@ -29,6 +29,14 @@ def _modes(table: dict) -> dict:
     return {m: tuple(np.array([table[c][i] for i in rows], dtype=float) for c in cols) for m, rows in out.items()}
 
 
+def _save(plt, fig, out: Path, name: str, paths: dict) -> None:
+    """Lay out, write as ``out / FIGURES[name]`` (its path into ``paths[name]``) and close ``fig``."""
+    fig.tight_layout()
+    paths[name] = str(out / FIGURES[name])
+    fig.savefig(paths[name], dpi=110)
+    plt.close(fig)
+
+
 def write_figures(out: Path, table: dict, bif: dict, summary: dict) -> dict:
     """Draw the three figures into ``out``; returns their paths by :data:`FIGURES` name."""
     plt = pyplot()
@@ -55,10 +63,7 @@ def write_figures(out: Path, table: dict, bif: dict, summary: dict) -> dict:
                  "(marker size: lateral share; all modes in root_locus.csv)")
     ax.title.set_fontsize(9)
     ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    paths["root_locus"] = str(out / FIGURES["root_locus"])
-    fig.savefig(paths["root_locus"], dpi=110)
-    plt.close(fig)
+    _save(plt, fig, out, "root_locus", paths)
 
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     j = 0
@@ -76,10 +81,7 @@ def write_figures(out: Path, table: dict, bif: dict, summary: dict) -> dict:
     ax.grid(True, alpha=0.3)
     if j:
         ax.legend(fontsize=7)
-    fig.tight_layout()
-    paths["damping_ratio"] = str(out / FIGURES["damping_ratio"])
-    fig.savefig(paths["damping_ratio"], dpi=110)
-    plt.close(fig)
+    _save(plt, fig, out, "damping_ratio", paths)
 
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     ws = sorted(set(bif["wheelset"]))
@@ -104,8 +106,5 @@ def write_figures(out: Path, table: dict, bif: dict, summary: dict) -> dict:
     ax.grid(True, alpha=0.3)
     if ws:
         ax.legend(fontsize=7)
-    fig.tight_layout()
-    paths["bifurcation"] = str(out / FIGURES["bifurcation"])
-    fig.savefig(paths["bifurcation"], dpi=110)
-    plt.close(fig)
+    _save(plt, fig, out, "bifurcation", paths)
     return paths
