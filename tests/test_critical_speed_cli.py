@@ -87,6 +87,11 @@ def test_command_writes_the_contract(tmp_path, capsys):
     with open(out / "root_locus.csv") as fh:
         assert next(csv.reader(fh))[:4] == ["speed_kmh", "mode", "frequency_hz", "damping_ratio"]
     with open(out / "bifurcation.csv") as fh:
-        assert next(csv.reader(fh))[:3] == ["speed_kmh", "wheelset", "amplitude_m"]
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0])[:3] == ["speed_kmh", "wheelset", "amplitude_m"]
+    unstable = [r for r in rows if r["branch"] == "unstable"]
+    assert unstable and all(s["nonlinear_critical_speed_kmh"] < float(r["speed_kmh"])
+                            < s["linear_critical_speed_kmh"] for r in unstable)
+    assert any(r["found"] for r in s["unstable_branch"])
     for name in ("root_locus.png", "damping_ratio.png", "bifurcation.png"):
         assert (out / name).stat().st_size > 0

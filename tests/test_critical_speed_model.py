@@ -10,6 +10,7 @@ import pytest
 from exudyn_wheelrail.scenarios.build import build_scenario
 from exudyn_wheelrail.scenarios.critical_speed import (CriticalSpeedCase, linear_critical_speed,
                                                       nonlinear_critical_speed)
+from exudyn_wheelrail.scenarios.critical_speed_branch import unstable_cycle
 from exudyn_wheelrail.scenarios.critical_speed_linear import (lateral_share, linearise, operating_point,
                                                               settled_scenario)
 from exudyn_wheelrail.scenarios.critical_speed_nonlinear import limit_cycle_run
@@ -123,3 +124,20 @@ def test_nonlinear_critical_speed_consistent_with_runs():
     assert v is not None and 120.0 < v < 250.0
     assert not limit_cycle_run(VEHICLE, v - 10.0)["limit_cycle"]
     assert limit_cycle_run(VEHICLE, v + 10.0)["limit_cycle"]
+
+
+@pytest.mark.validation
+def test_unstable_branch_shrinks_towards_the_linear_critical_speed():
+    """Between the nonlinear (170 km/h) and the linear (333.5 km/h) critical speed the Manchester vehicle's centred
+    state is stable to small disturbances beside a stable limit cycle: a subcritical bifurcation, whose unstable
+    cycle separates the two and shrinks to the centred state at the linear critical speed.  The estimated unstable
+    cycles (exudyn_wheelrail/scenarios/critical_speed_branch.py) are found at 200 and 270 km/h, every wheelset's is
+    smaller at 270 than at 200 km/h and smaller than the stable cycle at its speed (the deepest disturbance's run), and
+    the threshold disturbance is smaller at the higher speed."""
+    low, high = unstable_cycle(VEHICLE, 200.0), unstable_cycle(VEHICLE, 270.0)
+    assert low["found"] and high["found"], (low["note"], high["note"])
+    for a_low, a_high, stable_low, stable_high in zip(low["amplitude_m"], high["amplitude_m"],
+                                                      low["stable_amplitude_m"], high["stable_amplitude_m"]):
+        assert 0.0 < a_high < a_low
+        assert a_low < stable_low and a_high < stable_high
+    assert high["depth_bracket_m"][1] < low["depth_bracket_m"][0]

@@ -1,8 +1,8 @@
 """The full model's linearisation in the default suite (exudyn_wheelrail/scenarios/critical_speed_linear.py): a net for
 faults in the chain settle → perturb → Exudyn's accelerations → eigenvalues, on the Manchester vehicle whose linear
-critical speed docs/stability.md gives as 333.5 km/h.  The references (the time simulation started in the mode,
-Klingel, the 2-DOF wheelset, the bogie wavelength) are in test_critical_speed_model.py (validation) and
-test_critical_speed_reference.py."""
+critical speed docs/stability.md gives as 333.5 km/h.  The references: the time simulation started in the mode
+(test_critical_speed_model.py, validation), Klingel, the 2-DOF wheelset and the rigid bogie's wavelength on the full
+model (test_critical_speed_linearisation.py) and on the reference models (test_critical_speed_reference.py)."""
 import math
 
 import numpy as np

@@ -3,8 +3,10 @@ hunting mode from the eigenvalues of the linearised model, the nonlinear critica
 runs after a lateral disturbance (:mod:`exudyn_wheelrail.scenarios.critical_speed`)."""
 from __future__ import annotations
 
-from ..scenarios.critical_speed_defaults import (BUMP_DEPTH_M, BUMP_LENGTH_M, DEFAULT_SPEED_RANGE_KM_H,
-                                                 SPEED_LIMITS_KM_H)
+import math
+
+from ..scenarios.critical_speed_defaults import (BRANCH_DEPTH_RATIO, BRANCH_MIN_DEPTH_M, BUMP_DEPTH_M, BUMP_LENGTH_M,
+                                                 DEFAULT_SPEED_RANGE_KM_H, SPEED_LIMITS_KM_H)
 from ..validation import output_dir
 from .common import add_progress_argument, positive_int, progress_lines
 
@@ -22,11 +24,13 @@ def add_critical_speed_parser(sub) -> None:
                                    f"runs the full model at constant speed after a {1e3 * BUMP_DEPTH_M:g} mm, "
                                    f"{BUMP_LENGTH_M:g} m lateral bump at speeds over the range in parallel and "
                                    "bisects the lowest speed where a limit cycle persists (the nonlinear critical "
-                                   "speed).  Writes DIR/summary.json (status, linear_critical_speed_kmh, "
+                                   "speed); between the two, bisects the disturbance's depth between decay and the "
+                                   "stable cycle (the unstable cycles).  Writes DIR/summary.json (status, "
+                                   "linear_critical_speed_kmh, "
                                    "hunting_frequency_hz, hunting_mode_shape, nonlinear_critical_speed_kmh (null "
                                    "with a note when none is found in the range), conicity, assumptions, seconds), "
                                    "DIR/root_locus.csv (speed_kmh, mode, frequency_hz, damping_ratio, ...), "
-                                   "DIR/bifurcation.csv (speed_kmh, wheelset, amplitude_m, ...), "
+                                   "DIR/bifurcation.csv (speed_kmh, wheelset, amplitude_m, ..., branch), "
                                    "DIR/linear_speeds.csv and the figures root_locus.png, damping_ratio.png, "
                                    "bifurcation.png (exudyn_wheelrail/scenarios/critical_speed.py).")
     p.add_argument("--vehicle", required=True, metavar="NAME|FILE",
@@ -36,6 +40,10 @@ def add_critical_speed_parser(sub) -> None:
                         f"(default: {lo:g} {hi:g})")
     p.add_argument("--workers", type=positive_int("--workers"), default=None, metavar="N",
                    help="worker processes of the nonlinear runs (default: one per CPU; 1: in this process)")
+    runs = 2 + math.ceil(math.log2(math.log(BUMP_DEPTH_M / BRANCH_MIN_DEPTH_M) / math.log(BRANCH_DEPTH_RATIO)))
+    p.add_argument("--no-unstable-branch", dest="unstable_branch", action="store_false",
+                   help="skip the bifurcation diagram's unstable branch (the disturbance bisected at speeds between "
+                        f"the nonlinear and the linear critical speed: about {runs} runs per speed)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
     add_progress_argument(p)
     p.set_defaults(func=cmd_critical_speed, check=_check_critical_speed)
@@ -46,7 +54,8 @@ def _check_critical_speed(args) -> None:
     from ..scenarios.critical_speed import CriticalSpeedCase, check_case
     output_dir("--out", args.out)
     rng = tuple(args.speed_range_kmh) if args.speed_range_kmh is not None else DEFAULT_SPEED_RANGE_KM_H
-    case = CriticalSpeedCase(vehicle=args.vehicle, speed_range_kmh=rng, workers=args.workers)
+    case = CriticalSpeedCase(vehicle=args.vehicle, speed_range_kmh=rng, workers=args.workers,
+                             unstable_branch=args.unstable_branch)
     check_case(case)
     args.case = case
 
@@ -67,5 +76,13 @@ def cmd_critical_speed(args) -> int:
           + (f" ({linear_note})" if s["linear_critical_speed_kmh"] is None and linear_note else ""))
     print(f"nonlinear critical speed {kmh(s['nonlinear_critical_speed_kmh'])}"
           + (f" ({s['nonlinear_note']})" if s["nonlinear_note"] else ""))
+    found = [r for r in s["unstable_branch"] if r["found"]]
+    if found:
+        print("unstable cycles (leading wheelset): " + ", ".join(
+            f"{r['speed_kmh']:g} km/h " + (f"{1e3 * r['amplitude_m'][0]:.3f} mm" if r["amplitude_m"][0] is not None
+                                           and math.isfinite(r["amplitude_m"][0]) else "not read")
+            for r in found))
+    elif s["unstable_branch_note"]:
+        print(f"unstable cycles: {s['unstable_branch_note']}")
     print("wrote " + ", ".join(s["paths"].values()))
     return 0 if s["status"] == "ok" else EXIT_ERROR

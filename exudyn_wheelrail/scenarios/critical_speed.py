@@ -20,10 +20,14 @@ Method
    bifurcation diagram's stable branch.  The nonlinear critical speed is the lowest speed at which a limit cycle
    persists: bisected between the highest grid speed below the lowest persisting one and that one (the middle of the
    last bracket is reported, the bracket beside it).  A run that derails counts as persisting.
-3. **Outputs**: ``summary.json``, ``root_locus.csv`` (``speed_kmh, mode, frequency_hz, damping_ratio``, then
+3. **Unstable branch** (:mod:`.critical_speed_branch`, unless ``unstable_branch`` is off): at speeds between the
+   nonlinear and the linear critical speed, the unstable limit cycle from the disturbance's depth bisected between
+   decay and the stable cycle.
+4. **Outputs**: ``summary.json``, ``root_locus.csv`` (``speed_kmh, mode, frequency_hz, damping_ratio``, then
    ``real_part_1_per_s``, ``lateral_share``), ``bifurcation.csv`` (``speed_kmh, wheelset, amplitude_m``, then
-   ``persists``, ``frequency_hz`` of a persisting cycle, ``status``), ``linear_speeds.csv`` (per linearised speed:
-   the least damped lateral mode), the figures (:mod:`.critical_speed_plots`).
+   ``persists``, ``frequency_hz`` of a persisting cycle, ``status``, ``branch``: ``stable`` — the amplitude at the
+   end of a run — or ``unstable``), ``linear_speeds.csv`` (per linearised speed: the least damped lateral mode),
+   the figures (:mod:`.critical_speed_plots`).
 
 The linear analysis runs in the calling process (one model at a time: a build, a settling run and the
 linearisation take about 0.4 s once the compiled code is loaded, which a new process pays once); the nonlinear grid
@@ -46,11 +50,14 @@ from ..analysis.stability import ModeSet, first_zero_crossing, track_modes
 from ..contact.pair import WheelRailPair
 from ..rolling_stock.vehicle_data import load_vehicle
 from ..validation import output_dir, read_toml
-from .critical_speed_defaults import (BISECTION_TOLERANCE_KM_H, BUMP_DEPTH_M, BUMP_LENGTH_M, CONICITY_AMPLITUDE_M,
-                                      CONICITY_STEP_M, CONICITY_SWEEP_M, CYCLE_WINDOW_M, DEFAULT_SPEED_RANGE_KM_H,
-                                      LATERAL_SHARE_MIN, LINEAR_GRID_STEP_KM_H, MOVING_BODY_SHARE,
-                                      NONLINEAR_GRID_POINTS, PERSIST_AMPLITUDE_M, PERSIST_DAMPING_RATIO, RUN_DISTANCE_M,
-                                      RUN_DT_S, RUN_SOLVER, SETTLE_DURATION_S, SPEED_LIMITS_KM_H, TREND_WINDOWS)
+from .critical_speed_defaults import (BISECTION_TOLERANCE_KM_H, BRANCH_DEPTH_RATIO, BRANCH_LINGER_RATIO,
+                                      BRANCH_MIN_DEPTH_M, BRANCH_POINTS, BRANCH_WINDOW_M, BUMP_DEPTH_M, BUMP_LENGTH_M,
+                                      CONICITY_AMPLITUDE_M, CONICITY_STEP_M, CONICITY_SWEEP_M, CYCLE_WINDOW_M,
+                                      DEFAULT_SPEED_RANGE_KM_H, LATERAL_SHARE_MIN, LINEAR_GRID_STEP_KM_H,
+                                      MOVING_BODY_SHARE, NONLINEAR_GRID_POINTS, PERSIST_AMPLITUDE_M,
+                                      PERSIST_DAMPING_RATIO, RUN_DISTANCE_M, RUN_DT_S, RUN_SOLVER, SETTLE_DURATION_S,
+                                      SPEED_LIMITS_KM_H, TREND_WINDOWS)
+from .critical_speed_branch import branch_speeds, unstable_branch
 from .critical_speed_linear import LinearisationError, linear_modes
 from .critical_speed_nonlinear import limit_cycle_run
 from .critical_speed_plots import write_figures
@@ -63,12 +70,14 @@ __all__ = ["CriticalSpeedCase", "check_case", "run_critical_speed", "linear_crit
 
 @dataclass(frozen=True)
 class CriticalSpeedCase:
-    """What is analysed: ``vehicle`` (a shipped name or a vehicle file), the ``speed_range_kmh`` (lo, hi) and
-    ``workers`` (processes of the nonlinear runs; None: one per CPU; 1: in the calling process)."""
+    """What is analysed: ``vehicle`` (a shipped name or a vehicle file), the ``speed_range_kmh`` (lo, hi),
+    ``workers`` (processes of the nonlinear runs; None: one per CPU; 1: in the calling process) and whether the
+    bifurcation diagram's ``unstable_branch`` is computed (:mod:`.critical_speed_branch`)."""
 
     vehicle: str
     speed_range_kmh: tuple = DEFAULT_SPEED_RANGE_KM_H
     workers: int | None = None
+    unstable_branch: bool = True
 
 
 def check_case(case: CriticalSpeedCase):
@@ -298,8 +307,11 @@ def _assumptions() -> dict:
                            "equilibrium (wheelset spin at the rolling speed of the actual contact radius)",
         "contact_geometry": "the real profiles' geometry and its derivatives at the centred position (local "
                             "conicity, contact angle and roll derivatives), not an equivalent conicity",
-        "creep": "the creep law's tangent at the operating point's creepages (zero lateral and spin creepage), "
-                 "i.e. Kalker's linear coefficients of the table",
+        "creep": "the creep law's tangent at the operating point's creepages: zero lateral creepage, the small "
+                 "longitudinal one of rolling and the spin creepage of the contact angle (sin γ / r0 per wheel, "
+                 "opposite on the two wheels); with Kalker's exact theory (the table) and FASTSIM that spin's partial "
+                 "slip lowers the tangent below Kalker's linear coefficients (S1002/UIC60 1:40 at the centre: "
+                 "longitudinal by 10 %, lateral by 5 %); the law 'linear' keeps them",
         "gravitational_stiffness": "included: the normal forces' lateral components of the contact geometry",
         "spin": "included: the spin creepage of the contact angle and of the yaw rate, gyroscopic coupling of the "
                 "spinning wheelsets",
@@ -314,7 +326,12 @@ def _assumptions() -> dict:
                           f"least-squares trend of the last {TREND_WINDOWS} windows' amplitudes decaying no faster than "
                           f"a mode of damping ratio {PERSIST_DAMPING_RATIO:g} (per cycle); a derailed run persists, a "
                           "diverged one is left out",
-        "unstable_branch": "not computed: only the stable limit cycles reached from the disturbance are shown",
+        "unstable_branch": f"between the nonlinear and the linear critical speed ({BRANCH_POINTS} speeds): the bump's "
+                           f"depth bisected between {1e3 * BRANCH_MIN_DEPTH_M:.3g} and {1e3 * BUMP_DEPTH_M:g} mm "
+                           f"(to a ratio {BRANCH_DEPTH_RATIO:g}) between decay and the stable cycle; the amplitude "
+                           f"where the two bracketing runs linger ({BRANCH_WINDOW_M:g} m windows, within a factor "
+                           f"{BRANCH_LINGER_RATIO:g} of each other, least change): an estimate of the unstable "
+                           "cycle's, measured as the stable branch's",
     }
 
 
@@ -331,14 +348,32 @@ def run_critical_speed(case: CriticalSpeedCase, out_dir, progress=None) -> dict:
     t1 = time.perf_counter()
     nl = nonlinear_critical_speed(case, say)
     t2 = time.perf_counter()
-    summary = _summary(case, vehicle, lin, nl, conicity, t1 - t0, t2 - t1)
-    paths = _write(out, lin, nl, summary)
+    speeds = branch_speeds(nl["critical_kmh"], lin["critical_kmh"], float(case.speed_range_kmh[1]))
+    branch = unstable_branch(case.vehicle, speeds, case.workers, say) if case.unstable_branch else {}
+    t3 = time.perf_counter()
+    summary = _summary(case, vehicle, lin, nl, branch, conicity, (t1 - t0, t2 - t1, t3 - t2))
+    paths = _write(out, lin, nl, branch, summary)
     summary["paths"] = paths
     write_json(out / "summary.json", summary)
     return summary
 
 
-def _summary(case, vehicle, lin, nl, conicity, linear_s, nonlinear_s) -> dict:
+def _branch_summary(case, nl, branch) -> tuple[list, str | None]:
+    """The unstable branch's entries for the summary and its note."""
+    rows = [{k: r.get(k) for k in ("speed_kmh", "found", "amplitude_m", "stable_amplitude_m", "depth_bracket_m",
+                                   "window_m", "note")}
+            for _, r in sorted(branch.items())]
+    if not case.unstable_branch:
+        return rows, "not computed (unstable_branch off)"
+    if not branch:
+        return rows, ("no speed between the nonlinear and the linear critical speed in the range" if
+                      nl["critical_kmh"] is not None else "no nonlinear critical speed in the range")
+    if not any(r["found"] for r in branch.values()):
+        return rows, "not found at any speed tried (see each entry's note)"
+    return rows, None
+
+
+def _summary(case, vehicle, lin, nl, branch, conicity, seconds) -> dict:
     notes = []
     for v, text in lin["failed"].items():
         notes.append(f"linear: {v:g} km/h left out: {text}")
@@ -352,6 +387,7 @@ def _summary(case, vehicle, lin, nl, conicity, linear_s, nonlinear_s) -> dict:
     bad = [f"the nonlinear run at {v:g} km/h ended {r['status']}" for v, r in sorted(nl["runs"].items())
            if r["limit_cycle"] is None]                     # an executor's error, a diverged run: no answer
     residual = max(p["residual_acceleration"] for p in lin["points"].values())
+    branch_rows, branch_note = _branch_summary(case, nl, branch)
     notes += [f"nonlinear: {b}: that speed is left out" for b in bad]
     return {"status": "ok" if not bad else "error: " + bad[0],
             "vehicle": vehicle.name, "vehicle_source": case.vehicle,
@@ -361,11 +397,12 @@ def _summary(case, vehicle, lin, nl, conicity, linear_s, nonlinear_s) -> dict:
             "hunting_mode_bodies": [b["body"] for b in lin["shape"] or [] if b["lateral"] >= MOVING_BODY_SHARE],
             "unstable_at_lowest_speed": lin["unstable_at_lowest"],
             "nonlinear_critical_speed_kmh": nl["critical_kmh"], "nonlinear_bracket_kmh": nl["bracket_kmh"],
-            "nonlinear_note": nl["note"], "notes": notes, "conicity": conicity,
+            "nonlinear_note": nl["note"], "unstable_branch": branch_rows, "unstable_branch_note": branch_note,
+            "notes": notes, "conicity": conicity,
             "assumptions": _assumptions(), "max_residual_acceleration": residual,
             "linear_speeds_kmh": sorted(lin["points"]), "nonlinear_speeds_kmh": sorted(nl["runs"]),
             "run_statuses": {f"{v:g}": nl["runs"][v]["status"] for v in sorted(nl["runs"])},
-            "seconds": {"linear": linear_s, "nonlinear": nonlinear_s,
+            "seconds": {"linear": seconds[0], "nonlinear": seconds[1], "unstable_branch": seconds[2],
                         "nonlinear_runs": [nl["runs"][v]["seconds"] for v in sorted(nl["runs"])]},
             "workers": case.workers}
 
@@ -396,7 +433,7 @@ def _share_of(point: dict, ms: ModeSet) -> np.ndarray:
     return np.array([share[int(np.argmin(np.abs(lam - e)))] for e in ms.eigenvalues])
 
 
-def _write(out: Path, lin, nl, summary) -> dict:
+def _write(out: Path, lin, nl, branch, summary) -> dict:
     table, _ = _root_locus(lin["points"])
     write_table_csv(out / "root_locus.csv", table)
     speeds = sorted(lin["points"])
@@ -407,20 +444,24 @@ def _write(out: Path, lin, nl, summary) -> dict:
         "speed_kmh": speeds, "least_damped_lateral_damping_ratio": [z for z, _ in least],
         "least_damped_lateral_frequency_hz": [abs(x.imag) / (2 * math.pi) for x in lam],
         "residual_acceleration": [lin["points"][v]["residual_acceleration"] for v in speeds]})
-    bif = {"speed_kmh": [], "wheelset": [], "amplitude_m": [], "persists": [], "frequency_hz": [], "status": []}
+    bif = {"speed_kmh": [], "wheelset": [], "amplitude_m": [], "persists": [], "frequency_hz": [], "status": [],
+           "branch": []}
+
+    def row(v, j, a, persists, f, status, which):
+        for key, value in zip(bif, (v, j + 1, a, persists, f, status, which)):
+            bif[key].append(value)
     for v in sorted(nl["runs"]):
         r = nl["runs"][v]
         for j, (a, p) in enumerate(zip(r["amplitude_m"], r["persists"])):
-            bif["speed_kmh"].append(v)
-            bif["wheelset"].append(j + 1)
-            bif["amplitude_m"].append(a)
-            bif["persists"].append(bool(p))
-            bif["frequency_hz"].append(r.get("frequency_hz", [float("nan")] * (j + 1))[j])
-            bif["status"].append(r["status"])
+            row(v, j, a, bool(p), r.get("frequency_hz", [float("nan")] * (j + 1))[j], r["status"], "stable")
+    for v in sorted(branch):
+        for j, a in enumerate(branch[v]["amplitude_m"] if branch[v]["found"] else []):
+            row(v, j, a, False, float("nan"), "ok", "unstable")
     write_table_csv(out / "bifurcation.csv", bif)
     paths = {"summary": str(out / "summary.json"), "root_locus": str(out / "root_locus.csv"),
              "bifurcation": str(out / "bifurcation.csv"), "linear_speeds": str(out / "linear_speeds.csv")}
-    paths.update(write_figures(out, table, bif, summary))
+    figures = write_figures(out, table, bif, summary)          # a table and its figure share a name: keys apart
+    paths.update({f"{name}_figure": path for name, path in figures.items()})
     return paths
 
 

@@ -14,7 +14,8 @@ __all__ = ["SPEED_LIMITS_KM_H", "DEFAULT_SPEED_RANGE_KM_H", "LINEAR_GRID_STEP_KM
            "BUMP_DEPTH_M", "BUMP_LENGTH_M", "BUMP_POSITION_M", "RUN_DISTANCE_M", "MIN_RUN_DURATION_S",
            "CYCLE_WINDOW_M", "TREND_WINDOWS", "PERSIST_AMPLITUDE_M", "PERSIST_DAMPING_RATIO", "NONLINEAR_GRID_POINTS",
            "RUN_SOLVER", "RUN_DT_S", "CONICITY_AMPLITUDE_M", "CONICITY_SWEEP_M", "CONICITY_STEP_M",
-           "MOVING_BODY_SHARE"]
+           "MOVING_BODY_SHARE", "BRANCH_POINTS", "BRANCH_MIN_DEPTH_M", "BRANCH_DEPTH_RATIO", "BRANCH_TOP_HALVINGS",
+           "BRANCH_WINDOW_M", "BRANCH_LINGER_RATIO"]
 
 # ------------------------------------------------------------------------------------------------ speed range
 #: the speeds the analysis accepts [km/h]: below 10 km/h the creep forces' damping (∝ 1/V) makes every mode
@@ -89,6 +90,27 @@ CONICITY_STEP_M = 2e-5
 MOVING_BODY_SHARE = 0.2
 #: speeds of the nonlinear grid over the range (before the bisection)
 NONLINEAR_GRID_POINTS = 9
+
+# ------------------------------------------------------------------------------------------------ unstable branch
+#: speeds of the unstable branch: this many, evenly spaced strictly between the nonlinear and the linear critical
+#: speed (where a subcritical bifurcation puts an unstable limit cycle between the centred state and the stable one)
+BRANCH_POINTS = 4
+#: the disturbance's depth is bisected between this [m] (1/64 of the nonlinear runs' 3 mm: a kick that decays at any
+#: speed below the linear critical speed unless the unstable cycle is smaller than ~0.03 mm) and BUMP_DEPTH_M ...
+BRANCH_MIN_DEPTH_M = BUMP_DEPTH_M / 64.0
+#: ... geometrically, until the bracketing depths differ by at most this ratio: the two runs then start within ~3 %
+#: (in amplitude) of the unstable cycle's stable manifold and linger near the cycle for ln(1/0.03) ≈ 3.5 e-foldings of
+#: its instability before they part
+BRANCH_DEPTH_RATIO = 1.07
+#: a deepest run without an answer (a step rejected in flange contact) is tried again at half the depth, at most
+#: this many times (down to 3/8 mm: still several times the unstable cycles found on S1002/UIC60 1:40)
+BRANCH_TOP_HALVINGS = 3
+#: the two bracketing runs' amplitudes are compared over windows of this length [m] (about one hunting wavelength:
+#: 8–24 m for bogie hunting at 4–6 Hz between 170 and 350 km/h), per wheelset from where it has passed the
+#: disturbance ...
+BRANCH_WINDOW_M = 20.0
+#: ... in the windows where they are still within this factor of each other (both near the unstable cycle)
+BRANCH_LINGER_RATIO = 2.0
 #: the integrator and step of the nonlinear runs: the ``run`` command's defaults, Newmark's trapezoidal rule (β = 1/4,
 #: γ = 1/2: no numerical damping of the hunting motion, A-stable for the wheelsets' stiff spin mode, whose creep
 #: damping ∝ 1/V puts RK44 at 1 ms beyond its stability limit below about 50 km/h — there it runs on, bounded by the

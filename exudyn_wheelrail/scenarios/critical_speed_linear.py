@@ -25,9 +25,15 @@ creepage of the yawed, rolled wheelset.  Other nodes (modal coordinates) are per
 ``A = ∂(u̇, ü)/∂(u, u̇)`` is formed by central differences (steps in :mod:`.critical_speed_defaults`), the
 contact's warm start restored before every evaluation.  What the linearisation contains, by construction the full
 model's: the real profiles' contact geometry and its derivatives at the centred position (not an equivalent
-conicity), Hertz, the creep law's tangent at the operating point's creepages (zero lateral and spin creepage; the
-small longitudinal one of rolling), the gravitational stiffness and the spin creepage terms of the contact
-geometry, the suspension, gravity.
+conicity), Hertz, the creep law's tangent at the operating point's creepages (zero lateral creepage, the small
+longitudinal one of rolling and the spin creepage of the contact angle, sin γ / r0 per wheel — whose partial slip
+lowers the tangent of Kalker's exact theory and of FASTSIM below Kalker's linear coefficients: on S1002/UIC60 1:40
+at the centre, γ = 0.024 rad, by 10 % longitudinally and 5 % laterally), the gravitational stiffness and the spin
+creepage terms of the contact geometry, the suspension, gravity.
+
+Checked against the classical reduced models (tests/test_critical_speed_linearisation.py): a free wheelset's
+kinematic frequency, the rigid bogie's kinematic wavelength and the restrained wheelset's characteristic polynomial,
+with the rigid geometry's conicity and roll per shift and Kalker's coefficients of the operating point's ellipse.
 """
 from __future__ import annotations
 

@@ -86,22 +86,33 @@ def write_figures(out: Path, table: dict, bif: dict, summary: dict) -> dict:
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     ws = sorted(set(bif["wheelset"]))
     for w in ws:
-        rows = sorted((bif["speed_kmh"][i], bif["amplitude_m"][i], bif["persists"][i])
-                      for i in range(len(bif["wheelset"])) if bif["wheelset"][i] == w)
-        v = np.array([r[0] for r in rows])
-        a = 1e3 * np.array([r[1] for r in rows], dtype=float)
-        p = np.array([r[2] for r in rows], dtype=bool)
         color = f"C{(w - 1) % 10}"
-        ax.plot(v, a, "-", lw=1.0, color=color, label=f"wheelset {w}")
-        ax.plot(v[p], a[p], "o", ms=4, color=color)
-        ax.plot(v[~p], a[~p], "o", ms=4, mfc="none", color=color)
+        for branch in ("stable", "unstable"):
+            rows = sorted((bif["speed_kmh"][i], bif["amplitude_m"][i], bif["persists"][i])
+                          for i in range(len(bif["wheelset"]))
+                          if bif["wheelset"][i] == w and bif["branch"][i] == branch)
+            if not rows:
+                continue
+            v = np.array([r[0] for r in rows])
+            a = 1e3 * np.array([r[1] for r in rows], dtype=float)
+            if branch == "unstable":
+                ax.plot(v, a, "x--", ms=5, lw=1.0, color=color,
+                        label="unstable cycles (estimate)" if w == ws[0] else None)
+                continue
+            p = np.array([r[2] for r in rows], dtype=bool)
+            ax.plot(v, a, "-", lw=1.0, color=color, label=f"wheelset {w}")
+            ax.plot(v[p], a[p], "o", ms=4, color=color)
+            ax.plot(v[~p], a[~p], "o", ms=4, mfc="none", color=color)
     vnl = summary.get("nonlinear_critical_speed_kmh")
     if vnl is not None:
         ax.axvline(vnl, color="k", ls="--", lw=1.0, label=f"nonlinear critical speed {vnl:.1f} km/h")
     if vcrit is not None:
         ax.axvline(vcrit, color="r", ls=":", lw=1.0, label=f"linear critical speed {vcrit:.1f} km/h")
+        if "unstable" in bif["branch"]:          # where the unstable cycles shrink to the centred state
+            ax.plot([vcrit], [0.0], "s", ms=6, mfc="none", color="r")
     ax.set(xlabel="speed [km/h]", ylabel="limit-cycle amplitude [mm]",
-           title="bifurcation diagram: amplitude at the end of each run (filled: persists; hollow: decays)")
+           title="bifurcation diagram: amplitude at the end of each run (filled: persists; hollow: decays); "
+                 "x: unstable cycles")
     ax.title.set_fontsize(9)
     ax.grid(True, alpha=0.3)
     if ws:

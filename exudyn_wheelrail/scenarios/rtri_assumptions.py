@@ -59,14 +59,17 @@ The substitute's running stability at 250 km/h (a consequence of the vehicle ASS
     0.11 at the centre, 0.62 at 0.5 mm). The 20 m case run for 8 s keeps 2.4 mm (leading) and 1.5 mm (trailing
     wheelset) lateral amplitude after the span. The paper's test car (not published) is expected to run stably at the
     plant's 250 km/h; the substitute does not. The same vehicle with assumed yaw dampers (250 kN s/m per bogie side)
-    has 163.9 km/h; on rails inclined 1:20 it is stable there (268.2 km/h), but that changes the wheel–rail pair the
-    case is about: its 20 m run at δ = 10 mm reaches the flange (flange impacts: unfiltered |Y| up to 312 kN for 1–2
-    ms, against 20.8 kN on 1:40; not investigated further) and its lateral motion after the span decays slowly (3.6 mm
-    over 200–555 m, the 0.9 Hz mode at ζ ≈ 0.5 %). The case keeps its substitute. What depends on it: the lateral
-    motion and the car-body accelerations **after** the span (a limit cycle instead of a decay) and the wheelsets'
-    lateral position when they enter the span (the cycle's phase); the peak forces over the span and the flange
-    approach of the 20 m span are driven by the deviation itself (how much they would change with a stable vehicle is
-    not measured: no stable substitute was found).
+    has 163.9 km/h; on rails inclined 1:20 it is stable there (268.2 km/h) but that changes the wheel–rail pair. On
+    a track gauge of 1437 mm (ASSUMED; the plant's gauge is adjustable, its setting unpublished) it is stable at
+    250 km/h (nonlinear critical speed 274 km/h: conicity 0.043 at the centre; examples/stability/
+    manchester_vehicle1_gauge_1437.toml). The case keeps its substitute; side by side (docs/stability.md, δ = 10 mm,
+    Newmark 1 ms): the 20 m span's **flange impact** (the paper's finding) appears with the stable substitute (left
+    wheels of wheelsets 1 and 3, 3 ms each, unfiltered |Y| 88.7 kN) and not with this one (20.8 kN, no flange
+    contact); the peak Y at the right wheel of wheelset 1 is 23.2 against 20.4 kN (20 m) and 1.9 against 3.7 kN
+    (40 m), the rear car-body acceleration 1.34 against 1.18 m/s² (20 m) and 0.59 against 0.63 m/s² (40 m); after
+    the span the stable substitute decays where this one keeps a 2.46 mm limit cycle. What depends on the choice:
+    the flange impact of the 20 m span at the stated δ, the lateral motion after the span, the peak values by
+    6–50 %; the 20 m span's much higher lateral force than the 40 m span's holds with both.
 """
 from __future__ import annotations
 
