@@ -390,7 +390,7 @@ MUTANTS = [
        "N4 = Le * (xi2 - xi3)",
        "bridge projection: Hermite shape function N4 with the wrong sign",
        [T + "test_bridge.py", T + "test_bridge_moving_force_reference.py", T + "test_bridge_support_motion.py"]),
-    _m("bridge-modal-damping-factor", P + "structures/bridge.py",
+    _m("bridge-modal-damping-factor", P + "structures/modal_basis.py",
        "return np.diag(2.0 * self.damping_ratio * self.omega_rad_s)",
        "return np.diag(self.damping_ratio * self.omega_rad_s)",
        "bridge: modal damping zeta*omega instead of 2*zeta*omega",
