@@ -55,9 +55,10 @@ import numpy as np
 from numba import njit
 
 from exudyn_wheelrail.contact.creepage import creepages_core, yawed_contact_point_cs
-from exudyn_wheelrail.contact.layout import (CP_V_MIN, F_A_REL, F_B_REL, F_NR_Y, F_NR_Z, F_PENETRATION, F_PW_Y,
-                                             F_PW_Z, F_STATUS, P_E_STAR, P_MIN_CURVATURE, RES_A, RES_B, RES_ETA,
-                                             RES_N, RES_PHI, RES_STATUS, RES_XI)
+from exudyn_wheelrail.contact.layout import (CP_V_MIN, F_A_REL, F_B_REL, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
+                                             F_PENETRATION, F_PW_Y, F_PW_Z, F_STATUS, P_E_STAR, P_MIN_CURVATURE,
+                                             P_RESCAN_DISTANCE, RES_A, RES_B, RES_ETA, RES_N, RES_PHI, RES_STATUS,
+                                             RES_XI)
 from exudyn_wheelrail.contact.normal import hertz_from_penetration
 from exudyn_wheelrail.creep.registry import creep_forces
 from exudyn_wheelrail.multibody.connector_core import (contact_forces_core, wheel_forces, wheel_geometry,
@@ -354,6 +355,35 @@ def _git_rev() -> str:
         return ""
 
 
+def rescan_effect(c, qs, vs, ts, ws) -> dict:
+    """What the rescans change: the geometry search of every state from its recorded warm start, once as in the run
+    and once with rescans off (a rescan distance of 1 m); the share of the wheel-calls whose outputs differ at all
+    and whose total normal force (all slots) differs by more than 1e-9, 1e-3, 1e-2 relative, and the largest."""
+    model, state = c._model, c._state
+    warm = state[ST_WARM]
+    n = len(ts)
+    sp_all = np.empty((n,) + c._side_poses.shape)
+    for i in range(n):
+        warm[...] = ws[i]
+        c.forces(qs[i], vs[i], ts[i])
+        sp_all[i] = c._side_poses
+    params = model[MODEL_GEOMETRY][GEO_PARAMS]
+    table = model[MODEL_GEOMETRY][GEO_TABLE]
+    outs = []
+    distance = params[..., P_RESCAN_DISTANCE].copy()
+    for d in (distance, 1.0):
+        params[..., P_RESCAN_DISTANCE] = d
+        o = np.empty((n,) + state[ST_OUT].shape)
+        stage_geometry(sp_all, ws, warm, model, state, o, table, 0, n)
+        outs.append(o)
+    params[..., P_RESCAN_DISTANCE] = distance
+    a, b = (np.nansum(o[..., F_NORMAL_FORCE], axis=2) for o in outs)
+    rel = np.abs(a - b) / np.maximum(np.abs(a), 1.0)
+    return {"wheel_calls": int(rel.size), "any_output_differs": float(np.mean(np.any(outs[0] != outs[1], axis=(2, 3)))),
+            **{f"normal_force_differs_above_{t:g}": float(np.mean(rel > t)) for t in (1e-9, 1e-3, 1e-2)},
+            "largest_relative_difference": float(np.nanmax(rel))}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--stride", type=int, default=3, help="keep every n-th recorded call of the run (default 3)")
@@ -376,6 +406,8 @@ def main(argv=None):
     rest = profile(c, np.repeat(q0[None], m, 0), np.repeat(v0[None], m, 0), np.zeros(m),
                    np.repeat(c.save_warm_start()[None], m, 0), args.repeats)
     dynamics = profile(c, qs, vs, ts, ws, args.repeats)
+    rescans = rescan_effect(c, qs, vs, ts, ws)
+    print("what the rescans change (per wheel-call): " + ", ".join(f"{k} {v:.4g}" for k, v in rescans.items()))
     load_after = os.getloadavg()
     rows = [f"| {k} | {rest[k]:.2f} | {dynamics[k]:.2f} |" for k in STAGES]
     print("\n| stage | at rest [µs] | dynamics [µs] |\n|---|---:|---:|\n" + "\n".join(rows))
@@ -388,7 +420,7 @@ def main(argv=None):
         "case": f"RTRI 20 m, 250 km/h, preset {PRESET!r} ({PRESETS[PRESET].run}, {PRESETS[PRESET].contact}), "
                 "4 wheelsets",
         "units": "µs per contact call (8 wheels), CPU time of the thread, chunk minimum",
-        "rest": rest, "dynamics": dynamics,
+        "rest": rest, "dynamics": dynamics, "rescan_effect": rescans,
         "states": {"dynamics": len(ts), "recorded_calls": n_recorded, "stride": args.stride, "run_status": status,
                    "rest_calls": m},
         "load_before": list(load_before), "load_after": list(load_after),
