@@ -264,15 +264,15 @@ def interleaved_us(stages: dict, n_states: int, repeats: int) -> dict:
     return {name: total[name] / n_states * 1e6 for name in stages}
 
 
-def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
-    """Stage costs (µs per call) of the connector ``c`` over the states (module docstring)."""
+def stage_inputs(c, qs, vs, ts, ws) -> tuple:
+    """An untimed pass through the connector ``c``: every stage's inputs for every state, ``(out_all, res_all,
+    sp_all, wsd_all, rot_all)`` — the kernel's output, the results, the side poses, the wheelset data, the
+    rotations."""
     n = len(ts)
-    model, state, work, data = c._model, c._state, c._work, c._data
+    state, work = c._state, c._work
     warm, out = state[ST_WARM], state[ST_OUT]
-    f, res = c._f, c.results
-    # untimed pass through the connector: every stage's inputs for every state
     out_all = np.empty((n,) + out.shape)
-    res_all = np.empty((n,) + res.shape)
+    res_all = np.empty((n,) + c.results.shape)
     sp_all = np.empty((n,) + c._side_poses.shape)
     wsd_all = np.empty((n,) + work[W_WHEELSET].shape)
     rot_all = np.empty((n,) + work[W_ROT].shape)
@@ -280,10 +280,21 @@ def profile(c, qs, vs, ts, ws, repeats: int) -> dict:
         warm[...] = ws[i]
         c.forces(qs[i], vs[i], ts[i])
         out_all[i] = out
-        res_all[i] = res
+        res_all[i] = c.results
         sp_all[i] = c._side_poses
         wsd_all[i] = work[W_WHEELSET]
         rot_all[i] = work[W_ROT]
+    return out_all, res_all, sp_all, wsd_all, rot_all
+
+
+def profile(c, qs, vs, ts, ws, repeats: int, inputs: tuple) -> dict:
+    """Stage costs (µs per call) of the connector ``c`` over the states (module docstring); ``inputs`` those of
+    :func:`stage_inputs` for the same states."""
+    n = len(ts)
+    model, state, work, data = c._model, c._state, c._work, c._data
+    warm = state[ST_WARM]
+    f, res = c._f, c.results
+    out_all, res_all, sp_all, wsd_all, rot_all = inputs
     out_tmp = np.empty_like(out_all)
     params = model[MODEL_GEOMETRY][GEO_PARAMS]
     table = model[MODEL_GEOMETRY][GEO_TABLE]
@@ -355,18 +366,14 @@ def _git_rev() -> str:
         return ""
 
 
-def rescan_effect(c, qs, vs, ts, ws) -> dict:
-    """What the rescans change: the geometry search of every state from its recorded warm start, once as in the run
-    and once with rescans off (a rescan distance of 1 m); the share of the wheel-calls whose outputs differ at all
-    and whose total normal force (all slots) differs by more than 1e-9, 1e-3, 1e-2 relative, and the largest."""
+def rescan_effect(c, ws, sp_all) -> dict:
+    """What the rescans change: the geometry search of every state (side poses ``sp_all`` of :func:`stage_inputs`)
+    from its recorded warm start ``ws``, once as in the run and once with rescans off (a rescan distance of 1 m); the
+    share of the wheel-calls whose outputs differ at all and whose total normal force (all slots) differs by more
+    than 1e-9, 1e-3, 1e-2 relative, and the largest."""
     model, state = c._model, c._state
     warm = state[ST_WARM]
-    n = len(ts)
-    sp_all = np.empty((n,) + c._side_poses.shape)
-    for i in range(n):
-        warm[...] = ws[i]
-        c.forces(qs[i], vs[i], ts[i])
-        sp_all[i] = c._side_poses
+    n = len(ws)
     params = model[MODEL_GEOMETRY][GEO_PARAMS]
     table = model[MODEL_GEOMETRY][GEO_TABLE]
     outs = []
@@ -403,10 +410,12 @@ def main(argv=None):
     for _ in range(5):
         c.forces(q0, v0, 0.0)
     m = args.rest_calls
-    rest = profile(c, np.repeat(q0[None], m, 0), np.repeat(v0[None], m, 0), np.zeros(m),
-                   np.repeat(c.save_warm_start()[None], m, 0), args.repeats)
-    dynamics = profile(c, qs, vs, ts, ws, args.repeats)
-    rescans = rescan_effect(c, qs, vs, ts, ws)
+    rest_states = (np.repeat(q0[None], m, 0), np.repeat(v0[None], m, 0), np.zeros(m),
+                   np.repeat(c.save_warm_start()[None], m, 0))
+    rest = profile(c, *rest_states, args.repeats, stage_inputs(c, *rest_states))
+    inputs = stage_inputs(c, qs, vs, ts, ws)
+    dynamics = profile(c, qs, vs, ts, ws, args.repeats, inputs)
+    rescans = rescan_effect(c, ws, inputs[2])
     print("what the rescans change (per wheel-call): " + ", ".join(f"{k} {v:.4g}" for k, v in rescans.items()))
     load_after = os.getloadavg()
     rows = [f"| {k} | {rest[k]:.2f} | {dynamics[k]:.2f} |" for k in STAGES]

@@ -13,9 +13,10 @@ answer — a step rejected in flange contact — is tried again at half the dept
 (:func:`~.critical_speed_nonlinear.limit_cycle_run`).  The two bracketing runs start close to
 the unstable cycle's stable manifold, on either side: both approach the cycle, linger near it and then part — one
 decays, the other grows.  The unstable cycle's amplitude per wheelset is read where they linger
-(:func:`~exudyn_wheelrail.analysis.stability.linger_amplitude`: the window of
-:data:`~.critical_speed_defaults.BRANCH_WINDOW_M` where both runs' amplitudes change least, the geometric mean of
-the two there).
+(:func:`~exudyn_wheelrail.analysis.stability.linger_amplitude`: of the windows of
+:data:`~.critical_speed_defaults.BRANCH_WINDOW_M` after the wheelset has passed the bump in which the two runs are
+within :data:`~.critical_speed_defaults.BRANCH_LINGER_RATIO` of each other, the one where both change least; the
+geometric mean of the two there).
 
 What this estimate is: an amplitude of the motion near the unstable cycle, measured the way the stable branch is
 (half the peak-to-peak lateral displacement of each wheelset relative to its rails over a window), good to the
@@ -39,9 +40,10 @@ from .sweep import SerialExecutor, run_tasks
 __all__ = ["unstable_cycle", "unstable_branch", "branch_speeds"]
 
 
-def _not_found(speed_kmh: float, note: str, runs: int, t0: float) -> dict:
+def _not_found(speed_kmh: float, note: str, runs: int, t0: float | None) -> dict:
+    """A speed without an unstable cycle: why (``note``), after how many runs, since ``t0`` (None: no time)."""
     return {"speed_kmh": float(speed_kmh), "found": False, "amplitude_m": [], "depth_bracket_m": None,
-            "note": note, "runs": runs, "seconds": time.perf_counter() - t0}
+            "note": note, "runs": runs, "seconds": None if t0 is None else time.perf_counter() - t0}
 
 
 def unstable_cycle(vehicle: str, speed_kmh: float) -> dict:
@@ -120,8 +122,7 @@ def unstable_branch(vehicle: str, speeds, workers, progress=None) -> dict:
                     else str(r["note"])))
 
     def failed(i, text):
-        return {"speed_kmh": speeds[i], "found": False, "amplitude_m": [], "depth_bracket_m": None, "note": text,
-                "runs": 0, "seconds": None}
+        return _not_found(speeds[i], text, 0, None)
     executor = SerialExecutor() if workers == 1 else None
     run_tasks(executor, workers, unstable_cycle, [(vehicle, v) for v in speeds], done, failed)
     return out
