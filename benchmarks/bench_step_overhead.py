@@ -8,7 +8,9 @@ The model is the CLI's (:func:`exudyn_wheelrail.scenarios.rtri.run_rtri`'s case 
 1. **Solve times** (wall time inside ``mbs.SolveDynamic``, as the run summary's ``solve_seconds``, and the thread's
    CPU time there, less disturbed by other work on a shared machine; fresh model each, the configurations
    interleaved, median of ``--repeats``): ``cli`` — watched and recorded through the runner as the CLI runs it
-   (the connector on its compiled call path, :mod:`exudyn_wheelrail.multibody.direct_call`); ``cli_python`` — the
+   (the connector on its compiled call path, :mod:`exudyn_wheelrail.multibody.direct_call`, the states checked in
+   the compiled force call, :mod:`exudyn_wheelrail.simulation.watch`); ``cli_hook`` — the same with every state
+   checked by the runner's pre-step function (``watch=False``: as before the watch); ``cli_python`` — the
    same on the connector's Python call path (each force call through Python, as before the compiled path);
    ``no_record`` — watched, not recorded; ``unwatched`` — the same contact model solved by Exudyn without a pre-step
    function (the contact computed at every stage); ``constant_force`` — the contact model with the force user
@@ -70,7 +72,7 @@ def set_preset(name: str) -> None:
     """The preset of every model built from here on (``--preset``)."""
     global PRESET
     PRESET = name
-CONFIGS = ("cli", "cli_python", "no_record", "unwatched", "constant_force", "springs")
+CONFIGS = ("cli", "cli_hook", "cli_python", "no_record", "unwatched", "constant_force", "springs")
 #: the configurations built on the connector's Python call path (direct_call.CALL_PATH_ENV): the CLI's run as it ran
 #: before the compiled path, the constant-force floor (a Python function answering a fixed vector), and the pieces
 #: timed along the run (the compiled path has no Python piece to time)
@@ -125,13 +127,14 @@ class _SolveClock:
 def solve_once(config: str) -> tuple[float, float]:
     """``(wall, CPU)`` time [s] inside ``mbs.SolveDynamic`` of one fresh model in configuration ``config``
     (:data:`CONFIGS`)."""
-    h = build(record=config in ("cli", "cli_python"), wheel_rail="springs" if config == "springs" else "contact",
+    h = build(record=config in ("cli", "cli_hook", "cli_python"),
+              wheel_rail="springs" if config == "springs" else "contact",
               python_path=config in PYTHON_PATH)
     c = h.contact
     with _SolveClock() as clock:
-        if config in ("cli", "cli_python", "no_record", "springs"):
+        if config in ("cli", "cli_hook", "cli_python", "no_record", "springs"):
             out = R.run(h.mbs, h.run, c, speed_m_s=h.speed_m_s, recorder=h.recorder,
-                        exu_settings=(h.settings, h.solver_type))
+                        exu_settings=(h.settings, h.solver_type), watch=config != "cli_hook")
             if out.status.kind != "ok":
                 print(f"{config}: {out.status}", file=sys.stderr)
         else:
@@ -398,6 +401,9 @@ def main(argv=None):
     if "cli_python" in solves and "springs" in solves:
         result["cli_python_over_springs"] = (solves["cli_python"]["solve_seconds_median"]
                                              / solves["springs"]["solve_seconds_median"])
+    if "cli_hook" in solves and "springs" in solves:
+        result["cli_hook_over_springs"] = (solves["cli_hook"]["solve_seconds_median"]
+                                           / solves["springs"]["solve_seconds_median"])
     if "cli" in solves and "springs" in solves:
         result["cli_over_springs"] = solves["cli"]["solve_seconds_median"] / solves["springs"]["solve_seconds_median"]
         result["cli_over_springs_cpu"] = (solves["cli"]["cpu_seconds_median"]
@@ -438,6 +444,9 @@ def main(argv=None):
                   f"{s['solve_seconds_median'] / steps * 1e6:.0f} | {s['real_time_factor']:.2f} / "
                   f"{s['real_time_factor_cpu']:.2f} | {', '.join(f'{x:.3f}' for x in s['solve_seconds_all'])} |")
     if "cli_over_springs" in result:
+        if "cli_hook_over_springs" in result:
+            print(f"cli_hook / springs = {result['cli_hook_over_springs']:.2f} wall (the pre-step function checks "
+                  "every state)")
         if "cli_python_over_springs" in result:
             print(f"\ncli_python / springs = {result['cli_python_over_springs']:.2f} wall (Python call path)")
         print(f"\ncli / springs = {result['cli_over_springs']:.2f} wall, {result['cli_over_springs_cpu']:.2f} CPU "

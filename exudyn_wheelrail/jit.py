@@ -200,10 +200,19 @@ class _PackageSourceCache(FunctionCache):
         return self._cache_file.has(self._index_key(sig, target_context.codegen()))
 
 
-def compiled(func=None, **options):
+def compiled(func=None, *, refcount: bool = True, **options):
     """``@compiled`` or ``@compiled(inline="always")``: ``numba.njit(**options)`` cached on disk for the package's
     source version, typed by argument types at calls from other kernels (module docstring).  With
-    ``NUMBA_DISABLE_JIT=1`` the plain Python function."""
+    ``NUMBA_DISABLE_JIT=1`` the plain Python function.
+
+    ``refcount=False``: numba's reference counting of arrays is left out of this kernel (its ``_nrt`` option), for
+    a kernel that only reads and writes arrays it is given and creates none.  numba counts every array a kernel
+    receives or takes from a tuple with atomic increments and decrements (``NRT_incref``/``NRT_decref``, function
+    calls); a small kernel called in a loop spends as much on them as on its arithmetic (measured on the contact
+    search along the RTRI run: a third of its time).  A kernel that creates an array does not compile so."""
+    if not refcount:
+        options["_nrt"] = False
+
     def wrap(f):
         dispatcher = njit(**options)(f)
         if isinstance(dispatcher, CPUDispatcher):

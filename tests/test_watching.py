@@ -12,6 +12,7 @@ for that call (``WheelRailContact.evaluate_state``).  References, independent of
   first stage would compute from the same warm start.
 """
 import numpy as np
+import pytest
 
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
@@ -35,18 +36,29 @@ def _wheelset_coordinates(h):
     return np.concatenate([q, v])
 
 
-def test_watched_run_reuses_the_monitor_evaluation_and_equals_the_unwatched_solve():
+@pytest.mark.parametrize("in_call", [False, True])
+def test_watched_run_reuses_the_monitor_evaluation_and_equals_the_unwatched_solve(in_call):
     watched = _built()
     c = watched.contact
     out = R.run(watched.mbs, watched.run, c, speed_m_s=watched.speed_m_s, recorder=watched.recorder,
-                exu_settings=(watched.settings, watched.solver_type))
+                exu_settings=(watched.settings, watched.solver_type), watch=in_call)
     assert out.status.kind == "ok"
     steps = round(DURATION_S / watched.run.dt_s)
-    # every step's first stage took the monitor's evaluation of its start state
-    assert c.n_reused == steps
-    # computed: 4 stages per step minus the reused one, one monitor check per step plus the final state's check,
-    # and the runner's contact-frequency estimate at t0
-    assert c.n_calls == 3 * steps + (steps + 1) + 1
+    if in_call and c.call_path == "compiled":
+        # the states after the first are checked in the force call on the first stage's own evaluation
+        # (simulation/watch.py): only the first state's evaluation is kept for its stage
+        assert out.watched_states == steps - 1
+        assert c.n_reused == 1
+        # computed: 4 stages per step minus the reused one, the first and the final state's checks, and the
+        # runner's contact-frequency estimate at t0
+        assert c.n_calls == (4 * steps - 1) + 2 + 1
+    else:
+        assert out.watched_states == 0
+        # every step's first stage took the monitor's evaluation of its start state
+        assert c.n_reused == steps
+        # computed: 4 stages per step minus the reused one, one monitor check per step plus the final state's
+        # check, and the runner's contact-frequency estimate at t0
+        assert c.n_calls == 3 * steps + (steps + 1) + 1
 
     unwatched = _built()
     unwatched.mbs.SolveDynamic(unwatched.settings, solverType=unwatched.solver_type)

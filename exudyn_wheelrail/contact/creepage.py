@@ -209,7 +209,7 @@ def creepages_core(p_contact, n_rail, e_axle, p_centre, v_centre, omega_wheelset
     return xi, eta, phi, v_roll, status
 
 
-@compiled
+@compiled(refcount=False)
 def yawed_contact_point_core(p_y, p_z, n_y, n_z, c_x, c_y, c_z, roll, yaw):
     """Contact point of a yawed wheel of revolution (module docstring, last section).
 
@@ -221,7 +221,7 @@ def yawed_contact_point_core(p_y, p_z, n_y, n_z, c_x, c_y, c_z, roll, yaw):
                                   math.sin(yaw))
 
 
-@compiled
+@compiled(refcount=False)
 def yawed_contact_point_cs(p_y, p_z, n_y, n_z, c_x, c_y, c_z, cr, sr, cp, sp):
     """:func:`yawed_contact_point_core` with the cosine and sine of the roll (``cr``, ``sr``) and of the yaw
     (``cp``, ``sp``) given: the connector computes them once per wheelset for all its contacts."""

@@ -115,7 +115,7 @@ def default_params(E_star: float, global_search: bool = False, n_scan: int = 200
     return p
 
 
-@compiled
+@compiled(refcount=False)
 def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params):
     """Evaluate geometry at (s_w, s_r) and Hertz; write one output row."""
     qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheelset frame
@@ -124,7 +124,7 @@ def _fill(out, w, reg, status, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos
              cos_r, sin_r, iters, params)
 
 
-@compiled
+@compiled(refcount=False)
 def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, kr, nodes, meta, rail, wheel, c_y, c_z,
              cos_r, sin_r, iters, params):
     """:func:`_fill` with the curves already evaluated at (s_w, s_r): the wheel's point, normal z and curvature in
@@ -185,22 +185,28 @@ def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, k
         o[F_HERTZ_STATUS] = 0.0
 
 
-@compiled
+@compiled(refcount=False)
 def _no_overlap(out, w, reg):
     out[w, reg, :] = 0.0
     out[w, reg, F_STATUS] = STATUS_NO_OVERLAP
     out[w, reg, F_PENETRATION] = -np.inf
 
 
-#: rows of the scratch array of :func:`_solve_region` (N_SCRATCH_ROWS, MAX_STARTS): Newton starts and candidates
+#: rows of the scratch array of :func:`_solve_region` (N_SCRATCH_ROWS, SCRATCH_WIDTH): Newton starts and candidates
+#: (MAX_STARTS), the rail samples of the nearest-pair start (NEAREST_RAIL_SAMPLES)
 _SC_START_SW = 0
 _SC_START_SR = 1
 _SC_CAND_SW = 2
 _SC_CAND_SR = 3
 _SC_CAND_DELTA = 4
 _SC_CAND_CONVEX = 5     # 1.0: the candidate is a convex optimum
-N_SCRATCH_ROWS = 6
+_SC_RAIL_Y = 6
+_SC_RAIL_Z = 7
+N_SCRATCH_ROWS = 8
 MAX_STARTS = 8          # Newton starts and tracked candidates per region
+#: rail samples of the nearest-pair Newton start (:func:`~.search.nearest_start`): 2-3 mm apart on a rail head
+NEAREST_RAIL_SAMPLES = 50
+SCRATCH_WIDTH = max(MAX_STARTS, NEAREST_RAIL_SAMPLES)
 
 
 def scan_array(nodes, meta, n_scan: int) -> np.ndarray:
@@ -213,22 +219,23 @@ def scan_array(nodes, meta, n_scan: int) -> np.ndarray:
     return np.ascontiguousarray([scan_points(nodes, meta, c, n_scan) for c in range(meta.shape[0])])
 
 
-@compiled
+@compiled(refcount=False)
 def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan, k_max, out_sw, out_sr,
-                 points):
+                 points, scratch):
     """Newton starts: the deepest local maxima of a coarse vertical-overlap scan, or the nearest sample pair;
     ``points`` the scan's cached wheel points of the whole region (or none, :func:`scan_array`)."""
     n = overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
                       min(k_max, MAX_STARTS), out_sw, out_sr, points)
     if n == 0:
-        # a Newton start only: 50 rail samples (2-3 mm apart) are plenty
+        # a Newton start only: a few rail samples are plenty
         out_sw[0], out_sr[0] = nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                                             min(n_scan, 50))
+                                             min(n_scan, NEAREST_RAIL_SAMPLES), scratch[_SC_RAIL_Y],
+                                             scratch[_SC_RAIL_Z])
         n = 1
     return n
 
 
-@compiled
+@compiled(refcount=False)
 def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, s_lo, s_hi, r_lo, r_hi, params):
     """Convex search from (s_r, s_w).  Returns (valid, convex, s_r, s_w, penetration, iterations, geometry):
     valid = converged inside both ranges with opposing normals; convex = valid and kappa_w + kappa_r >=
@@ -253,14 +260,14 @@ def solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, warm, params, o
     ``slot2`` >= 0: the output slot for the region's second, separate contact zone (filled when a distinct convex
     optimum also penetrates and the surfaces separate between the two points), else left untouched."""
     _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, np.cos(roll), np.sin(roll), warm, params, out, w,
-                  reg, slot2, np.empty((N_SCRATCH_ROWS, MAX_STARTS)), NO_SCAN)
+                  reg, slot2, np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)), NO_SCAN)
 
 
-@compiled
+@compiled(refcount=False)
 def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, warm, params, out, w, reg, slot2,
                   scratch, scan):
     """:func:`solve_region` with the cosine and sine of the roll given, a scratch array (``N_SCRATCH_ROWS``,
-    ``MAX_STARTS``) for the Newton starts and candidates (no allocation per call) and the cached scan points
+    ``SCRATCH_WIDTH``) for the Newton starts and candidates (no allocation per call) and the cached scan points
     (:func:`scan_array` or :data:`NO_SCAN`)."""
     if wheel < 0:                                   # the profile has no such region (e.g. a flangeless cone)
         _no_overlap(out, w, reg)
@@ -295,7 +302,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
     n_starts = 1
     if scanned:
         n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                                int(params[P_N_STARTS]), starts_sw, starts_sr, points)
+                                int(params[P_N_STARTS]), starts_sw, starts_sr, points, scratch)
         warm[w, reg, W_SCAN_Y] = c_y
     else:
         starts_sw[0] = s_w
@@ -403,7 +410,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
         if scanned:
             break
         n_starts = _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi, n_scan,
-                                int(params[P_N_STARTS]), starts_sw, starts_sr, points)
+                                int(params[P_N_STARTS]), starts_sw, starts_sr, points, scratch)
         scanned = True
     # 2. concave search (maximum vertical overlap); its point is polished by Newton where the pair is convex there
     found, c_sw, c_sr, dv = vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s_hi,
@@ -498,7 +505,7 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan
     scan : the coarse scan's wheel points (:func:`scan_array`); optional, the results are the same without.
     """
     n_wheels = poses.shape[0]
-    scratch = np.empty((N_SCRATCH_ROWS, MAX_STARTS))
+    scratch = np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH))
     for w in range(n_wheels):
         rail = curve_ids[w, 0]
         if not (np.isfinite(poses[w, 0]) and np.isfinite(poses[w, 1]) and np.isfinite(poses[w, 2])):
@@ -550,9 +557,10 @@ def compile_shares(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=
     the kernel hands each callee: the same types (a curve or row index an integer, a coordinate a float, the
     scratch rows arrays of one dimension), not their values."""
     i, x = 0, 0.0
-    row = np.empty(MAX_STARTS)
+    row = np.empty(SCRATCH_WIDTH)
+    scratch = np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH))
     points = scan[0]
-    here = [(_scan_starts, (nodes, meta, mono, i, i, x, x, x, x, x, x, i, i, row, row, points)),
+    here = [(_scan_starts, (nodes, meta, mono, i, i, x, x, x, x, x, x, i, i, row, row, points, scratch)),
             (_newton_candidate, (nodes, meta, i, i, x, x, x, x, x, x, x, x, x, x, params)),
             (_fill_at, (out, i, i, i, x, x, x, x, x, x, x, x, x, x, x, nodes, meta, i, i, x, x, x, x, i, params)),
             (_fill, (out, i, i, i, x, x, nodes, meta, i, i, x, x, x, x, i, params)),

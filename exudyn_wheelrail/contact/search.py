@@ -45,7 +45,7 @@ def wheel_point(nodes, meta, curve, s, c_y, c_z, cos_r, sin_r):
     return place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r)
 
 
-@compiled
+@compiled(refcount=False)
 def convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol_m):
     """Newton iteration on the contact conditions from (s_r, s_w).
 
@@ -80,7 +80,7 @@ def convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, ma
     return False, s_r, s_w, max_iter
 
 
-@compiled
+@compiled(refcount=False)
 def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos_r, sin_r):
     """Arc length of the point of ``curve`` (placed by the pose) with side-frame lateral coordinate ``y_target``.
 
@@ -133,7 +133,7 @@ def _slope_mismatch(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, sin_r):
     return wtz * rty - rtz * wty
 
 
-@compiled
+@compiled(refcount=False)
 def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi,
                             n_wheel, n_rail, refine):
     """Maximum vertical overlap between a wheel region [s_w_lo, s_w_hi] and the rail (paper Eqs. 8–13).
@@ -223,7 +223,7 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
     return found, best_sw, best_sr, best
 
 
-@compiled
+@compiled(refcount=False)
 def normal_foot(nodes, meta, rail, p_y, p_z, s_r):
     """Arc length of the rail point whose normal passes through (p_y, p_z), by Newton from ``s_r``.
 
@@ -246,18 +246,18 @@ def normal_foot(nodes, meta, rail, p_y, p_z, s_r):
     return False, s_r
 
 
-@compiled
-def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, n_rail):
+@compiled(refcount=False)
+def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, n_rail, rail_y, rail_z):
     """Newton start when nothing overlaps vertically: the nearest pair among ``n_wheel`` wheel-region samples and
-    ``n_rail`` samples of the whole rail curve (gauge face included).  Returns ``(s_w, s_r)``."""
+    ``n_rail`` samples of the whole rail curve (gauge face included), the rail's kept in ``rail_y``, ``rail_z``
+    (at least ``n_rail`` long).  Returns ``(s_w, s_r)``."""
     first = int(meta[rail, 0])
     r_lo = nodes[first, 0]
     r_hi = nodes[first + int(meta[rail, 1]) - 1, 0]
-    rail_pts = np.empty((n_rail, 2))
     for j in range(n_rail):
         ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, r_lo + (r_hi - r_lo) * j / (n_rail - 1))
-        rail_pts[j, 0] = ry
-        rail_pts[j, 1] = rz
+        rail_y[j] = ry
+        rail_z[j] = rz
     best = 1e30
     best_sw = s_w_lo
     best_j = 0
@@ -265,7 +265,7 @@ def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_
         s_w = s_w_lo + (s_w_hi - s_w_lo) * k / (n_wheel - 1)
         wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
         for j in range(n_rail):
-            d = (wy - rail_pts[j, 0]) ** 2 + (wz - rail_pts[j, 1]) ** 2
+            d = (wy - rail_y[j]) ** 2 + (wz - rail_z[j]) ** 2
             if d < best:
                 best = d
                 best_sw = s_w
@@ -273,7 +273,7 @@ def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_
     return best_sw, r_lo + (r_hi - r_lo) * best_j / (n_rail - 1)
 
 
-@compiled
+@compiled(refcount=False)
 def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, s_r0):
     """Wheel point of the region with the smallest signed normal distance to the rail (global over the region).
 
@@ -347,7 +347,7 @@ def _normal_distance_slope(nodes, meta, rail, wheel, s_w, s_r, c_y, c_z, cos_r, 
     return ok, s_f, (wy - ry) * rny + (wz - rz) * rnz, wty * rny + wtz * rnz
 
 
-@compiled
+@compiled(refcount=False)
 def normal_penetration_ascent(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w, s_r, s_w_lo, s_w_hi, step):
     """Follow the normal penetration uphill along the wheel region [s_w_lo, s_w_hi] from the point ``s_w``.
 
@@ -484,7 +484,7 @@ def scan_points(nodes, meta, curve, n_wheel):
     return pts
 
 
-@compiled
+@compiled(refcount=False)
 def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_hi, n_wheel, k_max, out_sw,
                   out_sr, points=NO_SCAN_POINTS):
     """Up to ``k_max`` local maxima of the sampled vertical overlap along the wheel region, deepest first.

@@ -52,7 +52,7 @@ DEFAULT_NX = 48
 DEFAULT_NY = 16
 
 
-@compiled
+@compiled(refcount=False)
 def fastsim_flexibilities(a, b, shear_modulus, C11, C22, C23):
     """``(L1, L2, L3)`` of the simplified theory [m/Pa]: ``8a/(3 C11 G)``, ``8a/(3 C22 G)``,
     ``π a √(a/b)/(4 C23 G)``."""
@@ -62,7 +62,7 @@ def fastsim_flexibilities(a, b, shear_modulus, C11, C22, C23):
     return L1, L2, L3
 
 
-@compiled
+@compiled(refcount=False)
 def fastsim_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, C23, n_x, n_y, weighted=0):
     """Compiled FASTSIM on floats (no input checks): returns ``(Fx, Fy, Mz)`` on the wheel.
 

@@ -127,7 +127,7 @@ __all__ = ["shen_hedrick_elkins", "she_core", "polach", "polach_core"]
 _PI = math.pi
 
 
-@compiled
+@compiled(refcount=False)
 def she_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, C23, C33):
     """Compiled Shen–Hedrick–Elkins law on floats (no input checks): ``(Fx, Fy, Mz)`` on the wheel.
 
@@ -151,7 +151,7 @@ def she_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, C23,
     return eps * fx, eps * fy, eps * mz
 
 
-@compiled
+@compiled(refcount=False)
 def _x_over_1px2(x):
     """x/(1 + x²) for x >= 0 without overflow of x²."""
     if x <= 1.0:
@@ -159,7 +159,7 @@ def _x_over_1px2(x):
     return 1.0 / (x + 1.0 / x)
 
 
-@compiled
+@compiled(refcount=False)
 def _polach_ratio(eps, k_a, k_s):
     """Polach's saturated / linear resultant: [k_A ε/(1+(k_A ε)²) + arctan(k_S ε)] / (2ε); (k_A+k_S)/2 at ε=0."""
     if eps < 1e-150:
@@ -167,7 +167,7 @@ def _polach_ratio(eps, k_a, k_s):
     return (_x_over_1px2(k_a * eps) + math.atan(k_s * eps)) / (2.0 * eps)
 
 
-@compiled
+@compiled(refcount=False)
 def polach_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, C23, C33, k_a=1.0, k_s=1.0):
     """Compiled Polach law on floats (no input checks): ``(Fx, Fy, Mz)`` on the wheel.
 

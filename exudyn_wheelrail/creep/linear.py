@@ -98,7 +98,7 @@ _AB_NODES, _VALUES = load_table()
 _T_NODES, _COEF = _build_pchip(_AB_NODES, _VALUES)
 
 
-@compiled
+@compiled(refcount=False)
 def kalker_coefficients_core(t, nu, t_nodes, coef, nu_mode):
     """Compiled evaluation: ``t = ln(a/b)`` within ``[t_nodes[0], t_nodes[-1]]`` (clamped), ``0 <= nu <= 0.5``
     (not checked).  ``coef`` = PCHIP coefficients (4, n-1, 9); ``nu_mode`` 0 quadratic, 1 linear in ν.

@@ -142,7 +142,7 @@ def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
     return Fx, Fy, Mz, flag
 
 
-@compiled
+@compiled(refcount=False)
 def _table_law(a, b, xi, eta, phi, N, mu, G, C11, C22, tab):
     """The table of the exact theory (cubic lookup, :func:`~.table.table_core`) with its arrays ``tab``; ``None``
     (a law without a table): zero, and the lookup is not compiled (numba drops the branch on a ``None`` argument's

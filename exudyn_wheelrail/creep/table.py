@@ -161,7 +161,7 @@ def normalisation_coefficients(a_over_b, poisson):
     return c11, c22
 
 
-@compiled
+@compiled(refcount=False)
 def _scales(a, b, normal_force, mu, shear_modulus, C11, C22):
     """Factors k with ``ξ̂ = kx ξ``, ``η̂ = ky η``, ``φ̂ = kp φ`` (module docstring)."""
     f = shear_modulus * a * b / (3.0 * mu * normal_force)      # G c² / (3μN)
@@ -186,7 +186,7 @@ def physical_creepages(a, b, xi_hat, eta_hat, phi_hat, normal_force, mu, shear_m
 # ----------------------------------------------------------------------------------------------------------------
 # compiled interpolator
 # ----------------------------------------------------------------------------------------------------------------
-@compiled
+@compiled(refcount=False)
 def _interval(nodes, x):
     """Index i with nodes[i] <= x <= nodes[i+1] (clamped to the first/last interval); binary search."""
     lo = 0
@@ -204,7 +204,7 @@ def _interval(nodes, x):
     return lo
 
 
-@compiled
+@compiled(refcount=False)
 def _weights(nodes, i, x, lo_ok, hi_ok, order):
     """Weights ``(w0, w1, w2, w3)`` on nodes ``i-1 .. i+2`` for x in [nodes[i], nodes[i+1]].
 
@@ -254,7 +254,7 @@ def _weights(nodes, i, x, lo_ok, hi_ok, order):
             h11 * h * c23)
 
 
-@compiled
+@compiled(refcount=False)
 def table_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, t_nodes, t_breaks, r_nodes,
                th_nodes, ps_nodes, values, order):
     """Compiled table lookup on floats (no input checks): returns ``(Fx, Fy, Mz)`` on the wheel [N, N·m].

@@ -7,20 +7,19 @@
 What it is
 ----------
 One ``ObjectGenericODE2`` spanning all wheelset nodes (Lie-group rigid nodes, ``NodeType.RotationRotationVector``)
-with no mass of its own and a force user function.  Each right-hand-side evaluation makes **one compiled call**
-(:func:`~.connector_core.contact_forces_core`, with the model data packed once at construction) that, for every
-wheel,
+with no mass of its own (an empty mass matrix: a zero one would store n² zeros in the system's sparse mass matrix)
+and a force user function.  Each right-hand-side evaluation makes **one compiled call**
+(:func:`~.connector_core.contact_forces_core`, the model data packed once at construction) that, for every wheel,
 
 1. takes the wheelset pose from the node coordinates (position, rotation vector → rotation matrix; roll and yaw
    from the axle direction) and subtracts the rail's lateral/vertical displacement (the track irregularity) at
    the wheel's track distance ``s = s_start + V t + x`` (the model frame translates with the running speed V —
-   see :mod:`exudyn_wheelrail.rolling_stock.vehicle_builder`; ``frame="track"`` for a model whose wheelsets move along x themselves);
+   :mod:`exudyn_wheelrail.rolling_stock.vehicle_builder`; ``frame="track"``: wheelsets that move along x);
 2. solves the contact geometry and Hertz for the tread and flange regions (:mod:`exudyn_wheelrail.contact.kernel`,
    warm-started from the previous call);
-3. places each contact point in 3-D (the yaw lead of
-   :func:`~exudyn_wheelrail.contact.creepage.yawed_contact_point_core`),
-   computes the creepages from the wheelset's velocity and angular velocity and the rail material velocity
-   (``(-V, 0, 0)`` in the moving frame, zero on a fixed track) (:mod:`exudyn_wheelrail.contact.creepage`);
+3. places each contact point in 3-D (the yaw lead of :func:`~exudyn_wheelrail.contact.creepage.
+   yawed_contact_point_core`), computes the creepages (:mod:`exudyn_wheelrail.contact.creepage`) from the
+   wheelset's velocity and angular velocity and the rail material velocity (``(-V, 0, 0)`` in the moving frame);
 4. evaluates the creep law (by default the USETAB-style table of Kalker's exact theory; FASTSIM or a cheap law
    on request: :mod:`exudyn_wheelrail.creep.registry`) in the contact frame;
 5. applies ``N n_rail + Fx x_c + Fy y_c`` at the contact point and the spin moment ``Mz z_c`` to the wheelset
@@ -42,11 +41,10 @@ A structure under the rails (``structure=``)
 --------------------------------------------
 What moves the rails — a bridge deck or a flexible track, both an
 :class:`~exudyn_wheelrail.structures.bridge_exudyn.ExudynBridge` — makes the object also span the structure's modal
-node:
-coordinates ``[6 per wheelset..., n_m modal]``, forces ``[force, torque per wheelset..., Q]``, still one compiled
-call per evaluation.  The deck under each wheelset moves its rails (displacement, roll and material velocity), and
-minus the wheel forces are projected on the modes, ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)`` — the kinematics, frames and
-signs are those of :mod:`exudyn_wheelrail.structures.deck_kinematics`.  Wheels off the deck see the rigid track.
+node: coordinates ``[6 per wheelset..., n_m modal]``, forces ``[force, torque per wheelset..., Q]``, still one
+compiled call per evaluation.  The deck under each wheelset moves its rails (displacement, roll and material
+velocity), and minus the wheel forces are projected on the modes, ``Q += Φ(s_k)^T (F_ry, F_rz, M_rx)`` (frames and
+signs: :mod:`exudyn_wheelrail.structures.deck_kinematics`).  Wheels off the deck see the rigid track.
 A lateral support motion of the bridge (``bridge.add_support_motion``) moves the rails of every wheelset by the
 ground displacement and velocity ``y_g(t)``, ``ẏ_g(t)``, evaluated once per force or Jacobian call.
 
@@ -61,11 +59,9 @@ Outputs
 ``RES_*`` of :mod:`exudyn_wheelrail.contact.layout` (also importable from here).  Forces are **on the wheel**;
 ``RES_F_TRACK_*`` is the total contact force (normal + creep) in the track/model frame (y right, z down: a wheel
 load Q is ``-RES_F_TRACK_Z``); ``RES_DECK_*``, ``RES_ON_DECK``, ``RES_GROUND_*`` the deck offset used (relative to
-the supports) and the ground motion.  :meth:`~WheelRailContact.kernel_output` is the contact search's own output
-behind them; :meth:`~WheelRailContact.modal_forces_N`, :meth:`~WheelRailContact.rail_forces_N`,
-:meth:`~WheelRailContact.deck_state` and :meth:`~WheelRailContact.wheelset_rail_pose` the bridge coupling and the
-pose relative to the rails.  Invalid states (NaN coordinates) raise :class:`ContactStateError` naming the wheelset
-and the time, instead of returning numbers.
+the supports) and the ground motion.  ``kernel_output``: the contact search's own output; ``modal_forces_N``,
+``rail_forces_N``, ``deck_state``, ``wheelset_rail_pose``: the bridge coupling and the pose relative to the rails.
+Invalid states (NaN coordinates) raise :class:`ContactStateError` naming the wheelset and the time.
 """
 from __future__ import annotations
 
@@ -312,7 +308,7 @@ class WheelRailContact:
                                      self._state_error, name, structure)   # forces_step without Python
         node_numbers = self.nodes_exu + ([structure.modal_node] if structure is not None else [])
         user_function = self._direct.function if self._direct is not None else self._force_uf
-        kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=np.zeros((n, n)),
+        kwargs = dict(name=name, nodeNumbers=node_numbers, massMatrix=exu.MatrixContainer(),
                       forceUserFunction=user_function, visualization=VObjectGenericODE2(show=False))
         if jacobian == "numerical":
             kwargs["jacobianUserFunction"] = self._jacobian_uf
@@ -351,6 +347,11 @@ class WheelRailContact:
         ``"python"`` (:meth:`forces`; :mod:`.direct_call`).  Asking may compile it (as its first call would)."""
         direct = self._direct
         return "compiled" if direct is not None and direct.bind() and direct.counts()[1] == 0 else "python"
+
+    @property
+    def compiled_step(self) -> tuple:
+        """``(DirectCall, CallData)`` of the compiled path (:mod:`.direct_call`; None, CallData: Python path)."""
+        return self._direct, self._call
 
     def compiled_path_counts(self) -> tuple[int, int]:
         """``(calls, of which through Python)`` of the compiled path's native function ((0, 0) without one)."""
@@ -406,8 +407,7 @@ class WheelRailContact:
         return float(y), float(v)
 
     def _args(self, q, q_t, t):
-        """The leading arguments ``(q, q_t, t, data)`` of the compiled force and Jacobian calls
-        (:mod:`.connector_core`); ``data`` is built once at construction."""
+        """``(q, q_t, t, data)`` of the compiled force and Jacobian calls (:mod:`.connector_core`)."""
         return q, q_t, t, self._data
 
     def forces(self, q, q_t, t: float) -> np.ndarray:

@@ -62,7 +62,7 @@ from .rotations import rotation_from_vector, rotation_vector_from_matrix
 __all__ = ["contact_forces_core", "contact_jacobian_core", "compile_shares", "wheelset_poses", "wheel_forces"]
 
 
-@compiled
+@compiled(refcount=False)
 def wheelset_poses(q, q_t, t, model, state, work):
     """Stage 1: per wheelset the rotation, roll and yaw (``work``), the track distance, the rails under it
     (irregularity, ground motion, deck state) and the pose of each wheel relative to its rail (``side_poses``).
@@ -132,7 +132,7 @@ def wheelset_poses(q, q_t, t, model, state, work):
     return bad
 
 
-@compiled
+@compiled(refcount=False)
 def _side_poses(k, p_y, p_z, roll, y_r, z_r, th, wk, side_poses):
     """The rails under wheelset k at ``(y_r, z_r)`` rolled by ``th`` into ``wk`` and the pose of each wheel
     relative to its rail into ``side_poses`` (the axle centre at ``(p_y, p_z)`` with ``roll``; each side frame's
@@ -153,7 +153,7 @@ def _side_poses(k, p_y, p_z, roll, y_r, z_r, th, wk, side_poses):
     side_poses[2 * k + 1, 2] = -roll_rel
 
 
-@compiled
+@compiled(refcount=False)
 def _frame_rate(pieces, par, s, speed, pitch, lay):
     """Angular velocity (track-frame components) of the local track frame at s moving with ``speed`` (module
     docstring, curved track); ``pieces = None`` (straight track): zero, and the layout is not compiled."""
@@ -167,7 +167,7 @@ def _frame_rate(pieces, par, s, speed, pitch, lay):
             speed * k * c_th * math.cos(phi))
 
 
-@compiled
+@compiled(refcount=False)
 def wheel_forces(q, q_t, model, state, work, f_out, res):
     """Stage 3, after :func:`wheelset_poses` and the geometry (``out``): per contact the point in 3-D (yaw lead),
     the creepages, the creep law and the force on the wheelset; the results ``res``, the forces ``f_out``, the
@@ -422,7 +422,7 @@ def wheel_geometry(model, poses, warm, out, stats, table):
 SERIES_REGEOMETRY_M = 2.0e-5
 
 
-@compiled
+@compiled(refcount=False)
 def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
     """Move the rails under wheelset k by ``(du_y, du_z, du_th)`` (deck state and the wheels' poses)."""
     ds = state[ST_DECK_STATE][k]
@@ -434,7 +434,7 @@ def _shift_rails(k, du_y, du_z, du_th, q, p_ref, state, work):
                 wk[WS_Z_RAIL] + du_z, math.atan2(wk[WS_SIN_TH], wk[WS_COS_TH]) + du_th, wk, state[ST_SIDE_POSES])
 
 
-@compiled
+@compiled(refcount=False)
 def _predict_residual(q, model, state, work):
     """Before the geometry, with a residual flexibility: the rails of every wheelset on the structure moved by the
     residual displacement ``G_res F`` of its predicted rail load (deck arrays' ``rail_load_prediction``; zero: not
@@ -465,7 +465,7 @@ def _predict_residual(q, model, state, work):
         _shift_rails(k, u_y, u_z, u_th, q, p_ref, state, work)
 
 
-@compiled
+@compiled(refcount=False)
 def _move_rails(q, model, state, work):
     """Move the rails of every wheelset from where the geometry was found (``work[W_RESIDUAL][:, :3]``) to the
     solve's residual displacement (``work[W_RESIDUAL][:, 3:]``)."""
@@ -482,7 +482,7 @@ def _move_rails(q, model, state, work):
         store[k, 2] = store[k, 5]
 
 
-@compiled
+@compiled(refcount=False)
 def series_compliance(state, work, final):
     """Stage 2b, after the geometry, with a structure's residual flexibility
     (:mod:`~exudyn_wheelrail.structures.deck_kinematics`): the contacts of every wheelset on the structure in series

@@ -176,11 +176,12 @@ NATIVE_STEP_TYPE = ("i32 (i64*, {i8*, i32, i8*, i8*, i32}**, i8*, i8*, i64, i64,
 NATIVE_ARRAY_FIELDS = ("meminfo", "parent", "nitems", "itemsize", "data", "shape", "strides")
 
 
-def native_step_address(entry) -> int | None:
-    """The address of numba's native function behind ``entry`` (a compiled specialization of :func:`forces_step`,
-    :func:`~.core_data.compiled_for`), or None when its calling convention is not the one the native module
-    assumes (:data:`NATIVE_STEP_TYPE`, :data:`NATIVE_ARRAY_FIELDS`)."""
-    overloads = getattr(forces_step, "overloads", None)
+def native_step_address(entry, dispatcher=None) -> int | None:
+    """The address of numba's native function behind ``entry`` (a compiled specialization of ``dispatcher``,
+    default :func:`forces_step`, or of another step of its arguments and result whose last argument is a
+    structref; :func:`~.core_data.compiled_for`), or None when its calling convention is not the one the native
+    module assumes (:data:`NATIVE_STEP_TYPE`, :data:`NATIVE_ARRAY_FIELDS`)."""
+    overloads = getattr(forces_step if dispatcher is None else dispatcher, "overloads", None)
     if overloads is None:
         return None
     cres = next((c for c in overloads.values() if c.entry_point is entry), None)
@@ -272,6 +273,7 @@ class DirectCall:
         self.slot = -1
         self.function = None
         self.bound = None                 # None: not tried yet; True: compiled; False: the Python path
+        self._context = None              # the context of a step bound by bind_step (None: forces_step's)
         self._call = call                 # kept alive: the slot holds its meminfo and its force vector
         self._f = f
         self._compiled_step = compiled_step
@@ -301,10 +303,34 @@ class DirectCall:
             self.bound = address is not None
         return bool(self.bound)
 
+    def bind_step(self, entry, dispatcher, context) -> bool:
+        """Bind the slot to another compiled step (``entry``, a specialization of ``dispatcher`` with
+        :func:`forces_step`'s native type whose last argument, the structref ``context``, leads to this slot's
+        :class:`CallData`, e.g. a run's watch around :func:`forces_step`); whether it is bound (False: the slot
+        is not on the compiled path, or the step's convention differs; nothing changed).  :meth:`bind_plain` puts
+        :func:`forces_step` back."""
+        if not self.bind():
+            return False
+        address = native_step_address(entry, dispatcher)
+        if address is None:
+            return False
+        self._context = context           # kept alive while the slot holds its meminfo
+        _native.bind(self.slot, address, meminfo_address(context), self._f.ctypes.data)
+        return True
+
+    def bind_plain(self) -> None:
+        """Bind the slot to :func:`forces_step` again after :meth:`bind_step`."""
+        if self._context is None:
+            return
+        _native.bind(self.slot, native_step_address(self._compiled_step()), meminfo_address(self._call),
+                     self._f.ctypes.data)
+        self._context = None
+
     def take_python_path(self) -> None:
         """From now on the slot's function calls the connector's Python path (e.g. a support motion was added,
         which only the Python path evaluates)."""
         self.bound = False
+        self._context = None
         if self.available:
             _native.unbind(self.slot)
 

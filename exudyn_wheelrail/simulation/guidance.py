@@ -137,6 +137,15 @@ class FlangeClimbCheck:
             setattr(self, name, new)
         self._idx[I_HEAD] = 0
 
+    def watch_arrays(self, dt_s: float) -> tuple | None:
+        """``(idx, ring_t, ring_y, ring_q, sums, max_quotient, first)`` for the compiled force call's watch
+        (:mod:`.watch`), the ring grown to hold every state of a window at steps of ``dt_s``; None when inactive."""
+        if not self.active:
+            return None
+        while self._ring_t.shape[0] < self.window_s / dt_s + 4:
+            self._grow()
+        return self._idx, self._ring_t, self._ring_y, self._ring_q, self._sums, self.max_quotient, self._first
+
     def __call__(self, contact, t: float) -> Status | None:
         if not self.active:
             return None
@@ -144,8 +153,11 @@ class FlangeClimbCheck:
             self._grow()
         w = self._window(float(t), contact.results, self.window_s, self.nadal_limit, self._idx, self._ring_t,
                          self._ring_y, self._ring_q, self._sums, self.max_quotient, self._first)
-        if w < 0:
-            return None
+        return self.status_of(w, t) if w >= 0 else None
+
+    def status_of(self, w: int, t: float) -> Status:
+        """The derailment of wheel ``w`` whose window quotient exceeded Nadal's limit at the state of time ``t``
+        (the window's sums still those of that state)."""
         k = w // 2
         quotient = self._sums[0, w] / self._sums[1, w]
         n_states = int(self._idx[I_COUNT])

@@ -17,7 +17,8 @@ system vectors.  An explicit step's first stage evaluates the contact at that sa
 the monitor's evaluation instead of computing it again (bit-identical; ``tests/test_watching.py``), so watching
 costs no contact call of its own with an explicit solver.  When a stopping status is found the function returns ``False``: Exudyn (1.13.6,
 checked in ``tests/stress``) then still completes the step it was about to take and stops, so the solve ends one
-step after the detected state, at ``mbs.systemData.GetTime()``.
+step after the detected state, at ``mbs.systemData.GetTime()``.  (The runner checks the states of an explicit
+run on the compiled call path in the force call itself, with the same compiled checks: :mod:`.watch`.)
 :func:`~.runner.run_monitored` wraps ``SolveDynamic``: it
 catches :class:`~exudyn_wheelrail.multibody.connector.ContactStateError` (non-finite coordinates; Exudyn re-raises a user function's exception
 with it as the ``__cause__``) and any other solver failure, checks the final state and returns ``(status, t_end)``.
@@ -448,6 +449,44 @@ class RunMonitor(StabilityEstimate):
             self._events_of_state(t, q, v)
         if self.n_checks == 1 and self._inertia is not None and self.status is None:
             self._creep_stability(t, q)
+        return self.status
+
+    # -- the same checks in the compiled force call (:mod:`.watch`) ----------------------------------------------
+    def unwatchable(self) -> str | None:
+        """Why this monitor's per-state work cannot run in the compiled force call (:mod:`.watch`), or None."""
+        if self.time_limit_s is not None:
+            return "a wall-clock limit"
+        if self._pose_arrays is None:
+            return "a contact without pose arrays"
+        if self._phi_ws.shape[2]:
+            return "a structure under the rails"
+        return None
+
+    def watch_arrays(self) -> tuple:
+        """``(out, side_poses, half_gauge, poses, records, hist)``: the arrays the compiled check of a state takes
+        (:func:`.monitor_core.monitor_state`), the same objects the Python path passes."""
+        return (self._out, *self._pose_arrays, self._poses, self._records, self._hist)
+
+    @property
+    def history_rows(self) -> int:
+        """Rows of the history so far."""
+        return self._hist_n
+
+    def reserve_history(self, states: int) -> None:
+        """Room for ``states`` more rows of the history (kept: no row is added by growing it while it is watched)."""
+        if self.keep_history and self._hist.shape[0] < self._hist_n + states:
+            grown = np.zeros((self._hist_n + states, self._hist.shape[1]))
+            grown[:self._hist_n] = self._hist[:self._hist_n]
+            self._hist = grown
+
+    def take_watched(self, n_checks: int, t_last: float, hist_rows: int) -> None:
+        """The counters after states checked in the compiled force call."""
+        self.n_checks, self.t_last, self._hist_n = int(n_checks), float(t_last), int(hist_rows)
+
+    def events_of_state(self, t: float, q, v) -> Status | None:
+        """The events of a state the compiled call checked and marked (as :meth:`check` builds them; the records
+        still hold that state); returns the stopping status, or None."""
+        self._events_of_state(t, q, v)
         return self.status
 
     def _events_of_state(self, t, q, v):

@@ -93,6 +93,30 @@ class Recorder:
         self._data[self.n] = row
         self.n += 1
 
+    def watched_columns(self, contact, reserve: int = 0):
+        """For the compiled force call's watch (:mod:`.watch`) of ``contact``: ``(table, first wheel column, first
+        wheelset column)`` (-1: not recorded) with room for ``reserve`` more rows — the table it writes the rows of
+        those probes into (:meth:`take_watched` then counts them) —, or None when a probe fills its columns from
+        Python at every state (or reads another contact)."""
+        cols = {"wheels": -1, "wheelset_lateral": -1}
+        for p, sl in zip(self.probes, self._slices):
+            if hasattr(p, "fill_rows"):
+                continue
+            kind = getattr(p, "watched", None)
+            if kind not in cols or p.c is not contact:
+                return None
+            cols[kind] = sl.start
+        if reserve and self._data.shape[0] < self.n + reserve:
+            grown = np.full((self.n + int(reserve), self._data.shape[1]), np.nan)
+            grown[:self.n] = self._data[:self.n]
+            self._data = grown
+        return self._data, cols["wheels"], cols["wheelset_lateral"]
+
+    def take_watched(self, n: int) -> None:
+        """The table holds ``n`` rows (written by the watch, :meth:`watched_columns`)."""
+        self.n = int(n)
+        self._n_complete = min(self._n_complete, self.n)
+
     def complete(self) -> None:
         """Fill the ``fill_rows`` columns of the rows recorded since the last call."""
         if self._n_complete < self.n:
@@ -190,6 +214,7 @@ class _Wheels:
                         + [("flange", f"flange_w{j + 1}_{s}") for j, s in wheels]
                         + [("contact_angle", f"contact_angle_w{j + 1}_{s}_rad") for j, s in wheels])
         wheel_columns(np.zeros_like(contact.results), np.zeros(len(self.columns)))  # loaded here, not in the solve
+        self.watched = "wheels"                        # the watch (watch.py) fills these columns in its call
 
     def fill(self, mbs, t, out):
         wheel_columns(self.c.results, out)
@@ -208,6 +233,7 @@ class _WheelsetLateral:
             side_poses, half_gauge = pose_arrays()
             self._c_y, self._half_gauge = side_poses[0::2, 0], half_gauge
             self.fill = self._fill_views
+            self.watched = "wheelset_lateral"          # as the watch (watch.py) fills them in its call
 
     def fill(self, mbs, t, out):
         out[:] = self.c.wheelset_rail_pose()[:, 0]

@@ -21,7 +21,14 @@ For every new accepted state, in this order:
 4. the recorder (:mod:`.recorder`; the states on its grid, every ``record_every`` steps), then the progress bar.
 
 The final state (after the last step, which Exudyn does not pass to the pre-step function) is checked and
-recorded after the solve.  Exceptions of ``SolveDynamic`` (Exudyn re-raises a user function's exception as
+recorded after the solve.
+
+**The watch.**  On the connector's compiled call path with an explicit solver the states after the first are
+checked in the compiled force call instead, on the first stage's own evaluation (:mod:`.watch`: the same checks,
+the same numbers, no Python per step); the pre-step function then only builds the events of a state the watch
+marked and stops the run for them (one step later than above: the solve ends two steps after the stopping state).
+A run the watch cannot take (:func:`.watch.unwatchable`), or ``solve(..., watch=False)``, is checked as above.
+:attr:`RunOutcome.watched_states` says how many states the watch checked.  Exceptions of ``SolveDynamic`` (Exudyn re-raises a user function's exception as
 "Error in Python USER FUNCTION", the cause kept) and a solve that stops early are caught; the outcome is a
 :class:`RunOutcome` whose :attr:`RunOutcome.status` is a :class:`~.status.RunStatus` (:mod:`.status`).
 
@@ -43,6 +50,7 @@ prints it as one line ``warning: ...``): the run would settle into a false stead
 """
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -59,6 +67,7 @@ from .monitor_records import Status, contact_state_error, status_from_state_erro
 from .settings import RunSettings
 from .solvers import METHODS, RESOLUTION_LIMIT, RK44
 from .step_checks import check_explicit_step
+from .watch import Watch, unwatchable
 
 __all__ = ["RunOutcome", "solve", "run", "run_monitored", "contact_omega_rad_s"]
 
@@ -84,6 +93,8 @@ class RunOutcome:
     max_omega_h: float = 0.0
     monitor: RunMonitor | None = None
     guidance: FlangeClimbCheck | None = None
+    #: states checked in the compiled force call (:mod:`.watch`; 0: every state by the pre-step function)
+    watched_states: int = 0
 
     @property
     def omega_rad_s(self) -> float:
@@ -183,9 +194,11 @@ def _initial_estimates(mbs, contact, t_s: float = 0.0) -> tuple[list[float], lis
 class _Hook:
     """The pre-step function (module docstring)."""
 
-    def __init__(self, monitor, guidance, recorder, record_every, progress, dt_s, t0_s, grid_check, user_function):
+    def __init__(self, monitor, guidance, recorder, record_every, progress, dt_s, t0_s, grid_check, user_function,
+                 watch=None):
         self.monitor, self.guidance, self.recorder, self.progress = monitor, guidance, recorder, progress
         self.user_function = user_function
+        self.watch = watch                  # the states after the first are checked in the compiled force call
         self.every = int(record_every)
         self.dt = float(dt_s)
         self.t_tol = 1e-9 * self.dt         # a new step attempt ends more than this after the previous one
@@ -201,6 +214,8 @@ class _Hook:
 
     def __call__(self, mbs, t):
         t = float(t)
+        if self.watch is not None and self.t_state is not None:
+            return self.watched()
         if self.t_state is None or t > self.t_pending + self.t_tol:
             t_state = self.t_pending        # the previous attempt was accepted (or this is the first call)
         else:
@@ -212,10 +227,29 @@ class _Hook:
             go = self.state(mbs, t_state)
             if go and self.user_function is not None:   # the contact's results are those of the checked state
                 go = bool(self.user_function(mbs, t))
+            if self.watch is not None:
+                self.watch.first_state_done(t_state, go)
             return go
         except Exception as exc:            # a failing probe must not hide inside Exudyn's error
             self.error = exc
             return False
+
+    def watched(self, finish: bool = False) -> bool:
+        """With the watch: the state it marked for Python, if any (:meth:`.watch.Watch.handle`; after the solve
+        ``finish``: :meth:`.watch.Watch.finish`), the progress bar; False: stop."""
+        w = self.watch
+        try:
+            st = w.finish() if finish else (w.handle() if w.pending else None)
+        except Exception as exc:            # as a failing probe: not hidden inside Exudyn's error
+            self.error = exc
+            return False
+        if st is not None and self.monitor.status is None:
+            self.stop = st                  # the flange-climb window's (the monitor keeps its own)
+        if w.t_checked > (self.t_state if self.t_state is not None else -math.inf):
+            self.t_state = w.t_checked
+        if self.progress is not None and self.t_state is not None:
+            self.progress.update(self.t_state)
+        return st is None
 
     def state(self, mbs, t_state: float) -> bool:
         """Handle a new accepted state; False: stop."""
@@ -255,19 +289,27 @@ class _Hook:
 
 def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, solver: str, guidance=None,
           recorder=None, record_every: int = 1, progress=None, grid_check: bool = False, contact_omega=(),
-          attach_monitor: bool = True, user_function=None) -> RunOutcome:
+          attach_monitor: bool = True, user_function=None, watch: bool = True) -> RunOutcome:
     """``mbs.SolveDynamic(sim, solverType=solver_type)`` watched by ``monitor`` (``mbs`` assembled; None only for a
     model without wheel–rail contact) with the pre-step function of the module docstring; ``solver`` the name
     (:data:`~.settings.SOLVERS`).  ``attach_monitor=False`` keeps an attachment the caller made
     (:meth:`~exudyn_wheelrail.simulation.monitor.RunMonitor.attach`); ``user_function(mbs, t)`` (Exudyn's
-    arguments; a bool, False stops) is called after the checks of every new state.  Returns the
-    :class:`RunOutcome`."""
+    arguments; a bool, False stops) is called after the checks of every new state.  ``watch``: check the states
+    in the compiled force call where the run allows it (:mod:`.watch`; False: always the pre-step function).
+    Returns the :class:`RunOutcome`."""
     ti = sim.timeIntegration
     t0 = float(ti.startTime)
     t_goal = float(ti.endTime)
     if monitor is not None and attach_monitor:
         monitor.attach(mbs, t_start_s=t0, rk44_dt_s=dt_s if solver == "rk44" else None)
-    hook = _Hook(monitor, guidance, recorder, record_every, progress, dt_s, t0, grid_check, user_function)
+    watcher = None
+    if watch and monitor is not None and unwatchable(contact=monitor.contact, monitor=monitor, recorder=recorder,
+                                                     solver_explicit=not METHODS[solver].implicit,
+                                                     user_function=user_function) is None:
+        watcher = Watch(monitor.contact, monitor, guidance, recorder, dt_s=dt_s, t0_s=t0,
+                        n_steps=int(ti.numberOfSteps), record_every=record_every)
+        watcher = watcher if watcher.start() else None
+    hook = _Hook(monitor, guidance, recorder, record_every, progress, dt_s, t0, grid_check, user_function, watcher)
     mbs.SetPreStepUserFunction(hook)
     out = RunOutcome(stop=None, t_end_s=t0, t_goal_s=t_goal, dt_s=float(dt_s), solver=solver, solve_seconds=0.0,
                      monitor=monitor, guidance=guidance, contact_omega_rad_s=list(contact_omega))
@@ -287,6 +329,9 @@ def solve(mbs, sim, solver_type, monitor: RunMonitor | None, *, dt_s: float, sol
         exc = e
     finally:
         exu_solver.solverCheckMemoryAllocationsThreshold = threshold
+        if watcher is not None:
+            hook.watched(finish=True)
+            out.watched_states = watcher.checks
     out.solve_seconds = time.perf_counter() - t_start
     out.t_end_s = float(mbs.systemData.GetTime())
     out.rejected_steps = hook.rejected
@@ -385,7 +430,7 @@ def _check_flexible_track_step(contact, settings: RunSettings, creep_rate_1_s=()
 
 
 def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None, progress=None,
-        exu_settings=None, user_function=None) -> RunOutcome:
+        exu_settings=None, user_function=None, watch: bool = True) -> RunOutcome:
     """Run ``mbs`` (assembled) with ``settings`` (duration resolved), watched by a new
     :class:`~exudyn_wheelrail.simulation.monitor.RunMonitor` of ``contact`` and the flange-climb check
     (``speed_m_s`` the running speed; ``contact`` None only for the wheel–rail springs baseline, which has nothing
@@ -393,7 +438,7 @@ def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None,
     ``progress``: a :class:`~.recorder.ProgressBar` or None; ``exu_settings``: ``(SimulationSettings,
     DynamicSolverType)`` of these settings when the caller changed them (a viewer slows the solve), else built
     here; ``user_function(mbs, t)``: called after the checks of every state (:func:`solve`), e.g. to update loads
-    that follow the track."""
+    that follow the track; ``watch``: as :func:`solve`."""
     sim, solver_type = exu_settings if exu_settings is not None else run_solver_settings(settings)
     monitor = guidance = None
     omega = []
@@ -406,7 +451,7 @@ def run(mbs, settings: RunSettings, contact, *, speed_m_s: float, recorder=None,
     return solve(mbs, sim, solver_type, monitor, dt_s=float(settings.dt_s), solver=settings.solver,
                  guidance=guidance, recorder=recorder if settings.record else None,
                  record_every=settings.record_every, progress=progress, grid_check=True, contact_omega=omega,
-                 user_function=user_function)
+                 user_function=user_function, watch=watch)
 
 
 def _solver_type(solver):

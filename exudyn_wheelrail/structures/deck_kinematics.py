@@ -107,7 +107,7 @@ def deck_arrays(bridge, n_wheelsets: int = 0) -> tuple[tuple, int]:
         int(bridge.modes.n_modes)
 
 
-@compiled
+@compiled(refcount=False)
 def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work, state):
     """Deck state under a wheelset at track distance ``s_m`` into ``state`` (:data:`N_DECK_STATE`): ``Φ(s) q`` and
     ``Φ(s) q̇`` of the modal coordinates ``q_m``, ``q_m_t`` plus the increments ``delta`` (6; the Jacobian's
@@ -129,7 +129,7 @@ def deck_state_under(s_m, speed_m_s, deck, q_m, q_m_t, delta, phi, work, state):
     return on
 
 
-@compiled
+@compiled(refcount=False)
 def _shapes_under(s_m, par, elem_x0, elem_len, elem_nodes, node_shapes, q_m, q_m_t, phi, work):
     """``Φ(s)`` into ``phi`` (no slopes: the convective rate is not used here), then ``Φ q`` and ``Φ q̇`` into
     ``work``; returns True on the deck.  ``node_shapes = None`` (no structure): False, and nothing of the shape
@@ -142,7 +142,7 @@ def _shapes_under(s_m, par, elem_x0, elem_len, elem_nodes, node_shapes, q_m, q_m
     return on
 
 
-@compiled
+@compiled(refcount=False)
 def residual_at(s_m, start_m, elem_x0, elem_len, elem_nodes, node_residual, out):
     """The residual flexibility ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ`` at track distance ``s_m`` into ``out`` (6,):
     linear between the table's points (zero off the table or without a residual table)."""
@@ -169,14 +169,14 @@ SC_AY, SC_AZ, SC_AT, SC_N_G, SC_DELTA_G, SC_DN_G, SC_N, SC_RATIO, SC_DN = range(
 N_SC = 9
 
 
-@compiled
+@compiled(refcount=False)
 def _g_times(g, x0, x1, x2, out):
     out[0] = g[0] * x0 + g[3] * x1 + g[4] * x2
     out[1] = g[3] * x0 + g[1] * x1 + g[5] * x2
     out[2] = g[4] * x0 + g[5] * x1 + g[2] * x2
 
 
-@compiled
+@compiled(refcount=False)
 def series_contacts(g, contacts, n, u0, work):
     """The contacts ``contacts[:n]`` (rows :data:`N_SC`) of one wheelset on rails with the residual flexibility
     ``g`` (6: ``G_yy, G_zz, G_θθ, G_yz, G_yθ, G_zθ``; module docstring): the rails' residual displacement u (3,
@@ -252,7 +252,7 @@ def series_contacts(g, contacts, n, u0, work):
     return it
 
 
-@compiled
+@compiled(refcount=False)
 def rails_under(y_irr_m, z_irr_m, y_ground_m, state):
     """``(y_r, z_r, θ)``: the rails' centre line at rail top (irregularity + ground + deck) [m] and its roll [rad]
     under a wheelset with deck ``state``."""

@@ -97,7 +97,7 @@ ROW_COLUMNS = 8  # [kind, channel, p0 ... p5]
 
 
 # ------------------------------------------------------------------------------------------ compiled kernels
-@compiled
+@compiled(refcount=False)
 def _transition(u, h, span, delta):
     """Left transition of the span shape at u in [-h, h] (u from the span start): value, d/ds, d2/ds2."""
     lt = 2.0 * h
@@ -123,7 +123,7 @@ def _transition(u, h, span, delta):
     return value, slope, curvature
 
 
-@compiled
+@compiled(refcount=False)
 def span_deflection_at(s, start, span, delta, transition):
     """Span shape (value, d/ds, d2/ds2) at s: δ sin(π (s - start)/span) with C2 end transitions."""
     u = s - start
@@ -141,7 +141,7 @@ def span_deflection_at(s, start, span, delta, transition):
     return delta * math.sin(w * u), delta * w * math.cos(w * u), -delta * w * w * math.sin(w * u)
 
 
-@compiled
+@compiled(refcount=False)
 def _table_at(knots, coefs, k0, n, c0, s):
     """Piecewise cubic (coefficients c3, c2, c1, c0 per interval, in powers of s - s_i) at s; held outside."""
     if s <= knots[k0]:
@@ -160,7 +160,7 @@ def _table_at(knots, coefs, k0, n, c0, s):
             6.0 * c[0] * d + 2.0 * c[1])
 
 
-@compiled
+@compiled(refcount=False)
 def _component_at(rows, r, knots, coefs, s):
     """Value, d/ds and d2/ds2 of the packed component ``rows[r]`` at s."""
     kind = int(rows[r, 0])
@@ -206,7 +206,7 @@ def _component_at(rows, r, knots, coefs, s):
     return 0.0, 0.0, 0.0
 
 
-@compiled
+@compiled(refcount=False)
 def irregularity_channels_at(rows, knots, coefs, s):
     """The four irregularity channels of the packed components at track distance s, each with d/ds and d2/ds2.
 
@@ -238,7 +238,7 @@ def irregularity_channels_at(rows, knots, coefs, s):
     return y, y1, y2, z, z1, z2, c, c1, c2, g, g1, g2
 
 
-@compiled
+@compiled(refcount=False)
 def irregularity_at(rows, knots, coefs, s):
     """Alignment and vertical level of the packed components at track distance s: ``(y, dy/ds, d2y/ds2, z, dz/ds,
     d2z/ds2)`` (m, -, 1/m), the first six entries of :func:`irregularity_channels_at`."""
