@@ -65,9 +65,9 @@ from exudyn_wheelrail.multibody.connector_core import (contact_forces_core, whee
                                                        wheelset_poses)
 from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, GEO_TABLE, MODEL_CREEP, MODEL_GEOMETRY, ST_DECK_STATE,
                                                   ST_OUT, ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL,
-                                                  V_P_CENTRE, V_P_CONTACT, V_V_CENTRE, V_V_RAIL, W_FRAME, W_ROT, W_VEC,
-                                                  W_WHEELSET, WS_COS_ROLL, WS_COS_TH, WS_COS_YAW, WS_SIN_ROLL,
-                                                  WS_SIN_TH, WS_SIN_YAW, WS_Y_RAIL, WS_Z_RAIL)
+                                                  V_P_CENTRE, V_P_CONTACT, V_V_CENTRE, V_V_RAIL, W_FRAME, W_GEOMETRY,
+                                                  W_ROT, W_VEC, W_WHEELSET, WS_COS_ROLL, WS_COS_TH, WS_COS_YAW,
+                                                  WS_SIN_ROLL, WS_SIN_TH, WS_SIN_YAW, WS_Y_RAIL, WS_Z_RAIL)
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.multibody.direct_call import python_call_path
 from exudyn_wheelrail.scenarios.scenario import build_scenario, run_model
@@ -122,11 +122,11 @@ def stage_poses(qs, vs, ts, model, state, work, i0, i1):
 
 
 @njit
-def stage_geometry(sp_all, ws, warm, model, state, out_all, table, i0, i1):
+def stage_geometry(sp_all, ws, warm, model, state, out_all, table, scratch, i0, i1):
     stats = state[ST_STATS]
     for i in range(i0, i1):
         warm[:] = ws[i]
-        wheel_geometry(model, sp_all[i], warm, out_all[i], stats, table)
+        wheel_geometry(model, sp_all[i], warm, out_all[i], stats, table, scratch)
 
 
 @njit
@@ -303,7 +303,8 @@ def profile(c, qs, vs, ts, ws, repeats: int, inputs: tuple) -> dict:
         "restore": lambda a, b: stage_restore(ws, warm, a, b),
         "core_numba": lambda a, b: stage_core(qs, vs, ts, ws, warm, data, f, res, a, b),
         "pose_irregularity": lambda a, b: stage_poses(qs, vs, ts, model, state, work, a, b),
-        "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, table, a, b),
+        "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, table,
+                                                      work[W_GEOMETRY], a, b),
         "hertz": lambda a, b: stage_hertz(out_all, params, a, b),
         "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[ST_DECK_STATE],
                                                   work[W_VEC], work[W_FRAME], v_min, a, b),
@@ -373,6 +374,7 @@ def rescan_effect(c, ws, sp_all) -> dict:
     than 1e-9, 1e-3, 1e-2 relative, and the largest."""
     model, state = c._model, c._state
     warm = state[ST_WARM]
+    scratch = c._work[W_GEOMETRY]
     n = len(ws)
     params = model[MODEL_GEOMETRY][GEO_PARAMS]
     table = model[MODEL_GEOMETRY][GEO_TABLE]
@@ -381,7 +383,7 @@ def rescan_effect(c, ws, sp_all) -> dict:
     for d in (distance, 1.0):
         params[..., P_RESCAN_DISTANCE] = d
         o = np.empty((n,) + state[ST_OUT].shape)
-        stage_geometry(sp_all, ws, warm, model, state, o, table, 0, n)
+        stage_geometry(sp_all, ws, warm, model, state, o, table, scratch, 0, n)
         outs.append(o)
     params[..., P_RESCAN_DISTANCE] = distance
     a, b = (np.nansum(o[..., F_NORMAL_FORCE], axis=2) for o in outs)

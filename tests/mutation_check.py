@@ -785,6 +785,22 @@ MUTANTS = [
        "deck = float(per_sleeper[~on_deck].sum())\n    ground = float(per_sleeper[on_deck].sum())",
        "flexible track outputs: the ballast force totals of the sleepers on the ground and on the deck swapped",
        [T + "test_track_on_deck_train.py"]),
+    # ---- the run's checks in the compiled force call ----------------------------------------------------------------
+    _m("watch-checks-the-predicted-state", P + "simulation/watch.py",
+       "if st[W_PENDING] != 0.0 and t > st[W_PENDING_T]:",
+       "if st[W_PENDING] != 0.0 and t >= st[W_PENDING_T]:",
+       "the watch checks the last stage's predicted state at a grid time instead of the accepted one",
+       [T + "test_watch.py"]),
+    _m("watch-stopping-state-recorded", P + "simulation/watch.py",
+       "self.recorder.n and self.recorder.last_time_s == t:",
+       "self.recorder.n and self.recorder.last_time_s == -t:",
+       "a run stopped from the watch keeps the stopping state's row (the pre-step path never records it)",
+       [T + "test_watch.py"]),
+    _m("watch-window-maxima-kept", P + "simulation/watch.py",
+       "self.guidance.max_quotient[:] = self._mq_saved",
+       "pass",
+       "a stop by the monitor in the watch keeps the flange-climb window's update of the stopping state",
+       [T + "test_watch.py"]),
 ]
 
 

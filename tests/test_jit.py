@@ -420,7 +420,8 @@ def test_the_contact_kernels_shares_have_its_callees_types(monkeypatch):
     region = []                     # the region solve's signature, as the kernel calls it
     monkeypatch.setattr(K._solve_region, "get_call_template",
                         lambda a, kw, inner=K._solve_region.get_call_template: region.append(a) or inner(a, kw))
-    njit(K.evaluate_wheels.py_func).compile(jit._signature(args))
+    scratch = np.empty((K.N_SCRATCH_ROWS, K.SCRATCH_WIDTH))
+    njit(K.solve_wheels.py_func).compile(jit._signature(args + (scratch,)))
     monkeypatch.undo()
     assert region
     _assert_shares_are_callee_types(K._solve_region, tuple(region[0]), *K.compile_shares(*args), monkeypatch)

@@ -292,7 +292,7 @@ def test_monitor_estimate_sees_the_rail_modal_mass():
     B = rng.normal(size=(4, 4))
     B = B @ B.T
     expect = B[:3, :3] + G[1, :3, 6:] @ phi[1] @ phi[1].T @ G[1, :3, 6:].T
-    MC.rail_mobility(1, 3, G, phi, B)
+    MC.rail_mobility(1, 3, G, phi, B, np.zeros((3, 3)))
     np.testing.assert_allclose(B[:3, :3], expect, rtol=1e-12)
 
     omega = {}

@@ -63,6 +63,20 @@ from .search import overlap_at_wheel, place_point
 _INTERPOLATED = (G_S_WHEEL, G_S_RAIL, G_QY, G_QZ, G_PR_Y, G_PR_Z, G_NR_Y, G_NR_Z, G_KW_LAT, G_KW_ROLL, G_KR_LAT,
                  G_KR_ROLL)
 
+#: rows of the lookup's scratch after the online kernel's own (kernel.N_SCRATCH_ROWS; :func:`scratch_array`)
+_TS_ACC = K.N_SCRATCH_ROWS    # the tread zones' weighted sums of the fields (2 rows)
+_TS_MISC = _TS_ACC + 2        # per zone: prototype y, z, weight sum, penetration sum, flags (2 each)
+_TS_ROW = _TS_ACC + 3         # interpolated fields of one slot or zone
+N_SCRATCH_ROWS = _TS_ACC + 4
+SCRATCH_WIDTH = max(K.SCRATCH_WIDTH, N_G, K.N_FIELDS, 10)
+
+
+def scratch_array() -> np.ndarray:
+    """The work array of the geometry stage (the online kernel's rows, then the lookup's): allocated once per
+    connector, overwritten by every evaluation."""
+    return np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH))
+
+
 SAME_ZONE_DISTANCE_M = 1.0e-3
 ZONE_MATCH_DISTANCE_M = 5.0e-3
 ALT_DEPTH_M = 0.3e-3
@@ -232,7 +246,7 @@ def _curve_point(nodes, meta, curve, s):
     return py, pz
 
 
-@compiled
+@compiled(refcount=False)
 def _node_delta(d, c_y, c_z, cos_r, sin_r):
     """Penetration of one slot at the pose from a node's contact point moved rigidly with the wheel (module doc):
     first order -n·Δp_w (the distance is stationary in the point positions), plus the measured vertical
@@ -258,9 +272,10 @@ def _status_class(st):
     return int(st)          # no overlap / merged
 
 
-@compiled
-def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, params, o):
-    """Interpolate one slot at (c_y, c_z, roll) into the kernel output row ``o``; returns the node weights used."""
+@compiled(refcount=False)
+def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, params, o, v):
+    """Interpolate one slot at (c_y, c_z, roll) into the kernel output row ``o`` (``v``: a scratch row, N_G);
+    returns whether a point pair was interpolated."""
     w00 = (1.0 - fy) * (1.0 - fr)
     w10 = fy * (1.0 - fr)
     w01 = (1.0 - fy) * fr
@@ -292,7 +307,7 @@ def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, p
         o[K.F_STATUS] = dm[G_STATUS]
         return False
     fields = _INTERPOLATED
-    v = np.zeros(N_G)
+    v[:N_G] = 0.0
     delta = 0.0
     if same:
         for c in range(4):
@@ -315,12 +330,13 @@ def _fill_from_table(data, cz_ref, i, j, fy, fr, slot, c_y, c_z, cos_r, sin_r, p
     return True
 
 
-@compiled
-def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
+@compiled(refcount=False)
+def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2, scratch):
     """The tread's (up to) two zones at the pose: each corner node offers the points of slots tread and tread-2;
     they are matched to the dominant corner's zones by their wheel point (within ZONE_MATCH_DISTANCE_M), and each
     zone's penetration and fields are the weighted mean over the corners that carry it.  Fills ``o1``/``o2``
-    with the zones (tread slot rows, unblended); returns the number of zones."""
+    with the zones (tread slot rows, unblended); returns the number of zones.  ``scratch``: the rows ``_TS_*``
+    of the kernel's scratch (:func:`scratch_array`)."""
     ww = ((1.0 - fy) * (1.0 - fr), fy * (1.0 - fr), (1.0 - fy) * fr, fy * fr)
     ii = (i, i + 1, i, i + 1)
     jj = (j, j, j + 1, j + 1)
@@ -328,8 +344,15 @@ def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
     for c in range(1, 4):
         if ww[c] > ww[m]:
             m = c
-    proto_y = np.zeros(2)
-    proto_z = np.zeros(2)
+    misc = scratch[_TS_MISC]
+    proto_y = misc[0:2]
+    proto_z = misc[2:4]
+    wsum = misc[4:6]
+    dsum = misc[6:8]
+    flags = misc[8:10]                # integer flags, held exactly as floats
+    misc[:10] = 0.0
+    acc = scratch[_TS_ACC:_TS_ACC + 2]
+    acc[:, :N_G] = 0.0
     n_z = 0
     for slot in (K.SLOT_TREAD, K.SLOT_TREAD_2):
         d = data[ii[m], jj[m], slot]
@@ -337,11 +360,7 @@ def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
             proto_y[n_z] = d[G_QY]
             proto_z[n_z] = d[G_QZ]
             n_z += 1
-    acc = np.zeros((2, N_G))
-    wsum = np.zeros(2)
-    dsum = np.zeros(2)
     fields = _INTERPOLATED
-    flags = np.zeros(2, dtype=np.int64)
     for c in range(4):
         if ww[c] <= 0.0 and c != m:
             continue
@@ -365,14 +384,16 @@ def _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, o1, o2):
             wsum[z] += wc
             if c == m:
                 flags[z] = int(d[G_FLAGS]) & K.FLAG_PROFILE_END
+    v = scratch[_TS_ROW]
     for z in range(n_z):
         o = o1 if z == 0 else o2
-        v = acc[z] / wsum[z]
-        _row(o, v, dsum[z] / wsum[z], K.STATUS_CONVEX, flags[z], c_y, c_z, cos_r, sin_r, params)
+        for f in range(N_G):
+            v[f] = acc[z, f] / wsum[z]
+        _row(o, v, dsum[z] / wsum[z], K.STATUS_CONVEX, int(flags[z]), c_y, c_z, cos_r, sin_r, params)
     return n_z
 
 
-@compiled
+@compiled(refcount=False)
 def _row(o, v, delta, status, flags, c_y, c_z, cos_r, sin_r, params):
     """One kernel output row from interpolated fields ``v`` (G_*) and the penetration (Hertz where positive)."""
     o[:] = 0.0
@@ -418,9 +439,9 @@ def _row(o, v, delta, status, flags, c_y, c_z, cos_r, sin_r, params):
     o[K.F_FLAGS] = flags
 
 
-@compiled
-def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z, roll, params, out):
-    """All slots of wheel ``w`` from the table (pose inside the grid)."""
+@compiled(refcount=False)
+def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z, roll, params, out, scratch):
+    """All slots of wheel ``w`` from the table (pose inside the grid; ``scratch``: :func:`scratch_array`)."""
     u = (c_y - par[T_Y0]) / par[T_DY]
     r = (roll - par[T_R0]) / par[T_DR]
     i = min(int(u), int(par[T_NY]) - 2)
@@ -429,10 +450,11 @@ def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z,
     fr = r - j
     cos_r = math.cos(roll)
     sin_r = math.sin(roll)
-    _fill_from_table(data, cz_ref, i, j, fy, fr, K.SLOT_FLANGE, c_y, c_z, cos_r, sin_r, params, out[w, K.SLOT_FLANGE])
+    _fill_from_table(data, cz_ref, i, j, fy, fr, K.SLOT_FLANGE, c_y, c_z, cos_r, sin_r, params, out[w, K.SLOT_FLANGE],
+                     scratch[_TS_ROW])
     t = out[w, K.SLOT_TREAD]
     t2 = out[w, K.SLOT_TREAD_2]
-    n_z = _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, t, t2)
+    n_z = _tread_zones(data, i, j, fy, fr, c_y, c_z, cos_r, sin_r, params, t, t2, scratch)
     if n_z == 0:
         t[:] = 0.0
         t[K.F_STATUS] = K.STATUS_NO_OVERLAP
@@ -441,9 +463,8 @@ def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z,
         t2[K.F_STATUS] = K.STATUS_NO_OVERLAP
         return
     if t2[K.F_PENETRATION] > t[K.F_PENETRATION]:       # the deeper zone goes to the tread slot
-        tmp = t.copy()
-        t[:] = t2
-        t2[:] = tmp
+        for f in range(t.shape[0]):
+            t[f], t2[f] = t2[f], t[f]
     if not (t2[K.F_PENETRATION] > 0.0):
         t2[:] = 0.0                                      # the other zone does not touch: not reported
         t2[K.F_STATUS] = K.STATUS_NO_OVERLAP
@@ -470,7 +491,7 @@ def _table_wheel(par, cz_ref, data, nodes, meta, mono, rail, tread, w, c_y, c_z,
     t2[K.F_FLAGS] = int(t2[K.F_FLAGS]) | K.FLAG_BLENDED
 
 
-@compiled
+@compiled(refcount=False)
 def _count_online(out, w0, w1, stats):
     for w in range(w0, w1):
         for reg in range(2):
@@ -481,7 +502,7 @@ def _count_online(out, w0, w1, stats):
                 stats[STAT_CONCAVE] += 1
 
 
-@compiled
+@compiled(refcount=False)
 def count_fallback(out, stats):
     """Count every wheel of the kernel's output ``out`` as evaluated by the online kernel in ``stats`` (STAT_*):
     the table's fallback, its skipped regions and concave contacts."""
@@ -491,11 +512,24 @@ def count_fallback(out, stats):
 
 @compiled
 def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats,
-                              scan=K.NO_SCAN):
+                              scan=K.NO_SCAN, scratch=None):
     """:func:`~.kernel.evaluate_wheels` with the table ``(par, cz_ref, data)`` (:meth:`GeometryTable.arrays`)
     where the pose is inside it; the online kernel elsewhere (``scan`` its cached scan points,
     :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*).  Without a table the caller runs the online kernel
-    for every wheel and counts it with :func:`count_fallback`."""
+    for every wheel and counts it with :func:`count_fallback`.  ``scratch``: :func:`scratch_array` (None: made
+    here)."""
+    if scratch is None:          # an if/else on the argument's type: numba compiles only the branch taken
+        tabulated_wheels(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan,
+                         np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)))
+    else:
+        tabulated_wheels(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan,
+                         scratch)
+
+
+@compiled(refcount=False)
+def tabulated_wheels(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan,
+                     scratch):
+    """:func:`evaluate_wheels_tabulated` with its scratch given (nothing allocated)."""
     y_hi = par[T_Y0] + par[T_DY] * (par[T_NY] - 1.0)
     r_hi = par[T_R0] + par[T_DR] * (par[T_NR] - 1.0)
     for w in range(poses.shape[0]):
@@ -511,7 +545,7 @@ def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, p
                       and math.isfinite(cz_ref[i, j + 1]) and math.isfinite(cz_ref[i + 1, j + 1]))
         if inside:
             _table_wheel(par, cz_ref, data, nodes, meta, mono, curve_ids[w, 0], curve_ids[w, 1], w, c_y, c_z, roll,
-                         params, out)
+                         params, out, scratch)
             for reg in range(2):
                 warm[w, reg, K.W_S_RAIL] = np.nan
                 warm[w, reg, K.W_S_WHEEL] = np.nan
@@ -520,8 +554,8 @@ def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, p
                 warm[w, reg, K.W_ALT_S_WHEEL] = np.nan
             stats[STAT_TABLE] += 1
         else:
-            K.evaluate_wheels(nodes, meta, mono, curve_ids[w:w + 1], poses[w:w + 1], warm[w:w + 1], params,
-                              out[w:w + 1], scan)
+            K.solve_wheels(nodes, meta, mono, curve_ids[w:w + 1], poses[w:w + 1], warm[w:w + 1], params,
+                           out[w:w + 1], scan, scratch)
             stats[STAT_FALLBACK] += 1
             _count_online(out, w, w + 1, stats)
 

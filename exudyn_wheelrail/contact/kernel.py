@@ -490,8 +490,9 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
 
 
 @compiled
-def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN):
-    """Contact geometry and Hertz for every wheel.
+def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN, scratch=None):
+    """Contact geometry and Hertz for every wheel (:func:`solve_wheels` with its scratch made here when
+    ``scratch`` is None).
 
     Parameters (arrays)
     -------------------
@@ -503,9 +504,19 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan
     params : :func:`default_params`.
     out : (n_wheels, N_SLOTS, N_FIELDS) — filled: slots tread, flange and the tread's second zone.
     scan : the coarse scan's wheel points (:func:`scan_array`); optional, the results are the same without.
+    scratch : (at least N_SCRATCH_ROWS, SCRATCH_WIDTH) work array, overwritten; optional.
     """
+    if scratch is None:          # an if/else on the argument's type: numba compiles only the branch taken
+        solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan,
+                     np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)))
+    else:
+        solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch)
+
+
+@compiled(refcount=False)
+def solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch):
+    """:func:`evaluate_wheels` with its scratch given (nothing allocated)."""
     n_wheels = poses.shape[0]
-    scratch = np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH))
     for w in range(n_wheels):
         rail = curve_ids[w, 0]
         if not (np.isfinite(poses[w, 0]) and np.isfinite(poses[w, 1]) and np.isfinite(poses[w, 2])):

@@ -54,9 +54,9 @@ from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, 
                         MODEL_GEOMETRY, MODEL_VEHICLE, N_FRAME, ST_DECK_STATE, ST_OUT, ST_RAIL_F, ST_SIDE_POSES,
                         ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL, V_P_CENTRE, V_P_CONTACT,
                         V_V_CENTRE, V_V_RAIL, VEH_FRAME, VEH_LAYOUT, VEH_LAYOUT_PAR, VEH_P_REF, W_CONTACTS, W_DECK,
-                        W_FRAME, W_INDEX, W_LAYOUT, W_RESIDUAL, W_ROT, W_SERIES, W_VEC, W_WHEELSET, WS_COS_ROLL,
-                        WS_COS_TH, WS_COS_YAW, WS_HALF_GAUGE, WS_ROLL, WS_S, WS_SIN_ROLL, WS_SIN_TH, WS_SIN_YAW,
-                        WS_Y_RAIL, WS_YAW, WS_Z_RAIL)
+                        W_FRAME, W_GEOMETRY, W_INDEX, W_LAYOUT, W_RESIDUAL, W_ROT, W_SERIES, W_VEC, W_WHEELSET,
+                        WS_COS_ROLL, WS_COS_TH, WS_COS_YAW, WS_HALF_GAUGE, WS_ROLL, WS_S, WS_SIN_ROLL, WS_SIN_TH,
+                        WS_SIN_YAW, WS_Y_RAIL, WS_YAW, WS_Z_RAIL)
 from .rotations import rotation_from_vector, rotation_vector_from_matrix
 
 __all__ = ["contact_forces_core", "contact_jacobian_core", "compile_shares", "wheelset_poses", "wheel_forces"]
@@ -367,7 +367,7 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     return -1
 
 
-@compiled
+@compiled(refcount=False)
 def contact_geometry(q, model, state, work, table, residual):
     """Stage 2: the contact geometry and Hertz of every wheel (the kernel's output ``state[ST_OUT]``), with
     ``table`` the geometry table's arrays (``model[MODEL_GEOMETRY][GEO_TABLE]``;
@@ -379,11 +379,11 @@ def contact_geometry(q, model, state, work, table, residual):
     if/else here.  (The geometry itself, :func:`_wheel_geometry`, is inlined, not called: every layer of compiled
     functions generates the machine code of all it calls once more.)"""
     if residual is None:                 # an if/else on the argument's type: the other branch is not compiled
-        _wheel_geometry(model, state, table)
+        _wheel_geometry(model, state, work, table)
     else:
         _predict_residual(q, model, state, work)
         for attempt in range(2):
-            _wheel_geometry(model, state, table)
+            _wheel_geometry(model, state, work, table)
             # a solve that moves its rails further than the geometry's linearization is trusted: move them there
             # and find the geometry again (once)
             if attempt == 1 or not series_compliance(state, work, False):
@@ -393,27 +393,28 @@ def contact_geometry(q, model, state, work, table, residual):
 
 
 @compiled(inline="always")
-def _wheel_geometry(model, state, table):
+def _wheel_geometry(model, state, work, table):
     """The contact geometry and Hertz of every wheel at the poses of ``state``: the online search, or the geometry
     table ``table`` (not None)."""
-    wheel_geometry(model, state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS], table)
+    wheel_geometry(model, state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS], table,
+                   work[W_GEOMETRY])
 
 
 @compiled(inline="always")
-def wheel_geometry(model, poses, warm, out, stats, table):
+def wheel_geometry(model, poses, warm, out, stats, table, scratch):
     """The geometry stage on its own arrays: the contact geometry and Hertz of every wheel at ``poses`` (the
     side poses) from the warm start ``warm`` into ``out`` (the kernel's output), counting into ``stats`` — the
     online search, or the geometry table ``table`` (``model[MODEL_GEOMETRY][GEO_TABLE]``, an argument: numba
-    compiles only the branch of its type).  What the core calls for the state's arrays, and what a benchmark calls
-    for recorded states."""
+    compiles only the branch of its type), ``scratch`` the stage's work array (``work[W_GEOMETRY]``).  What the
+    core calls for the state's arrays, and what a benchmark calls for recorded states."""
     nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
     if table is None:
-        K.evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan)
+        K.solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch)
         GT.count_fallback(out, stats)
     else:
         table_par, table_cz_ref, table_data = table
-        GT.evaluate_wheels_tabulated(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses,
-                                     warm, params, out, stats, scan)
+        GT.tabulated_wheels(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses, warm, params,
+                            out, stats, scan, scratch)
 
 
 #: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of

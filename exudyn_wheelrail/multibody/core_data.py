@@ -57,18 +57,18 @@ import numpy as np
 from numba import types
 from numba.experimental import structref
 
+from ..contact.geometry_table import scratch_array as geometry_scratch
 from ..contact.layout import N_SLOTS
 from ..jit import compiled
 from ..structures.deck_kinematics import N_SC
 from ..track.layout import N_LAYOUT
 
-__all__ = ["FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED", "FRAME_PITCH", "N_FRAME",
-           "MODEL_VEHICLE", "MODEL_TRACK", "MODEL_GEOMETRY", "MODEL_CREEP", "MODEL_DECK",
-           "VEH_P_REF", "VEH_FRAME", "VEH_LAYOUT", "VEH_LAYOUT_PAR",
-           "GEO_NODES", "GEO_META", "GEO_MONO", "GEO_CURVE_IDS", "GEO_PARAMS", "GEO_TABLE", "GEO_SCAN",
-           "ST_WARM", "ST_OUT", "ST_SIDE_POSES", "ST_STATS", "ST_RAIL_DELTA", "ST_PHI_WS", "ST_RAIL_F",
-           "ST_DECK_STATE", "W_DECK", "W_ROT", "W_WHEELSET", "W_VEC", "W_FRAME", "W_LAYOUT", "W_RESIDUAL",
-           "W_CONTACTS", "W_SERIES", "W_INDEX", "model_tuple", "vehicle_tuple", "geometry_tuple", "state_tuple",
+__all__ = ["FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED", "FRAME_PITCH", "N_FRAME", "MODEL_VEHICLE",
+           "MODEL_TRACK", "MODEL_GEOMETRY", "MODEL_CREEP", "MODEL_DECK", "VEH_P_REF", "VEH_FRAME", "VEH_LAYOUT",
+           "VEH_LAYOUT_PAR", "GEO_NODES", "GEO_META", "GEO_MONO", "GEO_CURVE_IDS", "GEO_PARAMS", "GEO_TABLE",
+           "GEO_SCAN", "ST_WARM", "ST_OUT", "ST_SIDE_POSES", "ST_STATS", "ST_RAIL_DELTA", "ST_PHI_WS", "ST_RAIL_F",
+           "ST_DECK_STATE", "W_DECK", "W_ROT", "W_WHEELSET", "W_VEC", "W_FRAME", "W_LAYOUT", "W_RESIDUAL", "W_CONTACTS",
+           "W_SERIES", "W_INDEX", "W_GEOMETRY", "model_tuple", "vehicle_tuple", "geometry_tuple", "state_tuple",
            "work_arrays", "ContactData", "contact_data", "compiled_for"]
 
 # ---- model frame: frame[FRAME_*] ---------------------------------------------------------------------------------
@@ -148,6 +148,7 @@ W_RESIDUAL = 6        # per wheelset the rails' residual displacement: where the
 W_CONTACTS = 7        # a wheelset's contacts in series with the residual flexibility (2 N_SLOTS, N_SC)
 W_SERIES = 8          # the series solve's scratch (7, 3)
 W_INDEX = 9           # the contacts' wheel and region (2 N_SLOTS, 2)
+W_GEOMETRY = 10       # the geometry stage's scratch (contact.geometry_table.scratch_array)
 
 
 def model_tuple(vehicle, track, geometry, creep, deck) -> tuple:
@@ -174,7 +175,8 @@ def work_arrays(n_wheelsets: int) -> tuple:
     """The scratch tuple ``work`` of the compiled call (module docstring) for ``n_wheelsets``."""
     return (np.zeros(9), np.zeros((n_wheelsets, 3, 3)), np.zeros((n_wheelsets, N_WS)),
             np.zeros((N_VEC, 3)), np.zeros((3, 3)), np.zeros(N_LAYOUT), np.zeros((n_wheelsets, 6)),
-            np.zeros((2 * N_SLOTS, N_SC)), np.zeros((7, 3)), np.zeros((2 * N_SLOTS, 2), dtype=np.int64))
+            np.zeros((2 * N_SLOTS, N_SC)), np.zeros((7, 3)), np.zeros((2 * N_SLOTS, 2), dtype=np.int64),
+            geometry_scratch())
 
 
 @structref.register

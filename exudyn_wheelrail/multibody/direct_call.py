@@ -123,7 +123,7 @@ def call_data(data, f, res, hold, hold_q, hold_q_t, hold_warm, hold_stats, count
     return CallData(data, f, res, hold, hold_q, hold_q_t, hold_warm, hold_stats, counts)
 
 
-@compiled
+@compiled(refcount=False)
 def _same_bits(a, b) -> bool:
     """Whether two float64 vectors are equal bit for bit."""
     ai = a.view(np.int64)

@@ -43,7 +43,7 @@ SHORT = -2
 BELOW = -1
 
 
-@compiled
+@compiled(refcount=False)
 def window_quotient(t, res, window_s, nadal, idx, ring_t, ring_y, ring_q, sums, max_quotient, first):
     """One state of the 2 m window (O(1) per state: running sums over a ring of the states in the window).
 

@@ -164,7 +164,8 @@ MW_T = 2                  # R I^(-1/2) (top-left 3 x 3)
 MW_A = 3                  # the contact rows against the wheelset's inertia, A = G M^(-1/2)
 MW_B = 4                  # A A^T (plus the rails' modal mass on a structure)
 MW_JACOBI = 5             # the copy Jacobi's method rotates
-N_MW = 6
+MW_W = 6                  # the rails' inverse modal mass under the wheelset (top-left 3 x 3)
+N_MW = 7
 
 
 @compiled(inline="always")
@@ -186,7 +187,7 @@ def _py_min(a, b):
     return b if b < a else a
 
 
-@compiled
+@compiled(refcount=False)
 def _interval(iv, w, kind, active, t, value):
     """One state of a per-wheel condition; returns 1 when an interval starts, 2 when it ends, else 0."""
     if active:
@@ -208,7 +209,7 @@ def _interval(iv, w, kind, active, t, value):
     return 0
 
 
-@compiled
+@compiled(refcount=False)
 def largest_eigenvalue_psd(B, n, work):
     """Largest eigenvalue of the symmetric n x n block ``B[:n, :n]`` (cyclic Jacobi on a copy in ``work``; relative
     accuracy near machine precision for a positive semi-definite matrix)."""
@@ -254,7 +255,7 @@ def largest_eigenvalue_psd(B, n, work):
     return lam
 
 
-@compiled
+@compiled(refcount=False)
 def contact_rows(k, q, res, out, ws_par, G):
     """The stability estimate's rows of wheelset k: ``√(dN/dδ) (n, r × n)`` per loaded contact (n the rail normal in
     the model frame, r the lever from the axle centre to the contact point) into ``G[k]``; returns their number."""
@@ -290,7 +291,7 @@ def contact_rows(k, q, res, out, ws_par, G):
     return n_rows
 
 
-@compiled
+@compiled(refcount=False)
 def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
     """ω h of wheelset k from its rows: the largest eigenvalue of A Aᵀ, A = G Mh, Mh = diag(I/√m, R I^(-1/2) Rᵀ)."""
     R = work[MW_R, :3, :3]
@@ -326,21 +327,21 @@ def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
             for m in range(6):
                 acc += A[i, m] * A[j, m]
             B[i, j] = acc
-    rail_mobility(k, n_rows, G, phi_ws, B)
+    rail_mobility(k, n_rows, G, phi_ws, B, work[MW_W, :3, :3])
     lam = largest_eigenvalue_psd(B, n_rows, work[MW_JACOBI])
     return math.sqrt(max(lam, 0.0)) * h
 
 
-@compiled
-def rail_mobility(k, n_rows, G, phi_ws, B):
+@compiled(refcount=False)
+def rail_mobility(k, n_rows, G, phi_ws, B, W):
     """The rails' share of wheelset k's stability estimate on a structure's modes (mass-normalised, ``phi_ws[k]``
     = Φ(s) under it, (3, n_m); nothing without modes): the contacts also move the rails, whose inverse modal mass
     at s is ``W = Φ Φᵀ``, so ``B_ij += g_iᵀ W g_j`` with g the rows' rail directions (``G[k, :, 6:9]``).  On a
-    flexible track this is the wheel on the rail's small modal mass — the highest coupled frequency."""
+    flexible track this is the wheel on the rail's small modal mass — the highest coupled frequency.  ``W``: a
+    3 x 3 work array (overwritten)."""
     n_m = phi_ws.shape[2]
     if n_m == 0:
         return
-    W = np.zeros((3, 3))
     for a in range(3):
         for b in range(a, 3):
             acc = 0.0
@@ -359,7 +360,7 @@ def rail_mobility(k, n_rows, G, phi_ws, B):
             B[i, j] += acc
 
 
-@compiled
+@compiled(refcount=False)
 def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, wss, rings, G, work, phi_ws, hist,
                   hist_row):
     """One checked state (module docstring); returns ``CODE_*`` bits, 0 when nothing needs Python."""
@@ -566,7 +567,7 @@ def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, 
     return code
 
 
-@compiled
+@compiled(refcount=False)
 def rail_poses(side_poses, half_gauge, ws_poses):
     """``ws_poses`` (n, 3): each wheelset's pose relative to its rails, ``(c_y, c_z, roll)`` of its right wheel with
     ``c_y`` measured from the rails' centre line — the right wheels' rows of ``side_poses`` (2 n, 3) with

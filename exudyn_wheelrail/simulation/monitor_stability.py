@@ -138,7 +138,7 @@ class StabilityEstimate:
         Mh = self._mass_scaling(k, q)
         A = G @ Mh                                     # K = G^T G: eigenvalues of Mh K Mh = those of A A^T
         B = A @ A.T
-        MC.rail_mobility(k, n_rows, self._G, self._phi_ws, B)     # the rails' modal mass on a structure
+        MC.rail_mobility(k, n_rows, self._G, self._phi_ws, B, np.zeros((3, 3)))   # the rails' modal mass (structure)
         lam = float(np.linalg.eigvalsh(B)[-1]) if n_rows > 1 else float(B[0, 0])
         wh = math.sqrt(max(lam, 0.0)) * h
         self._wss[k, MC.WS_MAX_OMEGA_H] = max(float(self._wss[k, MC.WS_MAX_OMEGA_H]), wh)

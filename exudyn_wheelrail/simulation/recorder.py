@@ -174,7 +174,7 @@ def wheel_force_yz(res, w):
     return fy, fz, (-fy if w % 2 == 0 else fy)
 
 
-@compiled
+@compiled(refcount=False)
 def wheel_columns(res, out):
     """The ``_Wheels`` columns of one state from the connector's results ``res`` (2 n, N_SLOTS, N_RES) into
     ``out`` (5 x 2 n: Y, Q, YQ, flange, contact angle per wheel); sums over the slots in slot order, as

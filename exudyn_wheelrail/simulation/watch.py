@@ -22,17 +22,17 @@ still hold its evaluation.  Exudyn's explicit solvers call nothing else between 
 What is done there, in the order of the pre-step function (:meth:`~.runner._Hook.state`): the monitor's compiled
 check (:func:`~.monitor_core.monitor_state`, with the wheelset poses and the history row), the flange-climb window
 (:func:`~.guidance.window_quotient`) and, on the recording grid, the recorder's wheel and wheelset columns
-(:func:`~.recorder.wheel_columns`, the wheelset poses) written into the recorder's table.  A state whose check needs
+(:func:`~.recorder.wheel_columns`, the wheelset poses) written into the recorder's table. A state whose check needs
 Python (the monitor's code, the window above Nadal's limit) is marked, its coordinates kept (``ev_q``, ``ev_v``);
-the runner's pre-step function, called by Exudyn after that step, finds the mark and builds the events as the
-Python path does (:meth:`Watch.handle`) — the monitor's and the window's arrays still hold that state's values,
-because the next state is checked only in the next step.  A stop found there is taken as on the Python path
-(the stopping state's row is dropped and the flange-climb maxima are those before it, as when the Python path
+the runner's pre-step function, called by Exudyn after that step, finds the mark and builds the events as it does
+for a state it checks itself (:meth:`Watch.handle`) — the monitor's and the window's arrays still hold that state's
+values, because the next state is checked only in the next step. A stop found there is taken as on the pre-step path
+(the stopping state's row is dropped and the flange-climb maxima are those before it, as when the pre-step function
 stops before the window and the recorder), but one step later: Exudyn completes the step it was about to take, so
-the solve ends two steps after the stopping state instead of one.  The first state
-(Exudyn's first pre-step call) and the final state (after the solve) are checked by the Python path.
+the solve ends two steps after the stopping state instead of one. The first state (Exudyn's first pre-step call) and
+the final state (after the solve) are checked by the pre-step function.
 
-The numbers are those of the Python path bit for bit: the same compiled checks on the same evaluation
+The numbers are those of the pre-step path bit for bit: the same compiled checks on the same evaluation
 (``tests/test_watch.py``).  The watch needs the compiled call path, an explicit solver, and a run whose per-state
 work is all compiled: no wall-clock limit, no caller's per-state user function, a rigid track (the deck shapes under
 the wheelsets change within a step), probes that are compiled or filled after the run; otherwise the runner's
@@ -63,7 +63,7 @@ W_T0 = 0              # the grid's start time [s]
 W_DT = 1              # the step [s]
 W_PENDING = 2         # 1: pend_q, pend_v hold the latest call at a grid time
 W_PENDING_T = 3       # its time [s]
-W_DONE_T = 4          # the time of the last checked state (here or by the Python path) [s]
+W_DONE_T = 4          # the time of the last checked state (here or by the pre-step function) [s]
 W_STOPPED = 5         # 1: the run stops, no further state is checked
 W_EVENT = 6           # 1: the state at W_EVENT_T needs Python
 W_EVENT_T = 7
@@ -216,7 +216,7 @@ class Watch:
         n = contact.n_coordinates
         st = np.zeros(N_W)
         st[W_T0], st[W_DT] = float(t0_s), float(dt_s)
-        st[W_STOPPED] = 1.0                 # until the Python path has checked the first state
+        st[W_STOPPED] = 1.0                 # until the pre-step function has checked the first state
         st[W_GUIDE] = -1.0
         st[W_COL_WHEELS] = st[W_COL_LATERAL] = -1.0
         self.st = st
@@ -254,7 +254,7 @@ class Watch:
         return self.bound
 
     def first_state_done(self, t_s: float, go: bool = True) -> None:
-        """The Python path checked (and recorded) the state at ``t_s`` (the first; ``go`` False: it stopped the
+        """The pre-step function checked (and recorded) the state at ``t_s`` (the first; ``go`` False: it stopped the
         run): continue after it."""
         st = self.st
         st[W_DONE_T] = float(t_s)
@@ -287,7 +287,7 @@ class Watch:
             self.recorder.take_watched(int(st[W_ROWS]))
 
     def handle(self):
-        """The events of the state waiting for Python, as the Python path builds them; returns the stopping
+        """The events of the state waiting for Python, as the pre-step function builds them; returns the stopping
         :class:`~.monitor_records.Status`, or None (the run goes on)."""
         st = self.st
         self._sync()
