@@ -512,18 +512,14 @@ def count_fallback(out, stats):
 
 @compiled
 def evaluate_wheels_tabulated(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats,
-                              scan=K.NO_SCAN, scratch=None):
+                              scan=K.NO_SCAN):
     """:func:`~.kernel.evaluate_wheels` with the table ``(par, cz_ref, data)`` (:meth:`GeometryTable.arrays`)
     where the pose is inside it; the online kernel elsewhere (``scan`` its cached scan points,
     :func:`~.kernel.scan_array`).  ``stats`` counts (STAT_*).  Without a table the caller runs the online kernel
-    for every wheel and counts it with :func:`count_fallback`.  ``scratch``: :func:`scratch_array` (None: made
-    here)."""
-    if scratch is None:          # an if/else on the argument's type: numba compiles only the branch taken
-        tabulated_wheels(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan,
-                         np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)))
-    else:
-        tabulated_wheels(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan,
-                         scratch)
+    for every wheel and counts it with :func:`count_fallback`.  (:func:`tabulated_wheels` with its scratch made
+    here.)"""
+    tabulated_wheels(par, cz_ref, data, nodes, meta, mono, curve_ids, poses, warm, params, out, stats, scan,
+                     np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)))
 
 
 @compiled(refcount=False)

@@ -490,9 +490,8 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
 
 
 @compiled
-def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN, scratch=None):
-    """Contact geometry and Hertz for every wheel (:func:`solve_wheels` with its scratch made here when
-    ``scratch`` is None).
+def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN):
+    """Contact geometry and Hertz for every wheel (:func:`solve_wheels` with its scratch made here).
 
     Parameters (arrays)
     -------------------
@@ -504,18 +503,15 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan
     params : :func:`default_params`.
     out : (n_wheels, N_SLOTS, N_FIELDS) — filled: slots tread, flange and the tread's second zone.
     scan : the coarse scan's wheel points (:func:`scan_array`); optional, the results are the same without.
-    scratch : (at least N_SCRATCH_ROWS, SCRATCH_WIDTH) work array, overwritten; optional.
     """
-    if scratch is None:          # an if/else on the argument's type: numba compiles only the branch taken
-        solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan,
-                     np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)))
-    else:
-        solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch)
+    solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan,
+                 np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH)))
 
 
 @compiled(refcount=False)
 def solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch):
-    """:func:`evaluate_wheels` with its scratch given (nothing allocated)."""
+    """:func:`evaluate_wheels` with its scratch given (nothing allocated): ``scratch`` a work array of at least
+    (N_SCRATCH_ROWS, SCRATCH_WIDTH), overwritten."""
     n_wheels = poses.shape[0]
     for w in range(n_wheels):
         rail = curve_ids[w, 0]

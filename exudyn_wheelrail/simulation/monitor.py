@@ -434,9 +434,7 @@ class RunMonitor(StabilityEstimate):
         row = -1
         if self.keep_history:
             if self._hist_n >= self._hist.shape[0]:
-                grown = np.zeros((max(256, 2 * self._hist.shape[0]), self._hist.shape[1]))
-                grown[:self._hist_n] = self._hist[:self._hist_n]
-                self._hist = grown
+                self._grow_history(max(256, 2 * self._hist.shape[0]))
             row = self._hist_n
             self._hist_n += 1
         if self._pose_arrays is not None:
@@ -475,9 +473,13 @@ class RunMonitor(StabilityEstimate):
     def reserve_history(self, states: int) -> None:
         """Room for ``states`` more rows of the history (kept: no row is added by growing it while it is watched)."""
         if self.keep_history and self._hist.shape[0] < self._hist_n + states:
-            grown = np.zeros((self._hist_n + states, self._hist.shape[1]))
-            grown[:self._hist_n] = self._hist[:self._hist_n]
-            self._hist = grown
+            self._grow_history(self._hist_n + states)
+
+    def _grow_history(self, rows: int) -> None:
+        """The history array with ``rows`` rows, its rows so far kept."""
+        grown = np.zeros((rows, self._hist.shape[1]))
+        grown[:self._hist_n] = self._hist[:self._hist_n]
+        self._hist = grown
 
     def take_watched(self, n_checks: int, t_last: float, hist_rows: int) -> None:
         """The counters after states checked in the compiled force call."""

@@ -50,7 +50,6 @@ prints it as one line ``warning: ...``): the run would settle into a false stead
 """
 from __future__ import annotations
 
-import math
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -245,7 +244,7 @@ class _Hook:
             return False
         if st is not None and self.monitor.status is None:
             self.stop = st                  # the flange-climb window's (the monitor keeps its own)
-        if w.t_checked > (self.t_state if self.t_state is not None else -math.inf):
+        if self.t_state is None or w.t_checked > self.t_state:
             self.t_state = w.t_checked
         if self.progress is not None and self.t_state is not None:
             self.progress.update(self.t_state)

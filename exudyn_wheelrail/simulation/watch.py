@@ -165,7 +165,7 @@ def check_state(wc, t):
             c = int(st[W_COL_LATERAL])
             if c >= 0:
                 for j in range(n_w // 2):
-                    row_out[c + j] = wc.side_poses[2 * j, 0] + wc.half_gauge[j]
+                    row_out[c + j] = wc.poses[j, 0]         # the right wheel's c_y plus the half gauge
             st[W_ROWS] += 1.0
 
 
