@@ -801,6 +801,21 @@ MUTANTS = [
        "pass",
        "a stop by the monitor in the watch keeps the flange-climb window's update of the stopping state",
        [T + "test_watch.py"]),
+    _m("kept-curves-without-key", P + "contact/kernel.py",
+       "if kept[block] == s_w and kept[block + 1] == s_r:",
+       "if kept[block] == kept[block]:",
+       "the search and a region separated by its bound take the curves kept at another warm start",
+       [T + "test_contact_search.py"]),
+    _m("stability-bound-too-low", P + "simulation/monitor_core.py",
+       "if math.sqrt(bound * (1.0 + BOUND_MARGIN)) * h <= below:",
+       "if math.sqrt(0.9 * bound) * h <= below:",
+       "the stability estimate skips states whose eigenvalue may exceed the running maximum",
+       [T + "stress/test_stress_monitor_core.py"]),
+    _m("curve-point-unnormalised-tangent", P + "profiles/curve.py",
+       "return py, pz, dy / speed, dz / speed",
+       "return py, pz, dy, dz",
+       "the searches' point-and-tangent evaluation differs from the full evaluation (tangent not normalised)",
+       [T + "test_curve.py"]),
 ]
 
 

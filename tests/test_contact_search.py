@@ -242,6 +242,33 @@ def test_warm_start_equals_global_search(s1002, y_range):
     assert n_contacts >= len(poses) * 2      # both wheels in contact along the whole path
 
 
+
+def test_a_region_separated_by_its_bound_is_filled_from_its_kept_curves(s1002):
+    # a region reported separated by its gap bound is filled at its unchanged warm start from the curves kept there
+    # (warm[..., W_CURVES:]); a contact whose kept curves are discarded before every call evaluates them afresh:
+    # the same numbers (the same evaluation of the same parameters), and a changed warm start is not served stale
+    ys = np.linspace(0.5e-3, 3.0e-3, 60)
+    rigid = contact_geometry_sweep(s1002.pair, ys)
+    poses = np.column_stack([ys, rigid.z_m + 40e-6, rigid.roll_rad])
+    kept = WheelsetContact(s1002.pair, global_search=False)
+    fresh = WheelsetContact(s1002.pair, global_search=False)
+    bounded = 0
+    for pose in poses:
+        fresh.warm[...] = kept.warm
+        fresh.warm[..., K.W_CURVES_S_WHEEL:] = np.nan      # the kept curves and their parameters discarded
+        separated = (kept.warm[..., K.W_GAP] > 0.0) & np.isfinite(kept.warm[..., K.W_CURVES_S_WHEEL])
+        a = kept.evaluate(pose[None, :]).copy()
+        b = fresh.evaluate(pose[None, :])
+        np.testing.assert_array_equal(a, b)
+        bounded += int(np.sum(separated & (a[:, :2, K.F_ITERATIONS] == 0) & (a[:, :2, K.F_STATUS] == 0)))
+    assert bounded > 60            # the flanges: kept curves used at most states
+    # the warm start moved under the kept curves: evaluated at the new parameters, not taken from the old ones
+    fresh.warm[...] = kept.warm
+    for contact in (kept, fresh):
+        contact.warm[:, 1, K.W_S_WHEEL] += 1e-3
+    fresh.warm[..., K.W_CURVES_S_WHEEL:] = np.nan
+    np.testing.assert_array_equal(kept.evaluate(poses[-1][None, :]), fresh.evaluate(poses[-1][None, :]))
+
 # ---- 3. one zone across the split, flange-only contact --------------------------------------------------------------
 def test_zone_through_the_throat_is_one_contact(s1002):
     # At the jump y = 6.2525 mm (rigid solution) the contact moves from the tread next to the throat to the flange

@@ -2,7 +2,9 @@
 import numpy as np
 import pytest
 
-from exudyn_wheelrail.profiles.curve import ProfileCurve, pack_curves, curve_eval
+from exudyn_wheelrail.contact.pair import WheelRailPair
+from exudyn_wheelrail.contact.search import rail_point, wheel_point, wheel_position
+from exudyn_wheelrail.profiles.curve import ProfileCurve, pack_curves, curve_eval, curve_point
 from exudyn_wheelrail.profiles.dense import DenseProfile
 
 
@@ -57,6 +59,23 @@ def test_extension_beyond_the_ends_is_straight():
     beyond = curve.evaluate([curve.s_max + 1e-3])[0]
     assert np.allclose(beyond[0:2], end[0:2] + 1e-3 * end[2:4], atol=1e-12)
     assert beyond[6] == 0.0  # straight extension: zero curvature, exact
+
+
+def test_point_and_tangent_alone_are_those_of_the_full_evaluation():
+    # curve_point (the searches that need no curvature) runs the same arithmetic as curve_eval without the second
+    # derivatives: the same numbers bit for bit, inside, on the nodes (segment ends) and on the straight extensions
+    nodes, meta = WheelRailPair().packed()
+    pose = (3e-3, -0.46, 0.96, 1e-3, 2e-3 ** 0.5)    # c_y, c_z, cos and sin of a roll (any numbers)
+    for c in range(meta.shape[0]):
+        first, count = int(meta[c, 0]), int(meta[c, 1])
+        lo, hi = nodes[first, 0], nodes[first + count - 1, 0]
+        s_all = np.concatenate([np.linspace(lo - 2e-3, hi + 2e-3, 4001), nodes[first:first + count, 0]])
+        for s in s_all:
+            full = curve_eval(nodes, meta, c, s)
+            assert curve_point(nodes, meta, c, s) == full[:4]
+            assert rail_point(nodes, meta, c, s) == (full[0], full[1], full[4], full[5])
+            assert wheel_position(nodes, meta, c, s, *pose[:2], pose[2], pose[4]) == \
+                wheel_point(nodes, meta, c, s, *pose[:2], pose[2], pose[4])[:2]
 
 
 def test_bad_input():

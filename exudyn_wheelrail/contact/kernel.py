@@ -40,7 +40,9 @@ Several zones on one region (S1002/UIC60 has two tread zones ~10 mm apart near t
 
 * **tracking**: a region remembers its other local optimum of the last scan (``W_ALT_*``) and in warm mode runs
   Newton from it too, so a deeper zone is never missed (warm mode = global mode); a region in contact is rescanned
-  after ``P_RESCAN_DISTANCE`` of lateral motion to discover zones that appear;
+  after ``P_RESCAN_DISTANCE`` of lateral motion to discover zones that appear.  The curves at the warm start and
+  at the other zone's point are kept as the search last evaluated them (``W_CURVES_S_WHEEL``,
+  ``W_ALT_CURVES_S_WHEEL``): the next Newton search from there, and a region separated by its bound, take them;
 * **two patches** (the surfaces separate between the two points): the second zone is reported in the extra output
   slot ``SLOT_TREAD_2`` — a two-point contact on the tread;
 * **one zone with two maxima** (the surfaces overlap all the way between them — a conformal zone): Hertz at either
@@ -64,10 +66,10 @@ from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, pa
     P_BLEND_DEPTH, P_CONCAVE_NORMAL_WINDOW, P_CONVEX_MIN_CURVATURE, P_CURVATURE_BOUND, P_DEDUP_DISTANCE, P_E_STAR,
     P_GLOBAL, P_MAX_PENETRATION, P_MIN_CURVATURE, P_N_CONCAVE_RAIL, P_N_CONCAVE_WHEEL, P_N_SCAN, P_N_STARTS,
     P_NEWTON_MAX_ITER, P_NEWTON_TOL, P_RAIL_ROLL_CURVATURE, P_REFINE, P_RESCAN_DISTANCE, P_WHEEL_LEVER,
-    SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_GAP, W_POSE_ROLL, W_POSE_Y, W_POSE_Z,
-    W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
+    SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2, W_ALT_CURVES_S_WHEEL, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_CURVES_S_WHEEL, W_GAP,
+    W_POSE_ROLL, W_POSE_Y, W_POSE_Z, W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
 from .normal import hertz_from_penetration
-from .search import (NO_SCAN, overlap_at_wheel, convex_newton, nearest_by_normal_distance, nearest_start,
+from .search import (NO_SCAN, overlap_at_wheel, nearest_by_normal_distance, nearest_start, newton_from,
                      normal_foot, normal_penetration_ascent, overlap_peaks, place_point, place_wheel_point,
                      scan_points, vertical_overlap_search, wheel_point)
 
@@ -186,11 +188,65 @@ def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, k
 
 
 @compiled(refcount=False)
+def _keep_curves(kept, block, s_w, s_r, q, r):
+    """Keep the curves evaluated at (s_w, s_r) in the warm row ``kept``, block ``block`` (:data:`W_CURVES_S_WHEEL`
+    or :data:`W_ALT_CURVES_S_WHEEL`): ``q`` the wheel's, ``r`` the rail's :func:`curve_eval`."""
+    kept[block] = s_w
+    kept[block + 1] = s_r
+    for j in range(7):
+        kept[block + 2 + j] = q[j]
+        kept[block + 9 + j] = r[j]
+
+
+@compiled(inline="always")
+def _block_curves(kept, block):
+    """The wheel's and the rail's curves kept in block ``block`` of the warm row ``kept``."""
+    c = block + 2
+    return ((kept[c], kept[c + 1], kept[c + 2], kept[c + 3], kept[c + 4], kept[c + 5], kept[c + 6]),
+            (kept[c + 7], kept[c + 8], kept[c + 9], kept[c + 10], kept[c + 11], kept[c + 12], kept[c + 13]))
+
+
+@compiled(inline="always")
+def _kept_curves(kept, nodes, meta, rail, wheel, s_w, s_r):
+    """The wheel's and the rail's :func:`curve_eval` at (s_w, s_r): those kept in the warm row ``kept`` (the warm
+    start's or the other zone's block) when they were evaluated there, else evaluated now."""
+    for block in (W_CURVES_S_WHEEL, W_ALT_CURVES_S_WHEEL):
+        if kept[block] == s_w and kept[block + 1] == s_r:
+            return _block_curves(kept, block)
+    return curve_eval(nodes, meta, wheel, s_w), curve_eval(nodes, meta, rail, s_r)
+
+
+@compiled(refcount=False)
+def _fill_curves(out, w, reg, status, s_w, s_r, q, r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters,
+                 params):
+    """:func:`_fill_at` from the curves' :func:`curve_eval` at the point: ``q`` the wheel's (wheelset frame),
+    ``r`` the rail's."""
+    _fill_at(out, w, reg, status, s_w, s_r, q[0], q[1], q[5], q[6], r[0], r[1], r[4], r[5], r[6], nodes, meta, rail,
+             wheel, c_y, c_z, cos_r, sin_r, iters, params)
+
+
+@compiled(refcount=False)
+def _fill_warm(out, w, reg, warm, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, params):
+    """:func:`_fill` of a separated region at its warm start (s_w, s_r) = ``warm[w, reg, W_S_*]``, from the curves
+    kept there (evaluated and kept when they are not)."""
+    kept = warm[w, reg]
+    if not (kept[W_CURVES_S_WHEEL] == s_w and kept[W_CURVES_S_WHEEL + 1] == s_r):
+        _keep_curves(kept, W_CURVES_S_WHEEL, s_w, s_r, curve_eval(nodes, meta, wheel, s_w),
+                     curve_eval(nodes, meta, rail, s_r))
+    q, r = _block_curves(kept, W_CURVES_S_WHEEL)
+    _fill_curves(out, w, reg, STATUS_SEPARATED, s_w, s_r, q, r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, 0,
+                 params)
+
+
+@compiled(refcount=False)
 def _no_overlap(out, w, reg):
     out[w, reg, :] = 0.0
     out[w, reg, F_STATUS] = STATUS_NO_OVERLAP
     out[w, reg, F_PENETRATION] = -np.inf
 
+
+#: the curves' placeholder (:func:`curve_eval`'s seven values) where a search found no point
+NO_CURVE = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 #: rows of the scratch array of :func:`_solve_region` (N_SCRATCH_ROWS, SCRATCH_WIDTH): Newton starts and candidates
 #: (MAX_STARTS), the rail samples of the nearest-pair start (NEAREST_RAIL_SAMPLES)
@@ -202,7 +258,8 @@ _SC_CAND_DELTA = 4
 _SC_CAND_CONVEX = 5     # 1.0: the candidate is a convex optimum
 _SC_RAIL_Y = 6
 _SC_RAIL_Z = 7
-N_SCRATCH_ROWS = 8
+_SC_CAND_CURVES = 8     # 14 rows: the candidates' curves (curve_eval of the wheel, then of the rail)
+N_SCRATCH_ROWS = _SC_CAND_CURVES + 14
 MAX_STARTS = 8          # Newton starts and tracked candidates per region
 #: rail samples of the nearest-pair Newton start (:func:`~.search.nearest_start`): 2-3 mm apart on a rail head
 NEAREST_RAIL_SAMPLES = 50
@@ -236,22 +293,26 @@ def _scan_starts(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_lo, s
 
 
 @compiled(refcount=False)
-def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, s_lo, s_hi, r_lo, r_hi, params):
-    """Convex search from (s_r, s_w).  Returns (valid, convex, s_r, s_w, penetration, iterations, geometry):
-    valid = converged inside both ranges with opposing normals; convex = valid and kappa_w + kappa_r >=
-    P_CONVEX_MIN_CURVATURE; geometry = the curves at the point as :func:`_fill_at` takes them (valid only)."""
-    conv, s_r, s_w, it = convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w,
-                                       int(params[P_NEWTON_MAX_ITER]), params[P_NEWTON_TOL])
+def _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, s_lo, s_hi, r_lo, r_hi, params,
+                      kept):
+    """Convex search from (s_r, s_w), from the curves kept in the warm row ``kept`` when they were evaluated there.
+    Returns (valid, convex, s_r, s_w, penetration, iterations, wheel curve, rail curve): valid = converged inside
+    both ranges with opposing normals; convex = valid and kappa_w + kappa_r >= P_CONVEX_MIN_CURVATURE; the curves'
+    :func:`curve_eval` at the point (the wheel's in the wheelset frame; valid only)."""
+    q0, r0 = _kept_curves(kept, nodes, meta, rail, wheel, s_w, s_r)
+    conv, s_r, s_w, it = newton_from(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w,
+                                     int(params[P_NEWTON_MAX_ITER]), params[P_NEWTON_TOL], r0, q0)
     if not (conv and s_lo <= s_w <= s_hi and r_lo <= s_r <= r_hi):
-        return False, False, s_r, s_w, 0.0, it, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    qy, qz, qty, qtz, qny, qnz, kw = curve_eval(nodes, meta, wheel, s_w)   # wheel_point, unplaced values kept
-    wy, wz, wty, wtz, wny, wnz, kw = place_wheel_point(qy, qz, qty, qtz, qny, qnz, kw, c_y, c_z, cos_r, sin_r)
-    ry, rz, rty, rtz, rny, rnz, kr = curve_eval(nodes, meta, rail, s_r)
-    geometry = (qy, qz, qnz, kw, ry, rz, rny, rnz, kr)
+        return False, False, s_r, s_w, 0.0, it, NO_CURVE, NO_CURVE
+    q = curve_eval(nodes, meta, wheel, s_w)   # wheel_point, unplaced values kept
+    wy, wz, wty, wtz, wny, wnz, kw = place_wheel_point(q[0], q[1], q[2], q[3], q[4], q[5], q[6], c_y, c_z, cos_r,
+                                                       sin_r)
+    r = curve_eval(nodes, meta, rail, s_r)
+    ry, rz, rty, rtz, rny, rnz, kr = r
     if wny * rny + wnz * rnz >= 0.0:
-        return False, False, s_r, s_w, 0.0, it, geometry
+        return False, False, s_r, s_w, 0.0, it, q, r
     delta = -((wy - ry) * rny + (wz - rz) * rnz)
-    return True, kw + kr >= params[P_CONVEX_MIN_CURVATURE], s_r, s_w, delta, it, geometry
+    return True, kw + kr >= params[P_CONVEX_MIN_CURVATURE], s_r, s_w, delta, it, q, r
 
 
 @compiled
@@ -290,8 +351,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
         motion = (abs(c_y - warm[w, reg, W_POSE_Y]) + abs(c_z - warm[w, reg, W_POSE_Z])
                   + abs(roll - warm[w, reg, W_POSE_ROLL]) * params[P_WHEEL_LEVER])
         if warm[w, reg, W_GAP] - motion > 0.0:
-            _fill(out, w, reg, STATUS_SEPARATED, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, 0,
-                  params)
+            _fill_warm(out, w, reg, warm, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, params)
             out[w, reg, F_PENETRATION] = -(warm[w, reg, W_GAP] - motion)    # a guaranteed lower bound of the gap
             return
     warm[w, reg, W_GAP] = -1.0
@@ -332,25 +392,30 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
     best_delta = 0.0        # deepest convex contact among the starts
     best_sw = 0.0
     best_sr = 0.0
-    best_geometry = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)    # the curves there (_fill_at)
+    best_q = NO_CURVE       # the curves there (curve_eval of the wheel and the rail)
+    best_r = NO_CURVE
     # 1. convex search: warm start first; a failure, a concave point or (warm) a lifted-off point -> global starts
     for attempt in range(2):
         for k in range(n_starts):
-            valid, convex, s_r, s_w, delta, it, geometry = _newton_candidate(
+            valid, convex, s_r, s_w, delta, it, q, r = _newton_candidate(
                 nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, starts_sr[k], starts_sw[k], s_lo, s_hi, r_lo, r_hi,
-                params)
+                params, warm[w, reg])
             iters += it
             if valid and n_cand < MAX_STARTS:       # any converged optimum marks a zone worth tracking
                 cand_sw[n_cand] = s_w
                 cand_sr[n_cand] = s_r
                 cand_delta[n_cand] = delta
                 cand_convex[n_cand] = 1.0 if convex else 0.0
+                for j in range(7):
+                    scratch[_SC_CAND_CURVES + j, n_cand] = q[j]
+                    scratch[_SC_CAND_CURVES + 7 + j, n_cand] = r[j]
                 n_cand += 1
             if valid and convex and delta > best_delta:
                 best_delta = delta
                 best_sw = s_w
                 best_sr = s_r
-                best_geometry = geometry
+                best_q = q
+                best_r = r
             elif valid and convex and scanned and -delta < sep_gap:
                 sep_ok = True
                 sep_sw = s_w
@@ -359,6 +424,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
         if best_delta > 0.0:
             warm[w, reg, W_S_RAIL] = best_sr
             warm[w, reg, W_S_WHEEL] = best_sw
+            _keep_curves(warm[w, reg], W_CURVES_S_WHEEL, best_sw, best_sr, best_q, best_r)
             # remember the deepest other optimum, distinct from the reported one, as the alternative zone
             for k in range(n_cand):
                 if abs(cand_sw[k] - best_sw) > dedup and cand_delta[k] > alt_delta:
@@ -375,6 +441,12 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                 for k in range(n_cand):
                     if cand_sw[k] == alt_sw and cand_sr[k] == alt_sr:
                         k2 = k
+                if k2 >= 0:             # the other zone's curves, for its next search and a second contact
+                    kept = warm[w, reg]
+                    kept[W_ALT_CURVES_S_WHEEL] = alt_sw
+                    kept[W_ALT_CURVES_S_WHEEL + 1] = alt_sr
+                    for j in range(14):
+                        kept[W_ALT_CURVES_S_WHEEL + 2 + j] = scratch[_SC_CAND_CURVES + j, k2]
                 if slot2 >= 0 and alt_delta > 0.0 and k2 >= 0:
                     mid_ok, mid_dv, mid_sr = overlap_at_wheel(nodes, meta, mono, rail, wheel,
                                                                0.5 * (alt_sw + best_sw), c_y, c_z, cos_r, sin_r)
@@ -393,12 +465,13 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
             elif scanned or abs(warm[w, reg, W_ALT_S_WHEEL] - best_sw) <= dedup:
                 warm[w, reg, W_ALT_S_WHEEL] = np.nan       # no other zone (or it merged into this one)
                 warm[w, reg, W_ALT_S_RAIL] = np.nan
-            g = best_geometry       # the curves at the point, as the search evaluated them: not evaluated again
-            _fill_at(out, w, reg, STATUS_CONVEX, best_sw, best_sr, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7],
-                     g[8], nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params)
-            if fill2:
-                _fill(out, w, slot2, STATUS_CONVEX, alt_sw, alt_sr, nodes, meta, rail, wheel, c_y, c_z, cos_r,
-                      sin_r, 0, params)
+            # the curves at the point, as the search evaluated them: not evaluated again
+            _fill_curves(out, w, reg, STATUS_CONVEX, best_sw, best_sr, best_q, best_r, nodes, meta, rail, wheel, c_y,
+                         c_z, cos_r, sin_r, iters, params)
+            if fill2:               # k2 >= 0: the curves kept just now
+                q, r = _block_curves(warm[w, reg], W_ALT_CURVES_S_WHEEL)
+                _fill_curves(out, w, slot2, STATUS_CONVEX, alt_sw, alt_sr, q, r, nodes, meta, rail, wheel, c_y, c_z,
+                             cos_r, sin_r, 0, params)
                 if blend < 1.0:
                     out[w, slot2, F_NORMAL_FORCE] *= blend
                     out[w, slot2, F_DN_DDELTA] *= blend
@@ -417,15 +490,15 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                                                     int(params[P_N_CONCAVE_WHEEL]), int(params[P_N_CONCAVE_RAIL]),
                                                     params[P_REFINE] > 0.0)
     if found and dv > 0.0:
-        p_valid, p_convex, p_sr, p_sw, p_delta, it, g = _newton_candidate(nodes, meta, rail, wheel, c_y, c_z, cos_r,
-                                                                          sin_r, c_sr, c_sw, s_lo, s_hi, r_lo, r_hi,
-                                                                          params)
+        p_valid, p_convex, p_sr, p_sw, p_delta, it, q, r = _newton_candidate(
+            nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, c_sr, c_sw, s_lo, s_hi, r_lo, r_hi, params, warm[w, reg])
         iters += it
         if p_valid and p_convex and p_delta > 0.0 and abs(p_sw - c_sw) < 1e-3:
             warm[w, reg, W_S_RAIL] = p_sr
             warm[w, reg, W_S_WHEEL] = p_sw
-            _fill_at(out, w, reg, STATUS_CONVEX, p_sw, p_sr, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8],
-                     nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, iters, params)
+            _keep_curves(warm[w, reg], W_CURVES_S_WHEEL, p_sw, p_sr, q, r)
+            _fill_curves(out, w, reg, STATUS_CONVEX, p_sw, p_sr, q, r, nodes, meta, rail, wheel, c_y, c_z, cos_r,
+                         sin_r, iters, params)
             return
         # the penetration is a normal distance: take the deepest wheel point (by its normal distance to the rail)
         # within P_CONCAVE_NORMAL_WINDOW of the vertical-overlap maximum; its rail point is the normal foot
@@ -568,8 +641,9 @@ def compile_shares(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=
     scratch = np.empty((N_SCRATCH_ROWS, SCRATCH_WIDTH))
     points = scan[0]
     here = [(_scan_starts, (nodes, meta, mono, i, i, x, x, x, x, x, x, i, i, row, row, points, scratch)),
-            (_newton_candidate, (nodes, meta, i, i, x, x, x, x, x, x, x, x, x, x, params)),
-            (_fill_at, (out, i, i, i, x, x, x, x, x, x, x, x, x, x, x, nodes, meta, i, i, x, x, x, x, i, params)),
+            (_newton_candidate, (nodes, meta, i, i, x, x, x, x, x, x, x, x, x, x, params, warm[0, 0])),
+            (_fill_curves, (out, i, i, i, x, x, NO_CURVE, NO_CURVE, nodes, meta, i, i, x, x, x, x, i, params)),
+            (_fill_warm, (out, i, i, warm, x, x, nodes, meta, i, i, x, x, x, x, params)),
             (_fill, (out, i, i, i, x, x, nodes, meta, i, i, x, x, x, x, i, params)),
             (nearest_by_normal_distance, (nodes, meta, i, i, x, x, x, x, x, x, i, x)),
             (normal_foot, (nodes, meta, i, x, x, x))]

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..jit import compiled
-from ..profiles.curve import curve_eval
+from ..profiles.curve import curve_eval, curve_point
 
 NEWTON_MAX_STEP_M = 3e-3
 
@@ -39,6 +39,22 @@ def place_wheel_point(py, pz, ty, tz, ny, nz, k, c_y, c_z, cos_r, sin_r):
 
 
 @compiled(inline="always")
+def wheel_position(nodes, meta, curve, s, c_y, c_z, cos_r, sin_r):
+    """The position of :func:`wheel_point` alone (the same numbers): (p_y, p_z) in the side frame."""
+    py, pz, ty, tz = curve_point(nodes, meta, curve, s)
+    return place_point(py, pz, c_y, c_z, cos_r, sin_r)
+
+
+@compiled(inline="always")
+def rail_point(nodes, meta, rail, s):
+    """The rail's point and outward normal at ``s`` (those of :func:`curve_eval`, the same numbers):
+    (p_y, p_z, n_y, n_z)."""
+    py, pz, ty, tz = curve_point(nodes, meta, rail, s)
+    sign = meta[rail, 2]
+    return py, pz, -sign * tz, sign * ty
+
+
+@compiled(inline="always")
 def wheel_point(nodes, meta, curve, s, c_y, c_z, cos_r, sin_r):
     """Wheel curve point at ``s`` placed by the pose: (p_y, p_z, t_y, t_z, n_y, n_z, kappa) in the side frame."""
     py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, curve, s)
@@ -51,9 +67,24 @@ def convex_newton(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, ma
 
     Returns ``(converged, s_r, s_w, iterations)``; steps are limited to 3 mm.
     """
+    return newton_from(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol_m,
+                       curve_eval(nodes, meta, rail, s_r), curve_eval(nodes, meta, wheel, s_w))
+
+
+@compiled(refcount=False)
+def newton_from(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_r, s_w, max_iter, tol_m, rail_curve,
+                wheel_curve):
+    """:func:`convex_newton` with the curves at the start already evaluated: ``rail_curve`` and ``wheel_curve``
+    :func:`curve_eval` of the rail at ``s_r`` and of the wheel at ``s_w`` (the wheelset frame, before the pose)."""
+    r = rail_curve
+    q = wheel_curve
     for it in range(max_iter):
-        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
-        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        if it > 0:
+            r = curve_eval(nodes, meta, rail, s_r)
+            q = curve_eval(nodes, meta, wheel, s_w)
+        ry, rz, rty, rtz, rny, rnz, rk = r
+        wy, wz, wty, wtz, wny, wnz, wk = place_wheel_point(q[0], q[1], q[2], q[3], q[4], q[5], q[6], c_y, c_z,
+                                                           cos_r, sin_r)
         dy = wy - ry
         dz = wz - rz
         f1 = rty * dy + rtz * dz
@@ -104,7 +135,7 @@ def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos
     yb = c_y + cos_r * nodes[b, 1] - sin_r * nodes[b, 2]
     s = nodes[a, 0] + (y_target - ya) / (yb - ya) * (nodes[b, 0] - nodes[a, 0])
     for _ in range(6):
-        py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, curve, s)
+        py, pz, ty, tz = curve_point(nodes, meta, curve, s)
         dyds = cos_r * ty - sin_r * tz
         ds = (y_target - (c_y + cos_r * py - sin_r * pz)) / dyds
         s += ds
@@ -116,11 +147,11 @@ def project_vertical(nodes, meta, curve, row_lo, row_hi, y_target, c_y, c_z, cos
 @compiled(inline="always")
 def overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r):
     """Vertical overlap (z_w - z_r, positive = penetration) of the wheel point at s_w; (found, overlap, s_r)."""
-    wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+    wy, wz = wheel_position(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
     ok, s_r = project_vertical(nodes, meta, rail, mono[rail, 0], mono[rail, 1], wy, 0.0, 0.0, 1.0, 0.0)
     if not ok:
         return False, -1.0, 0.0
-    ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+    ry, rz, rty, rtz = curve_point(nodes, meta, rail, s_r)
     return True, wz - rz, s_r
 
 
@@ -153,7 +184,7 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
     y_max = -1e30
     for k in range(n_wheel):
         s_w = s_w_lo + h_w * k
-        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        wy, wz = wheel_position(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
         y_min = min(y_min, wy)
         y_max = max(y_max, wy)
         ok, dv, s_r = overlap_at_wheel(nodes, meta, mono, rail, wheel, s_w, c_y, c_z, cos_r, sin_r)
@@ -169,14 +200,14 @@ def vertical_overlap_search(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin
         h_r = (r_hi - r_lo) / (n_rail - 1)
         for k in range(n_rail):
             s_r = r_lo + h_r * k
-            ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_r)
+            ry, rz, rty, rtz = curve_point(nodes, meta, rail, s_r)
             if ry < y_min or ry > y_max:
                 continue
             ok, s_w = project_vertical(nodes, meta, wheel, mono[wheel, 0], mono[wheel, 1], ry,
                                        c_y, c_z, cos_r, sin_r)
             if not ok or s_w < s_w_lo or s_w > s_w_hi:
                 continue
-            wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+            wy, wz = wheel_position(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
             if wz - rz > best:
                 best = wz - rz
                 best_sw = s_w
@@ -255,7 +286,7 @@ def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_
     r_lo = nodes[first, 0]
     r_hi = nodes[first + int(meta[rail, 1]) - 1, 0]
     for j in range(n_rail):
-        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, r_lo + (r_hi - r_lo) * j / (n_rail - 1))
+        ry, rz, rty, rtz = curve_point(nodes, meta, rail, r_lo + (r_hi - r_lo) * j / (n_rail - 1))
         rail_y[j] = ry
         rail_z[j] = rz
     best = 1e30
@@ -263,7 +294,7 @@ def nearest_start(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo, s_w_
     best_j = 0
     for k in range(n_wheel):
         s_w = s_w_lo + (s_w_hi - s_w_lo) * k / (n_wheel - 1)
-        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        wy, wz = wheel_position(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
         for j in range(n_rail):
             d = (wy - rail_y[j]) ** 2 + (wz - rail_z[j]) ** 2
             if d < best:
@@ -291,13 +322,13 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
     h = (s_w_hi - s_w_lo) / (n_wheel - 1)
     for k in range(n_wheel):
         s_w = s_w_lo + h * k
-        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
+        wy, wz = wheel_position(nodes, meta, wheel, s_w, c_y, c_z, cos_r, sin_r)
         ok, s_f = normal_foot(nodes, meta, rail, wy, wz, s_r)
         if not ok:
             all_ok = False
             continue
         s_r = s_f
-        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, s_f)
+        ry, rz, rny, rnz = rail_point(nodes, meta, rail, s_f)
         d = (wy - ry) * rny + (wz - rz) * rnz
         if d < best:
             best = d
@@ -313,13 +344,13 @@ def nearest_by_normal_distance(nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r,
     for _ in range(40):
         c = b - g * (b - a)
         d_ = a + g * (b - a)
-        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, c, c_y, c_z, cos_r, sin_r)
+        wy, wz = wheel_position(nodes, meta, wheel, c, c_y, c_z, cos_r, sin_r)
         ok_c, sc = normal_foot(nodes, meta, rail, wy, wz, s_r)
-        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, sc)
+        ry, rz, rny, rnz = rail_point(nodes, meta, rail, sc)
         fc = (wy - ry) * rny + (wz - rz) * rnz
-        wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, d_, c_y, c_z, cos_r, sin_r)
+        wy, wz = wheel_position(nodes, meta, wheel, d_, c_y, c_z, cos_r, sin_r)
         ok_d, sd = normal_foot(nodes, meta, rail, wy, wz, s_r)
-        ry, rz, rty, rtz, rny, rnz, rk = curve_eval(nodes, meta, rail, sd)
+        ry, rz, rny, rnz = rail_point(nodes, meta, rail, sd)
         fd = (wy - ry) * rny + (wz - rz) * rnz
         if ok_c and fc < best:
             best, best_sw, best_sr = fc, c, sc
@@ -452,7 +483,7 @@ def _scan_overlap(nodes, meta, rail, row_lo, row_hi, wy, wz, a):
          + (3.0 * t2 - 2.0 * t3) * nodes[a + 1, 0] + (t3 - t2) * dy / nodes[a + 1, 3])
     z_foot = 0.0
     for _ in range(6):
-        py, pz, ty, tz, ny, nz, k = curve_eval(nodes, meta, rail, s)
+        py, pz, ty, tz = curve_point(nodes, meta, rail, s)
         ds = (wy - py) / ty
         z_foot = pz + tz * ds
         if abs(ds) < SCAN_NEWTON_TOL_M:
@@ -478,7 +509,7 @@ def scan_points(nodes, meta, curve, n_wheel):
     h = (s_w_hi - s_w_lo) / (n_wheel - 1)
     pts = np.empty((n_wheel, 2))
     for k in range(n_wheel):
-        py, pz, ty, tz, ny, nz, kw = curve_eval(nodes, meta, curve, s_w_lo + h * k)
+        py, pz, ty, tz = curve_point(nodes, meta, curve, s_w_lo + h * k)
         pts[k, 0] = py
         pts[k, 1] = pz
     return pts
@@ -512,8 +543,7 @@ def overlap_peaks(nodes, meta, mono, rail, wheel, c_y, c_z, cos_r, sin_r, s_w_lo
             if cached:          # wheel_point's placement of the same curve point
                 wy, wz = place_point(points[k, 0], points[k, 1], c_y, c_z, cos_r, sin_r)
             else:
-                wy, wz, wty, wtz, wny, wnz, wk = wheel_point(nodes, meta, wheel, s_w_lo + h * k, c_y, c_z, cos_r,
-                                                             sin_r)
+                wy, wz = wheel_position(nodes, meta, wheel, s_w_lo + h * k, c_y, c_z, cos_r, sin_r)
             ok, d, row = _scan_overlap(nodes, meta, rail, row_lo, row_hi, wy, wz, row)
             if ok:
                 right = d

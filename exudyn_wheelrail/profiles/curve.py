@@ -26,10 +26,10 @@ META_COLUMNS = 5
 
 
 @compiled(inline="always")
-def _segment(nodes, first, count, s):
-    """Index (row) of the segment [s_i, s_i+1] holding s; ends are clipped to the first/last segment."""
+def _segment(nodes, first, count, h_mean, s):
+    """Index (row) of the segment [s_i, s_i+1] holding s; ends are clipped to the first/last segment; ``h_mean``
+    the curve's mean node spacing (its ``meta`` row), the first guess."""
     last_seg = first + count - 2
-    h_mean = (nodes[first + count - 1, 0] - nodes[first, 0]) / (count - 1)
     i = first + int((s - nodes[first, 0]) / h_mean)
     if i < first:
         i = first
@@ -42,34 +42,13 @@ def _segment(nodes, first, count, s):
     return i
 
 
-@compiled(refcount=False, error_model="numpy")
-def curve_eval(nodes, meta, curve, s):
-    """Evaluate packed curve ``curve`` at arc length ``s``.
-
-    Returns ``(p_y, p_z, t_y, t_z, n_y, n_z, kappa)`` in the curve's frame.  Outside ``[s_min, s_max]`` the curve
-    continues along its end tangent (straight, kappa = 0), so Newton iterations stay well defined; callers check
-    the range.  Its divisions (by a segment's length and the tangent's length, never zero on a packed curve) are
-    not checked for zero (numba's ``error_model="numpy"``): the hottest function of the contact search.
-    """
-    first = int(meta[curve, 0])
-    count = int(meta[curve, 1])
-    sign = meta[curve, 2]
-    s_lo = nodes[first, 0]
-    s_hi = nodes[first + count - 1, 0]
-    if s < s_lo or s > s_hi:
-        row = first if s < s_lo else first + count - 1
-        ds = s - nodes[row, 0]
-        ty = nodes[row, 3]
-        tz = nodes[row, 4]
-        return (nodes[row, 1] + ds * ty, nodes[row, 2] + ds * tz, ty, tz, -sign * tz, sign * ty, 0.0)
-    i = _segment(nodes, first, count, s)
-    h = nodes[i + 1, 0] - nodes[i, 0]
-    u = (s - nodes[i, 0]) / h
+@compiled(inline="always")
+def _basis(u):
+    """The quintic Hermite basis at ``u`` in [0, 1] and its first derivatives with respect to u (d3 = -d0)."""
     u2 = u * u
     u3 = u2 * u
     u4 = u3 * u
     u5 = u4 * u
-    # quintic Hermite basis, first and second derivatives with respect to u
     h0 = 1.0 - 10.0 * u3 + 15.0 * u4 - 6.0 * u5
     h1 = u - 6.0 * u3 + 8.0 * u4 - 3.0 * u5
     h2 = 0.5 * (u2 - 3.0 * u3 + 3.0 * u4 - u5)
@@ -81,31 +60,88 @@ def curve_eval(nodes, meta, curve, s):
     d2 = 0.5 * (2.0 * u - 9.0 * u2 + 12.0 * u3 - 5.0 * u4)
     d4 = -12.0 * u2 + 28.0 * u3 - 15.0 * u4
     d5 = 0.5 * (3.0 * u2 - 8.0 * u3 + 5.0 * u4)
+    return h0, h1, h2, h3, h4, h5, d0, d1, d2, d4, d5
+
+
+@compiled(inline="always")
+def _hermite(nodes, i, col, h, hh, b):
+    """Position and first derivative (per arc length) of coordinate ``col`` (1: y, 2: z) on segment ``i`` from the
+    basis ``b`` of :func:`_basis`; also the node data scaled to the segment (for :func:`_hermite_second`)."""
+    p0 = nodes[i, col]; t0 = nodes[i, col + 2] * h; a0 = nodes[i, col + 4] * hh
+    p1 = nodes[i + 1, col]; t1 = nodes[i + 1, col + 2] * h; a1 = nodes[i + 1, col + 4] * hh
+    p = b[0] * p0 + b[1] * t0 + b[2] * a0 + b[3] * p1 + b[4] * t1 + b[5] * a1
+    dp = (b[6] * (p0 - p1) + b[7] * t0 + b[8] * a0 + b[9] * t1 + b[10] * a1) / h
+    return p, dp, p0 - p1, t0, a0, t1, a1
+
+
+@compiled(inline="always")
+def _segment_at(nodes, meta, curve, s):
+    """``(inside, row, h, u)``: inside ``[s_min, s_max]`` the segment row holding ``s``, its length and the local
+    coordinate; outside the end row."""
+    first = int(meta[curve, 0])
+    count = int(meta[curve, 1])
+    s_lo = nodes[first, 0]
+    s_hi = nodes[first + count - 1, 0]
+    if s < s_lo or s > s_hi:
+        return False, (first if s < s_lo else first + count - 1), 0.0, 0.0
+    i = _segment(nodes, first, count, meta[curve, 3], s)
+    h = nodes[i + 1, 0] - nodes[i, 0]
+    return True, i, h, (s - nodes[i, 0]) / h
+
+
+@compiled(refcount=False, error_model="numpy")
+def curve_eval(nodes, meta, curve, s):
+    """Evaluate packed curve ``curve`` at arc length ``s``.
+
+    Returns ``(p_y, p_z, t_y, t_z, n_y, n_z, kappa)`` in the curve's frame.  Outside ``[s_min, s_max]`` the curve
+    continues along its end tangent (straight, kappa = 0), so Newton iterations stay well defined; callers check
+    the range.  Its divisions (by a segment's length and the tangent's length, never zero on a packed curve) are
+    not checked for zero (numba's ``error_model="numpy"``): the hottest function of the contact search.
+    """
+    sign = meta[curve, 2]
+    inside, i, h, u = _segment_at(nodes, meta, curve, s)
+    if not inside:
+        ds = s - nodes[i, 0]
+        ty = nodes[i, 3]
+        tz = nodes[i, 4]
+        return (nodes[i, 1] + ds * ty, nodes[i, 2] + ds * tz, ty, tz, -sign * tz, sign * ty, 0.0)
+    hh = h * h
+    b = _basis(u)
+    u2 = u * u
+    u3 = u2 * u
+    # second derivatives of the basis with respect to u (e3 = -e0)
     e0 = -60.0 * u + 180.0 * u2 - 120.0 * u3
     e1 = -36.0 * u + 96.0 * u2 - 60.0 * u3
     e2 = 0.5 * (2.0 - 18.0 * u + 36.0 * u2 - 20.0 * u3)
     e4 = -24.0 * u + 84.0 * u2 - 60.0 * u3
     e5 = 0.5 * (6.0 * u - 24.0 * u2 + 20.0 * u3)
-    hh = h * h
-    # y component
-    p0 = nodes[i, 1]; t0 = nodes[i, 3] * h; a0 = nodes[i, 5] * hh
-    p1 = nodes[i + 1, 1]; t1 = nodes[i + 1, 3] * h; a1 = nodes[i + 1, 5] * hh
-    py = h0 * p0 + h1 * t0 + h2 * a0 + h3 * p1 + h4 * t1 + h5 * a1
-    # d0 = -d3 and e0 = -e3 for the quintic Hermite basis
-    dy = (d0 * (p0 - p1) + d1 * t0 + d2 * a0 + d4 * t1 + d5 * a1) / h
-    ddy = (e0 * (p0 - p1) + e1 * t0 + e2 * a0 + e4 * t1 + e5 * a1) / hh
-    # z component
-    p0 = nodes[i, 2]; t0 = nodes[i, 4] * h; a0 = nodes[i, 6] * hh
-    p1 = nodes[i + 1, 2]; t1 = nodes[i + 1, 4] * h; a1 = nodes[i + 1, 6] * hh
-    pz = h0 * p0 + h1 * t0 + h2 * a0 + h3 * p1 + h4 * t1 + h5 * a1
-    dz = (d0 * (p0 - p1) + d1 * t0 + d2 * a0 + d4 * t1 + d5 * a1) / h
-    ddz = (e0 * (p0 - p1) + e1 * t0 + e2 * a0 + e4 * t1 + e5 * a1) / hh
+    py, dy, dp, t0, a0, t1, a1 = _hermite(nodes, i, 1, h, hh, b)
+    ddy = (e0 * dp + e1 * t0 + e2 * a0 + e4 * t1 + e5 * a1) / hh
+    pz, dz, dp, t0, a0, t1, a1 = _hermite(nodes, i, 2, h, hh, b)
+    ddz = (e0 * dp + e1 * t0 + e2 * a0 + e4 * t1 + e5 * a1) / hh
     speed = np.sqrt(dy * dy + dz * dz)
     ty = dy / speed
     tz = dz / speed
     # signed curvature about J t = (-t_z, t_y); kappa (convex positive) = -normal_sign * k_J
     k_j = (dy * ddz - dz * ddy) / (speed * speed * speed)
     return (py, pz, ty, tz, -sign * tz, sign * ty, -sign * k_j)
+
+
+@compiled(refcount=False, error_model="numpy")
+def curve_point(nodes, meta, curve, s):
+    """``(p_y, p_z, t_y, t_z)`` of :func:`curve_eval` (the same numbers) without the second derivatives: for the
+    searches that need the point and its tangent only."""
+    inside, i, h, u = _segment_at(nodes, meta, curve, s)
+    if not inside:
+        ds = s - nodes[i, 0]
+        ty = nodes[i, 3]
+        tz = nodes[i, 4]
+        return nodes[i, 1] + ds * ty, nodes[i, 2] + ds * tz, ty, tz
+    b = _basis(u)
+    py, dy, _, _, _, _, _ = _hermite(nodes, i, 1, h, h * h, b)
+    pz, dz, _, _, _, _, _ = _hermite(nodes, i, 2, h, h * h, b)
+    speed = np.sqrt(dy * dy + dz * dz)
+    return py, pz, dy / speed, dz / speed
 
 
 @compiled

@@ -99,7 +99,8 @@ Invalid states (stop the run)
 * with RK44 (:func:`~.runner.run_monitored` passes the step): the **stability estimate** — the highest natural
   frequency ω of each wheelset on its linearised contact stiffness (6x6: Σ dN/dδ g gᵀ over the loaded contacts,
   g = (n, r x n) with the rail normal n and the lever r from the axle centre, against the wheelset's mass and
-  inertia) — exceeds RK44's limit ω h <= 2√2 (per state the largest eigenvalue by Jacobi's method; within
+  inertia) — exceeds RK44's limit ω h <= 2√2 (per state the largest eigenvalue by Jacobi's method, unless
+  Gershgorin's bound already keeps it at or below the run's largest so far; within
   :data:`~.monitor_stability.STABILITY_SCREEN_MARGIN` of the limit LAPACK's eigenvalue decides).  This alone is
   recorded as a ``step_size`` event (a short excursion may pass); every stopping status after it becomes
   ``invalid_state`` naming both ("the integration is not trustworthy; then: …"), so a diverged run is never

@@ -140,7 +140,7 @@ WS_HUNT_COUNT = 2         # consecutive half-cycles with peaks >= amplitude (= s
 WS_HUNT_CROSSINGS = 3     # crossings stored since the last reset
 WS_HUNT_REPORTED = 4      # 1.0 once the detection was handed to Python
 WS_MAX_OMEGA_H = 5        # largest omega h of the stability estimate
-WS_OMEGA_H = 6            # this state's omega h (the screening value)
+WS_OMEGA_H = 6            # this state's omega h (the screening value; NaN when its bound kept it below the maximum)
 WS_ROWS = 7               # contact rows of this state's estimate
 WS_FLAGS = 8              # WSF_* bits of this state
 N_WS = 9
@@ -291,9 +291,17 @@ def contact_rows(k, q, res, out, ws_par, G):
     return n_rows
 
 
+#: relative margin of the stability estimate's bound (:func:`_omega_h`) over the Jacobi eigenvalue's rounding
+#: (relative error near 1e-15): a state is left to its bound only when the bound is clear of the running maximum
+BOUND_MARGIN = 1e-12
+
+
 @compiled(refcount=False)
-def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
-    """ω h of wheelset k from its rows: the largest eigenvalue of A Aᵀ, A = G Mh, Mh = diag(I/√m, R I^(-1/2) Rᵀ)."""
+def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work, below):
+    """ω h of wheelset k from its rows: the largest eigenvalue of A Aᵀ, A = G Mh, Mh = diag(I/√m, R I^(-1/2) Rᵀ);
+    ``-1.0`` instead when the eigenvalue is bounded at or below ``below`` (Gershgorin's bound of the positive
+    semi-definite A Aᵀ, the largest absolute row sum, with :data:`BOUND_MARGIN`): the Jacobi iteration is skipped
+    for a state that cannot raise the running maximum ``below``."""
     R = work[MW_R, :3, :3]
     rotation_from_vector(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5], R)
     S = work[MW_S, :3, :3]                              # R I^(-1/2) R^T
@@ -328,6 +336,14 @@ def _omega_h(k, n_rows, q, ws_par, G, phi_ws, h, work):
                 acc += A[i, m] * A[j, m]
             B[i, j] = acc
     rail_mobility(k, n_rows, G, phi_ws, B, work[MW_W, :3, :3])
+    bound = 0.0
+    for i in range(n_rows):
+        row = 0.0
+        for j in range(n_rows):
+            row += abs(B[i, j])
+        bound = max(bound, row)
+    if math.sqrt(bound * (1.0 + BOUND_MARGIN)) * h <= below:
+        return -1.0
     lam = largest_eigenvalue_psd(B, n_rows, work[MW_JACOBI])
     return math.sqrt(max(lam, 0.0)) * h
 
@@ -380,11 +396,12 @@ def monitor_state(t, res, out, ws_poses, q, v, par, ws_par, ext, iv, wq, wflag, 
             n_rows = contact_rows(k, q, res, out, ws_par, G)
             wss[k, WS_ROWS] = n_rows
             if n_rows > 0:
-                wh = _omega_h(k, n_rows, q, ws_par, G, phi_ws, par[PAR_STEP], work)
-                wss[k, WS_OMEGA_H] = wh
+                wh = _omega_h(k, n_rows, q, ws_par, G, phi_ws, par[PAR_STEP], work,
+                              min(wss[k, WS_MAX_OMEGA_H], par[PAR_STAB_SCREEN]))
+                wss[k, WS_OMEGA_H] = wh if wh >= 0.0 else np.nan
                 if wh > par[PAR_STAB_SCREEN]:
                     flags |= WSF_STABILITY                  # near the limit: Python decides with the exact eigenvalue
-                else:
+                elif wh >= 0.0:                             # (-1: bounded below the running maximum, no change)
                     wss[k, WS_MAX_OMEGA_H] = _py_max(wss[k, WS_MAX_OMEGA_H], wh)
         wss[k, WS_FLAGS] = flags
         if flags != 0:

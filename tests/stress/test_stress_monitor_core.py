@@ -48,6 +48,37 @@ def test_largest_eigenvalue_agrees_with_lapack():
     assert MC.largest_eigenvalue_psd(np.zeros((3, 3)), 3, work) == 0.0  # zero matrix: exactly 0
 
 
+def test_the_stability_bound_skips_only_states_below_the_running_maximum():
+    # _omega_h skips the Jacobi iteration (returns -1) when Gershgorin's bound of A A^T puts omega h at or below
+    # `below` (the running maximum): it may skip only a state whose exact value is no larger, and must return the
+    # exact value (the same numbers as without a limit) otherwise
+    rng = np.random.default_rng(11)
+    n_ws, h = 1, 1e-3
+    ws_par = np.zeros((n_ws, MC.N_WSP))
+    work = np.zeros((MC.N_MW, 2 * L.N_SLOTS, 2 * L.N_SLOTS))
+    phi_ws = np.zeros((n_ws, 3, 0))
+    skipped = 0
+    for trial in range(300):
+        n_rows = 1 + trial % 4
+        G = np.zeros((n_ws, 2 * L.N_SLOTS, MC.N_G))
+        G[0, :n_rows, :6] = rng.standard_normal((n_rows, 6)) * 10.0 ** rng.uniform(3, 4.5)
+        q = np.zeros(6)
+        q[3:6] = rng.uniform(-0.05, 0.05, 3)
+        root = rng.standard_normal((3, 3))
+        ws_par[0, MC.WSP_INV_SQRT_MASS] = 1.0 / math.sqrt(rng.uniform(800.0, 2000.0))
+        ws_par[0, MC.WSP_I_INV_SQRT:MC.WSP_I_INV_SQRT + 9] = (root @ root.T + np.eye(3)).ravel() * 0.1
+        exact = MC._omega_h(0, n_rows, q, ws_par, G, phi_ws, h, work, -1.0)
+        assert exact >= 0.0
+        for below in exact * np.array([0.5, 0.999, 1.0, 1.001, 1.5, 4.0]):
+            wh = MC._omega_h(0, n_rows, q, ws_par, G, phi_ws, h, work, below)
+            if wh < 0.0:
+                skipped += 1
+                assert exact <= below
+            else:
+                assert wh == exact
+    assert skipped > 300          # the bound is tight enough to skip (exact for one row, Gershgorin otherwise)
+
+
 # ------------------------------------------------------------------------------------------ per-wheel quantities
 def _par():
     """A flanged wheel on a rail with its crown 40 mm to the field side of the flange tip (side frame, metres)."""
