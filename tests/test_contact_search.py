@@ -255,8 +255,8 @@ def test_a_region_separated_by_its_bound_is_filled_from_its_kept_curves(s1002):
     bounded = 0
     for pose in poses:
         fresh.warm[...] = kept.warm
-        fresh.warm[..., K.W_CURVES_S_WHEEL:] = np.nan      # the kept curves and their parameters discarded
-        separated = (kept.warm[..., K.W_GAP] > 0.0) & np.isfinite(kept.warm[..., K.W_CURVES_S_WHEEL])
+        fresh.warm[..., K.W_CURVES:] = np.nan      # the kept curves and their parameters discarded
+        separated = (kept.warm[..., K.W_GAP] > 0.0) & np.isfinite(kept.warm[..., K.W_CURVES + K.KEPT_S_WHEEL])
         a = kept.evaluate(pose[None, :]).copy()
         b = fresh.evaluate(pose[None, :])
         np.testing.assert_array_equal(a, b)
@@ -266,7 +266,7 @@ def test_a_region_separated_by_its_bound_is_filled_from_its_kept_curves(s1002):
     fresh.warm[...] = kept.warm
     for contact in (kept, fresh):
         contact.warm[:, 1, K.W_S_WHEEL] += 1e-3
-    fresh.warm[..., K.W_CURVES_S_WHEEL:] = np.nan
+    fresh.warm[..., K.W_CURVES:] = np.nan
     np.testing.assert_array_equal(kept.evaluate(poses[-1][None, :]), fresh.evaluate(poses[-1][None, :]))
 
 # ---- 3. one zone across the split, flange-only contact --------------------------------------------------------------

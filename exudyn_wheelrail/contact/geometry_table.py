@@ -50,7 +50,7 @@ import numpy as np
 from numba import prange
 
 from ..jit import compiled
-from ..profiles.curve import curve_eval
+from ..profiles.curve import curve_point
 from . import kernel as K
 from .layout import (  # noqa: F401  (the table's node fields, grid, counters; re-exported)
     G_C2, G_DELTA, G_FLAGS, G_KR_LAT, G_KR_ROLL, G_KW_LAT, G_KW_ROLL, G_NR_Y, G_NR_Z, G_PR_Y, G_PR_Z, G_PW_Y, G_PW_Z,
@@ -231,19 +231,13 @@ def _build_column(nodes, meta, mono, curve_row, params_global, ys, rolls, j, cz_
             if out[0, k, K.F_STATUS] >= 0:
                 from_curve = curve_row[1] if k != K.SLOT_FLANGE else curve_row[2]
                 s = out[0, k, K.F_S_WHEEL]
-                qy, qz = _curve_point(nodes, meta, from_curve, s)
+                qy, qz, _, _ = curve_point(nodes, meta, from_curve, s)
                 data[i, j, k, G_QY] = qy
                 data[i, j, k, G_QZ] = qz
             else:
                 data[i, j, k, G_QY] = np.nan
                 data[i, j, k, G_QZ] = np.nan
     return failed
-
-
-@compiled
-def _curve_point(nodes, meta, curve, s):
-    py, pz, _, _, _, _, _ = curve_eval(nodes, meta, curve, s)
-    return py, pz
 
 
 @compiled(refcount=False)

@@ -41,8 +41,8 @@ Several zones on one region (S1002/UIC60 has two tread zones ~10 mm apart near t
 * **tracking**: a region remembers its other local optimum of the last scan (``W_ALT_*``) and in warm mode runs
   Newton from it too, so a deeper zone is never missed (warm mode = global mode); a region in contact is rescanned
   after ``P_RESCAN_DISTANCE`` of lateral motion to discover zones that appear.  The curves at the warm start and
-  at the other zone's point are kept as the search last evaluated them (``W_CURVES_S_WHEEL``,
-  ``W_ALT_CURVES_S_WHEEL``): the next Newton search from there, and a region separated by its bound, take them;
+  at the other zone's point are kept as the search last evaluated them (``W_CURVES``, ``W_ALT_CURVES``): the
+  next Newton search from there, and a region separated by its bound, take them;
 * **two patches** (the surfaces separate between the two points): the second zone is reported in the extra output
   slot ``SLOT_TREAD_2`` — a two-point contact on the tread;
 * **one zone with two maxima** (the surfaces overlap all the way between them — a conformal zone): Hertz at either
@@ -66,8 +66,9 @@ from .layout import (  # noqa: F401  (the kernel's fields, slots, warm start, pa
     P_BLEND_DEPTH, P_CONCAVE_NORMAL_WINDOW, P_CONVEX_MIN_CURVATURE, P_CURVATURE_BOUND, P_DEDUP_DISTANCE, P_E_STAR,
     P_GLOBAL, P_MAX_PENETRATION, P_MIN_CURVATURE, P_N_CONCAVE_RAIL, P_N_CONCAVE_WHEEL, P_N_SCAN, P_N_STARTS,
     P_NEWTON_MAX_ITER, P_NEWTON_TOL, P_RAIL_ROLL_CURVATURE, P_REFINE, P_RESCAN_DISTANCE, P_WHEEL_LEVER,
-    SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2, W_ALT_CURVES_S_WHEEL, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_CURVES_S_WHEEL, W_GAP,
-    W_POSE_ROLL, W_POSE_Y, W_POSE_Z, W_S_RAIL, W_S_WHEEL, W_SCAN_Y)
+    KEPT_BLOCK, KEPT_RAIL, KEPT_S_RAIL, KEPT_S_WHEEL, KEPT_WHEEL, SLOT_FLANGE, SLOT_TREAD, SLOT_TREAD_2,
+    W_ALT_CURVES, W_ALT_S_RAIL, W_ALT_S_WHEEL, W_CURVES, W_GAP, W_POSE_ROLL, W_POSE_Y, W_POSE_Z, W_S_RAIL, W_S_WHEEL,
+    W_SCAN_Y)
 from .normal import hertz_from_penetration
 from .search import (NO_SCAN, overlap_at_wheel, nearest_by_normal_distance, nearest_start, newton_from,
                      normal_foot, normal_penetration_ascent, overlap_peaks, place_point, place_wheel_point,
@@ -189,29 +190,37 @@ def _fill_at(out, w, reg, status, s_w, s_r, qy, qz, qnz, kw, ry, rz, rny, rnz, k
 
 @compiled(refcount=False)
 def _keep_curves(kept, block, s_w, s_r, q, r):
-    """Keep the curves evaluated at (s_w, s_r) in the warm row ``kept``, block ``block`` (:data:`W_CURVES_S_WHEEL`
-    or :data:`W_ALT_CURVES_S_WHEEL`): ``q`` the wheel's, ``r`` the rail's :func:`curve_eval`."""
-    kept[block] = s_w
-    kept[block + 1] = s_r
+    """Keep the curves evaluated at (s_w, s_r) in the block of kept curves at ``kept[block:]`` (``KEPT_*``; a warm
+    row's :data:`W_CURVES` or :data:`W_ALT_CURVES`, or a candidate's scratch row): ``q`` the wheel's, ``r`` the
+    rail's :func:`curve_eval`."""
+    kept[block + KEPT_S_WHEEL] = s_w
+    kept[block + KEPT_S_RAIL] = s_r
     for j in range(7):
-        kept[block + 2 + j] = q[j]
-        kept[block + 9 + j] = r[j]
+        kept[block + KEPT_WHEEL + j] = q[j]
+        kept[block + KEPT_RAIL + j] = r[j]
 
 
 @compiled(inline="always")
 def _block_curves(kept, block):
-    """The wheel's and the rail's curves kept in block ``block`` of the warm row ``kept``."""
-    c = block + 2
+    """The wheel's and the rail's curves kept in the block at ``kept[block:]``."""
+    c = block + KEPT_WHEEL
+    d = block + KEPT_RAIL
     return ((kept[c], kept[c + 1], kept[c + 2], kept[c + 3], kept[c + 4], kept[c + 5], kept[c + 6]),
-            (kept[c + 7], kept[c + 8], kept[c + 9], kept[c + 10], kept[c + 11], kept[c + 12], kept[c + 13]))
+            (kept[d], kept[d + 1], kept[d + 2], kept[d + 3], kept[d + 4], kept[d + 5], kept[d + 6]))
+
+
+@compiled(inline="always")
+def _kept_at(kept, block, s_w, s_r):
+    """Whether the block at ``kept[block:]`` holds the curves at (s_w, s_r)."""
+    return kept[block + KEPT_S_WHEEL] == s_w and kept[block + KEPT_S_RAIL] == s_r
 
 
 @compiled(inline="always")
 def _kept_curves(kept, nodes, meta, rail, wheel, s_w, s_r):
     """The wheel's and the rail's :func:`curve_eval` at (s_w, s_r): those kept in the warm row ``kept`` (the warm
     start's or the other zone's block) when they were evaluated there, else evaluated now."""
-    for block in (W_CURVES_S_WHEEL, W_ALT_CURVES_S_WHEEL):
-        if kept[block] == s_w and kept[block + 1] == s_r:
+    for block in (W_CURVES, W_ALT_CURVES):
+        if _kept_at(kept, block, s_w, s_r):
             return _block_curves(kept, block)
     return curve_eval(nodes, meta, wheel, s_w), curve_eval(nodes, meta, rail, s_r)
 
@@ -230,10 +239,9 @@ def _fill_warm(out, w, reg, warm, s_w, s_r, nodes, meta, rail, wheel, c_y, c_z, 
     """:func:`_fill` of a separated region at its warm start (s_w, s_r) = ``warm[w, reg, W_S_*]``, from the curves
     kept there (evaluated and kept when they are not)."""
     kept = warm[w, reg]
-    if not (kept[W_CURVES_S_WHEEL] == s_w and kept[W_CURVES_S_WHEEL + 1] == s_r):
-        _keep_curves(kept, W_CURVES_S_WHEEL, s_w, s_r, curve_eval(nodes, meta, wheel, s_w),
-                     curve_eval(nodes, meta, rail, s_r))
-    q, r = _block_curves(kept, W_CURVES_S_WHEEL)
+    if not _kept_at(kept, W_CURVES, s_w, s_r):
+        _keep_curves(kept, W_CURVES, s_w, s_r, curve_eval(nodes, meta, wheel, s_w), curve_eval(nodes, meta, rail, s_r))
+    q, r = _block_curves(kept, W_CURVES)
     _fill_curves(out, w, reg, STATUS_SEPARATED, s_w, s_r, q, r, nodes, meta, rail, wheel, c_y, c_z, cos_r, sin_r, 0,
                  params)
 
@@ -258,12 +266,12 @@ _SC_CAND_DELTA = 4
 _SC_CAND_CONVEX = 5     # 1.0: the candidate is a convex optimum
 _SC_RAIL_Y = 6
 _SC_RAIL_Z = 7
-_SC_CAND_CURVES = 8     # 14 rows: the candidates' curves (curve_eval of the wheel, then of the rail)
-N_SCRATCH_ROWS = _SC_CAND_CURVES + 14
+_SC_CAND_CURVES = 8     # MAX_STARTS rows: each candidate's curves at its point (a block of kept curves, KEPT_*)
 MAX_STARTS = 8          # Newton starts and tracked candidates per region
+N_SCRATCH_ROWS = _SC_CAND_CURVES + MAX_STARTS
 #: rail samples of the nearest-pair Newton start (:func:`~.search.nearest_start`): 2-3 mm apart on a rail head
 NEAREST_RAIL_SAMPLES = 50
-SCRATCH_WIDTH = max(MAX_STARTS, NEAREST_RAIL_SAMPLES)
+SCRATCH_WIDTH = max(MAX_STARTS, NEAREST_RAIL_SAMPLES, KEPT_BLOCK)
 
 
 def scan_array(nodes, meta, n_scan: int) -> np.ndarray:
@@ -406,9 +414,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                 cand_sr[n_cand] = s_r
                 cand_delta[n_cand] = delta
                 cand_convex[n_cand] = 1.0 if convex else 0.0
-                for j in range(7):
-                    scratch[_SC_CAND_CURVES + j, n_cand] = q[j]
-                    scratch[_SC_CAND_CURVES + 7 + j, n_cand] = r[j]
+                _keep_curves(scratch[_SC_CAND_CURVES + n_cand], 0, s_w, s_r, q, r)
                 n_cand += 1
             if valid and convex and delta > best_delta:
                 best_delta = delta
@@ -424,7 +430,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
         if best_delta > 0.0:
             warm[w, reg, W_S_RAIL] = best_sr
             warm[w, reg, W_S_WHEEL] = best_sw
-            _keep_curves(warm[w, reg], W_CURVES_S_WHEEL, best_sw, best_sr, best_q, best_r)
+            _keep_curves(warm[w, reg], W_CURVES, best_sw, best_sr, best_q, best_r)
             # remember the deepest other optimum, distinct from the reported one, as the alternative zone
             for k in range(n_cand):
                 if abs(cand_sw[k] - best_sw) > dedup and cand_delta[k] > alt_delta:
@@ -442,11 +448,8 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
                     if cand_sw[k] == alt_sw and cand_sr[k] == alt_sr:
                         k2 = k
                 if k2 >= 0:             # the other zone's curves, for its next search and a second contact
-                    kept = warm[w, reg]
-                    kept[W_ALT_CURVES_S_WHEEL] = alt_sw
-                    kept[W_ALT_CURVES_S_WHEEL + 1] = alt_sr
-                    for j in range(14):
-                        kept[W_ALT_CURVES_S_WHEEL + 2 + j] = scratch[_SC_CAND_CURVES + j, k2]
+                    q, r = _block_curves(scratch[_SC_CAND_CURVES + k2], 0)
+                    _keep_curves(warm[w, reg], W_ALT_CURVES, alt_sw, alt_sr, q, r)
                 if slot2 >= 0 and alt_delta > 0.0 and k2 >= 0:
                     mid_ok, mid_dv, mid_sr = overlap_at_wheel(nodes, meta, mono, rail, wheel,
                                                                0.5 * (alt_sw + best_sw), c_y, c_z, cos_r, sin_r)
@@ -469,7 +472,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
             _fill_curves(out, w, reg, STATUS_CONVEX, best_sw, best_sr, best_q, best_r, nodes, meta, rail, wheel, c_y,
                          c_z, cos_r, sin_r, iters, params)
             if fill2:               # k2 >= 0: the curves kept just now
-                q, r = _block_curves(warm[w, reg], W_ALT_CURVES_S_WHEEL)
+                q, r = _block_curves(warm[w, reg], W_ALT_CURVES)
                 _fill_curves(out, w, slot2, STATUS_CONVEX, alt_sw, alt_sr, q, r, nodes, meta, rail, wheel, c_y, c_z,
                              cos_r, sin_r, 0, params)
                 if blend < 1.0:
@@ -496,7 +499,7 @@ def _solve_region(nodes, meta, mono, rail, wheel, c_y, c_z, roll, cos_r, sin_r, 
         if p_valid and p_convex and p_delta > 0.0 and abs(p_sw - c_sw) < 1e-3:
             warm[w, reg, W_S_RAIL] = p_sr
             warm[w, reg, W_S_WHEEL] = p_sw
-            _keep_curves(warm[w, reg], W_CURVES_S_WHEEL, p_sw, p_sr, q, r)
+            _keep_curves(warm[w, reg], W_CURVES, p_sw, p_sr, q, r)
             _fill_curves(out, w, reg, STATUS_CONVEX, p_sw, p_sr, q, r, nodes, meta, rail, wheel, c_y, c_z, cos_r,
                          sin_r, iters, params)
             return

@@ -65,15 +65,15 @@ W_ALT_S_WHEEL = 7
 W_SCAN_Y = 8          # c_y at the last global scan of the region
 # the curves kept at the warm start (s_wheel, s_rail), as the search last evaluated them there: the next call's
 # Newton search starts from them, and a region reported separated by its gap bound is filled from them, without
-# evaluating the curves again (curve_eval of the same parameters: the same numbers)
-W_CURVES_S_WHEEL = 9  # the wheel and rail parameters the kept curves were evaluated at (NaN: none)
-W_CURVES_S_RAIL = 10
-W_CURVES = 11         # curve_eval of the wheel (wheelset frame, 7 values), then of the rail (7 values)
-N_CURVES = 14
-KEPT_BLOCK = 2 + N_CURVES   # a block of kept curves: the two parameters, then the curves
-# the same for the region's other zone (W_ALT_S_*): its Newton search starts from them too
-W_ALT_CURVES_S_WHEEL = W_CURVES_S_WHEEL + KEPT_BLOCK
-N_WARM = W_ALT_CURVES_S_WHEEL + KEPT_BLOCK
+# evaluating the curves again (curve_eval of the same parameters: the same numbers).  A block of kept curves:
+KEPT_S_WHEEL = 0      # the wheel and rail parameters the curves were evaluated at (NaN: none)
+KEPT_S_RAIL = 1
+KEPT_WHEEL = 2        # curve_eval of the wheel (wheelset frame, 7 values)
+KEPT_RAIL = 9         # curve_eval of the rail (7 values)
+KEPT_BLOCK = 16
+W_CURVES = 9          # the warm start's block
+W_ALT_CURVES = W_CURVES + KEPT_BLOCK    # the region's other zone's block (W_ALT_S_*): its Newton search too
+N_WARM = W_ALT_CURVES + KEPT_BLOCK
 
 # ---- kernel parameters: params[P_*] ------------------------------------------------------------------------------
 P_E_STAR = 0

@@ -66,7 +66,8 @@ def _basis(u):
 @compiled(inline="always")
 def _hermite(nodes, i, col, h, hh, b):
     """Position and first derivative (per arc length) of coordinate ``col`` (1: y, 2: z) on segment ``i`` from the
-    basis ``b`` of :func:`_basis`; also the node data scaled to the segment (for :func:`_hermite_second`)."""
+    basis ``b`` of :func:`_basis`; also the node data scaled to the segment, for the second derivative
+    (:func:`curve_eval`)."""
     p0 = nodes[i, col]; t0 = nodes[i, col + 2] * h; a0 = nodes[i, col + 4] * hh
     p1 = nodes[i + 1, col]; t1 = nodes[i + 1, col + 2] * h; a1 = nodes[i + 1, col + 4] * hh
     p = b[0] * p0 + b[1] * t0 + b[2] * a0 + b[3] * p1 + b[4] * t1 + b[5] * a1

@@ -84,7 +84,7 @@ class Recorder:
 
     def record(self, mbs, t: float) -> None:
         if self.n >= self._data.shape[0]:
-            self._data = np.vstack([self._data, np.full_like(self._data, np.nan)])
+            self._grow(2 * self._data.shape[0])
         row = self._row
         row.fill(np.nan)
         row[0] = t
@@ -107,10 +107,14 @@ class Recorder:
                 return None
             cols[kind] = sl.start
         if reserve and self._data.shape[0] < self.n + reserve:
-            grown = np.full((self.n + int(reserve), self._data.shape[1]), np.nan)
-            grown[:self.n] = self._data[:self.n]
-            self._data = grown
+            self._grow(self.n + int(reserve))
         return self._data, cols["wheels"], cols["wheelset_lateral"]
+
+    def _grow(self, rows: int) -> None:
+        """The table with ``rows`` rows, its rows so far kept, the new ones NaN."""
+        grown = np.full((rows, self._data.shape[1]), np.nan)
+        grown[:self.n] = self._data[:self.n]
+        self._data = grown
 
     def take_watched(self, n: int) -> None:
         """The table holds ``n`` rows (written by the watch, :meth:`watched_columns`)."""
