@@ -79,6 +79,12 @@ PRESET = "default"
 CHUNK_S = 4e-3           # about this much work per timed chunk
 
 
+def set_preset(name: str) -> None:
+    """The preset of every model built from here on (``--preset``)."""
+    global PRESET
+    PRESET = name
+
+
 def rtri_case() -> RtriCase:
     p = PRESETS[PRESET]
     return RtriCase(span_m=20.0, record=False, **p.run, **p.contact)
@@ -398,8 +404,10 @@ def main(argv=None):
     ap.add_argument("--stride", type=int, default=3, help="keep every n-th recorded call of the run (default 3)")
     ap.add_argument("--repeats", type=int, default=9, help="repeats of every timed chunk (minimum kept)")
     ap.add_argument("--rest-calls", type=int, default=200, help="calls at rest (the same state repeated)")
+    ap.add_argument("--preset", default="default", choices=sorted(PRESETS), help="the run's preset (default: default)")
     ap.add_argument("--out", default=str(RESULTS))
     args = ap.parse_args(argv)
+    set_preset(args.preset)
     load_before = os.getloadavg()
     print(f"load before: {load_before[0]:.2f} {load_before[1]:.2f} {load_before[2]:.2f}", flush=True)
     qs, vs, ts, ws, status = record_run()

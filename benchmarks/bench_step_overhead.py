@@ -101,7 +101,7 @@ def build(record: bool = True, wheel_rail: str = "contact", duration_s: float | 
     return h
 
 
-class _SolveClock:
+class SolveClock:
     """Wall and thread CPU time inside every ``MainSystem.SolveDynamic`` while active (``with``): ``spans``, a list
     of ``(wall_s, cpu_s)``."""
 
@@ -131,7 +131,7 @@ def solve_once(config: str) -> tuple[float, float]:
               wheel_rail="springs" if config == "springs" else "contact",
               python_path=config in PYTHON_PATH)
     c = h.contact
-    with _SolveClock() as clock:
+    with SolveClock() as clock:
         if config in ("cli", "cli_hook", "cli_python", "no_record", "springs"):
             out = R.run(h.mbs, h.run, c, speed_m_s=h.speed_m_s, recorder=h.recorder,
                         exu_settings=(h.settings, h.solver_type), watch=config != "cli_hook")

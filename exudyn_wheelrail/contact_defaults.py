@@ -14,7 +14,7 @@ __all__ = ["CREEP_LAW", "CREEP_LAW_NAMES", "FRICTION", "GEOMETRY", "GEOMETRY_MOD
 
 #: the creep laws' names (the connector's ``creep_law=``), in the order of their codes in the compiled dispatch
 #: (:data:`exudyn_wheelrail.creep.registry.LAWS`: what each is, what it needs)
-CREEP_LAW_NAMES = ("fastsim", "linear", "none", "table", "shen_hedrick_elkins", "polach")
+CREEP_LAW_NAMES = ("fastsim", "linear", "none", "table", "shen_hedrick_elkins", "polach", "table_linear")
 
 #: creep law: the USETAB-style table of Kalker's exact theory, as in Montenegro et al. 2015 (a name of
 #: :data:`CREEP_LAW_NAMES`)

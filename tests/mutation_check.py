@@ -816,6 +816,21 @@ MUTANTS = [
        "return py, pz, dy, dz",
        "the searches' point-and-tangent evaluation differs from the full evaluation (tangent not normalised)",
        [T + "test_curve.py"]),
+    _m("multilinear-sum-shifted-psi", P + "creep/table.py",
+       "                    fx += w4 * v[ips - 1 + m, 0]\n                    fy += w4 * v[ips - 1 + m, 1]\n"
+       "                    mz += w4 * v[ips - 1 + m, 2]\n    return sx",
+       "                    fx += w4 * v[ips - 2 + m, 0]\n                    fy += w4 * v[ips - 2 + m, 1]\n"
+       "                    mz += w4 * v[ips - 2 + m, 2]\n    return sx",
+       "the multilinear creep table sums the psi nodes one interval off",
+       [T + "test_creep_table_interpolation.py"], k="multilinear"),
+    _m("table-linear-law-cubic", P + "creep/registry.py",
+       "ORDER_CUBIC if law == _TABLE else ORDER_LINEAR", "ORDER_CUBIC",
+       "the table_linear law interpolates cubically (the fast preset's law not the one it names)",
+       [T + "test_connector.py"], k="table_laws"),
+    _m("watched-deck-forces-of-wheelsets", P + "simulation/watch.py",
+       "    Q[:] = wc.call.f[m0:]", "    Q[:] = wc.call.f[:Q.shape[0]]",
+       "the watched deck columns take the wheelsets' forces for the modal forces",
+       [T + "test_watch.py"], k="bridge_crossing"),
 ]
 
 

@@ -199,6 +199,15 @@ def test_rotation_vector_round_trip():
         np.testing.assert_allclose(v, w, atol=1e-9)
 
 
+def _contact_samples(seed, n=20):
+    """Random ellipses and creepages ``(a, b, ξ, η, φ)`` of a loaded wheel (partial slip to saturation)."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        a, b = rng.uniform(2e-3, 8e-3, 2)
+        xi, eta = rng.normal(scale=5e-4, size=2)
+        yield a, b, xi, eta, rng.normal(scale=0.5)
+
+
 @pytest.mark.parametrize("law", ["linear", "fastsim", "shen_hedrick_elkins", "polach"])
 def test_creep_law_dispatch_matches_the_creep_modules(law):
     from exudyn_wheelrail import creep
@@ -210,11 +219,7 @@ def test_creep_law_dispatch_matches_the_creep_modules(law):
     cp = np.zeros(C.N_CP)
     cp[[C.CP_MU, C.CP_G, C.CP_NU, C.CP_NX, C.CP_NY, C.CP_AB_MIN, C.CP_AB_MAX]] = [0.3, 8.1e10, 0.28, 16, 8, 0.1, 10]
     tab = (np.zeros(2), np.zeros(2, np.int8), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((2, 3, 3, 3, 3)))
-    rng = np.random.default_rng(11)
-    for _ in range(20):
-        a, b = rng.uniform(2e-3, 8e-3, 2)
-        xi, eta = rng.normal(scale=5e-4, size=2)
-        phi = rng.normal(scale=0.5)
+    for a, b, xi, eta, phi in _contact_samples(11):
         got = C._creep(C.CREEP_LAWS[law], a, b, xi, eta, phi, 4e4, cp, linear._T_NODES, linear._COEF, tab)
         want = funcs[law](a, b, xi, eta, phi, 4e4, 0.3, 8.1e10, 0.28)
         np.testing.assert_allclose(got[:3], want, rtol=1e-9, atol=1e-9)
@@ -225,6 +230,20 @@ def test_creep_law_dispatch_matches_the_creep_modules(law):
     want = funcs[law](c * math.sqrt(10), c / math.sqrt(10), 1e-4, 0.0, 0.0, 4e4, 0.3, 8.1e10, 0.28)
     np.testing.assert_allclose(got[:2], want[:2], rtol=1e-9)
     assert got[3] == C.CREEP_AB_CLAMPED
+
+
+@pytest.mark.parametrize("law, interpolation", [("table", "cubic"), ("table_linear", "linear")])
+def test_table_laws_dispatch_to_the_table_lookup_of_their_interpolation(law, interpolation):
+    from exudyn_wheelrail.creep import linear, load_table, table_forces
+
+    cp = np.zeros(C.N_CP)
+    cp[[C.CP_MU, C.CP_G, C.CP_NU, C.CP_NX, C.CP_NY, C.CP_AB_MIN, C.CP_AB_MAX]] = [0.3, 8.1e10, 0.28, 16, 8, 0.05, 20]
+    t = load_table()
+    tab = tuple(np.ascontiguousarray(x) for x in t.core_arrays())
+    for a, b, xi, eta, phi in _contact_samples(12):
+        got = C._creep(C.CREEP_LAWS[law], a, b, xi, eta, phi, 4e4, cp, linear._T_NODES, linear._COEF, tab)
+        want = table_forces(a, b, xi, eta, phi, 4e4, 0.3, 8.1e10, 0.28, table=t, interpolation=interpolation)
+        np.testing.assert_allclose(got[:3], want, rtol=1e-9, atol=1e-9 * 0.3 * 4e4)
 
 
 def test_non_finite_state_raises_a_clear_error():
@@ -302,7 +321,7 @@ def test_connector_creep_forces_never_exceed_coulomb():
     t = load_table()
     tab = tuple(np.ascontiguousarray(x) for x in t.core_arrays())
     a, b = 6.554e-3, 2.674e-3
-    for law in ("table", "fastsim", "shen_hedrick_elkins", "polach"):
+    for law in ("table", "table_linear", "fastsim", "shen_hedrick_elkins", "polach"):
         for xi, eta, phi in [(6.19e-4, 4.17e-3, 0.1445), (5e-3, 5e-3, 0.0), (2e-3, -1e-2, -3.0), (0.05, 0.0, 0.0)]:
             Fx, Fy, Mz, _ = C._creep(C.CREEP_LAWS[law], a, b, xi, eta, phi, 5e4, cp, linear._T_NODES,
                                      linear._COEF, tab)

@@ -31,8 +31,8 @@ import numpy as np
 import pytest
 
 from exudyn_wheelrail.creep.kalker_exact import kalker_exact
-from exudyn_wheelrail.creep.table import (ORDER_CUBIC, load_table, normalisation_coefficients, table_core,
-                                          table_forces)
+from exudyn_wheelrail.creep.table import (ORDER_CUBIC, ORDER_LINEAR, load_table, normalisation_coefficients,
+                                          table_core, table_forces)
 
 G, N, MU, C_REF, NU = 8.1e10, 2.5e4, 0.4, 7e-3, 0.28
 EPS = np.finfo(float).eps
@@ -50,10 +50,10 @@ def _physical(t, r, th, ps, C11, C22, c=C_REF):
     return a, b, v[0] / kx, v[1] / ky, v[2] / kp
 
 
-def lookup(arrays, point, C11=3.9, C22=3.4):
+def lookup(arrays, point, C11=3.9, C22=3.4, order=ORDER_CUBIC):
     """Table value (Fx/(μN), Fy/(μN), Mz/(μNc)) of the compiled core at point = (t, r, θ, ψ)."""
     a, b, xi, eta, phi = _physical(*point, C11, C22)
-    F = table_core(a, b, xi, eta, phi, N, MU, G, C11, C22, *arrays, ORDER_CUBIC)
+    F = table_core(a, b, xi, eta, phi, N, MU, G, C11, C22, *arrays, order)
     return np.array(F) / (MU * N) * [1.0, 1.0, 1.0 / math.sqrt(a * b)]
 
 
@@ -237,6 +237,40 @@ def test_cubic_hermite_reproduces_quadratics_on_non_uniform_nodes(node_set, ship
         assert np.all(err <= 256 * EPS * vmax), (p, err)
 
 
+def _multilinear_factory(nodes):
+    """Sums of products of functions affine in each axis (scaled coordinates): what multilinear interpolation
+    reproduces exactly."""
+    lo = [n[0] for n in nodes]
+    span = [n[-1] - n[0] for n in nodes]
+
+    def func(t, r, th, ps):
+        u = [(x - l) / s for x, l, s in zip((t, r, th, ps), lo, span)]
+        return ((1.0 + 0.7 * u[0]) * (0.4 - 1.1 * u[1]) * (-0.2 + 1.6 * u[2]) * (0.9 + 0.5 * u[3]),
+                u[0] * u[2] + 2.0 * u[1] * u[3] - u[1] * u[2] * u[3],
+                (1.0 - u[0]) * (u[1] - 0.5 * u[3]) + u[2] * u[3] * u[0])
+    return func
+
+
+@pytest.mark.parametrize("node_set", ["synthetic", "shipped"])
+def test_multilinear_order_reproduces_multilinear_functions_on_non_uniform_nodes(node_set, shipped):
+    """The multilinear order (the ``table_linear`` law) sums only the 16 nodes its weights reach: it must still be
+    the multilinear interpolant, exact for functions affine in each axis, in every interval (ends included)."""
+    nodes = _synthetic_nodes() if node_set == "synthetic" else (shipped.t_nodes, shipped.r_pad, shipped.th_pad,
+                                                                  shipped.ps_pad)
+    func = _multilinear_factory(nodes)
+    arrays = _synthetic_arrays(func, nodes)
+    t_nodes, r_pad = nodes[0], nodes[1]
+    rng = np.random.default_rng(21)
+    points = np.column_stack((rng.uniform(t_nodes[0], t_nodes[-1], 400), rng.uniform(0.0, r_pad[-1], 400),
+                              rng.uniform(0.0, math.pi / 2, 400), rng.uniform(-math.pi / 2, math.pi / 2, 400)))
+    vmax = np.abs(arrays[5]).max()
+    for p in points:
+        err = np.abs(lookup(arrays, p, order=ORDER_LINEAR) - np.array(func(*p)))
+        # round-off of 16 values with weights summing to 1 (≤ 16 ε of the largest value) and of the coordinates'
+        # round trip through the physical inputs (a few ε relative times slopes of O(1/span)): twice that
+        assert np.all(err <= 64 * EPS * vmax), (p, err)
+
+
 # ----------------------------------------------------------------------------------------------------------------
 # (c) the shipped table between its nodes against Kalker's exact theory
 # ----------------------------------------------------------------------------------------------------------------
@@ -246,6 +280,8 @@ def test_cubic_hermite_reproduces_quadratics_on_non_uniform_nodes(node_set, ship
 # checked there, on the radial intervals from the linear range (r ≈ 0.005) to full sliding (r ≈ 21), in three a/b
 # intervals.
 MAX_ERR, RMS_ERR = 0.02, 0.005
+#: the same for the multilinear order (the ``table_linear`` law; docs/validation.md): 4 % and 1 %
+MAX_ERR_LINEAR, RMS_ERR_LINEAR = 0.04, 0.01
 
 
 def test_shipped_table_midway_between_nodes_against_the_exact_theory(shipped):
@@ -266,10 +302,12 @@ def test_shipped_table_midway_between_nodes_against_the_exact_theory(shipped):
                 th_mid, ps_mid = 0.5 * (th[kt] + th[kt + 1]), 0.5 * (ps[kp] + ps[kp + 1])
                 a, b, xi, eta, phi = _physical(t_mid, r_mid, th_mid, ps_mid, C11, C22)
                 ref = np.array(kalker_exact(a, b, xi, eta, phi, N, MU, G, NU, **opts))
-                tab = np.array(table_forces(a, b, xi, eta, phi, N, MU, G, NU))
-                errs.append((math.hypot(*(tab[:2] - ref[:2])) / (MU * N),
-                             abs(tab[2] - ref[2]) / (MU * N * math.sqrt(a * b))))
-    e = np.array(errs)
+                for interpolation in ("cubic", "linear"):
+                    tab = np.array(table_forces(a, b, xi, eta, phi, N, MU, G, NU, interpolation=interpolation))
+                    errs.append((math.hypot(*(tab[:2] - ref[:2])) / (MU * N),
+                                 abs(tab[2] - ref[2]) / (MU * N * math.sqrt(a * b))))
+    e = np.array(errs).reshape(-1, 2, 2)
     assert e.shape[0] == n_dir == 126
-    assert e.max(axis=0).max() <= MAX_ERR, e.max(axis=0)
-    assert np.sqrt(np.mean(e ** 2, axis=0)).max() <= RMS_ERR, np.sqrt(np.mean(e ** 2, axis=0))
+    for k, (max_err, rms_err) in enumerate(((MAX_ERR, RMS_ERR), (MAX_ERR_LINEAR, RMS_ERR_LINEAR))):
+        assert e[:, k].max(axis=0).max() <= max_err, (k, e[:, k].max(axis=0))
+        assert np.sqrt(np.mean(e[:, k] ** 2, axis=0)).max() <= rms_err, (k, np.sqrt(np.mean(e[:, k] ** 2, axis=0)))

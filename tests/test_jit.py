@@ -112,7 +112,7 @@ def test_the_none_branches_compile_and_give_the_rigid_values():
     from exudyn_wheelrail.multibody import connector_core
     from exudyn_wheelrail.structures import deck_kinematics
 
-    assert registry._table_law(6e-3, 4e-3, 1e-3, 1e-3, 0.1, 5e4, 0.3, 8e10, 4.0, 3.5, None) == (0.0, 0.0, 0.0)
+    assert registry._table_law(6e-3, 4e-3, 1e-3, 1e-3, 0.1, 5e4, 0.3, 8e10, 4.0, 3.5, None, 3) == (0.0, 0.0, 0.0)
     out = np.full(6, np.nan)
     deck_kinematics.residual_at(1.0, 0.0, np.zeros(1), np.ones(1), np.zeros((1, 2), dtype=np.int64), None, out)
     assert np.all(out == 0.0)                                          # set by assignment: exact

@@ -13,7 +13,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from pathlib import Path
+
 from exudyn_wheelrail.multibody import direct_call as D
+from exudyn_wheelrail.scenarios.bridge_crossing import BridgeCrossing
+from exudyn_wheelrail.scenarios.build import build_crossing
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
 from exudyn_wheelrail.simulation import runner as R
@@ -21,6 +25,8 @@ from exudyn_wheelrail.simulation import watch as W
 from exudyn_wheelrail.simulation.guidance import FlangeClimbCheck
 from exudyn_wheelrail.simulation.monitor import RunMonitor
 from exudyn_wheelrail.simulation.presets import apply_preset
+
+TRAINS = Path(__file__).resolve().parents[1] / "vehicles" / "trains"
 
 pytestmark = pytest.mark.skipif(not D.native_available(),
                                 reason="the native module is not built (no C++ compiler at install)")
@@ -97,6 +103,33 @@ def test_a_stop_by_the_flange_climb_window_in_the_watch_ends_as_on_the_pre_step_
     out, _ = _same_run(0.1, nadal=1e-6)
     assert out.stop.kind == "derailment" and "flange climb" in out.stop.detail
     assert 0.028 < out.stop.time_s < 0.032
+
+
+def test_a_bridge_crossing_is_watched_with_its_deck_columns_and_gives_the_pre_step_numbers():
+    """A structure under the rails (the deck's modes, their coordinates the connector's last) and the deck's
+    columns filled from the modal state and the connector's modal forces: the same table, history and status as
+    the pre-step function's, bit for bit."""
+    case = BridgeCrossing(span_m=20.0, mass_kg_m=15e3, f1_Hz=5.0, damping_ratio=0.01, n_modes=3, axles=None,
+                          speed_m_s=300 / 3.6, model="vehicles", train_file=str(TRAINS / "manchester_x2.toml"))
+    runs = []
+    for watch in (True, False):
+        h = build_crossing(case)
+        h.contact.warm_up(h.mbs, jacobian=False)
+        runs.append((h, R.run(h.mbs, h.run, h.contact, speed_m_s=h.speed_m_s, recorder=h.recorder,
+                              exu_settings=(h.settings, h.solver_type), watch=watch)))
+    (h, out), (h_ref, ref) = runs
+    assert out.stop.kind == ref.stop.kind == "completed"
+    assert out.watched_states == h.run.steps - 1 and ref.watched_states == 0
+    assert out.monitor.n_checks == ref.monitor.n_checks
+    hist, hist_ref = out.monitor.history(), ref.monitor.history()
+    for k in hist_ref:
+        np.testing.assert_array_equal(hist[k], hist_ref[k], err_msg=k)
+    table, table_ref = h.recorder.table(), h_ref.recorder.table()
+    assert table.keys() == table_ref.keys()
+    for k in table_ref:
+        np.testing.assert_array_equal(table[k], table_ref[k], err_msg=k)
+    deck = [k for k in table if k.startswith("deck_")]
+    assert len(deck) >= 8 and np.max(np.abs(table["deck_midspan_displacement_m"])) > 1e-4
 
 
 def test_runs_the_watch_cannot_take_are_checked_by_the_pre_step_function():

@@ -228,7 +228,9 @@ def _add_rtri_common(p: argparse.ArgumentParser, duration_default: str):
                       help="the simulated time as a number of steps of the run's dt (duration = steps x dt), or "
                            "'auto' (as --duration auto); instead of --duration")
     p.add_argument("--creep-law", default=None, help="creep law of the connector: table (default: Kalker's exact "
-                                                     "theory, tabulated), fastsim, shen_hedrick_elkins, polach")
+                                                     "theory, tabulated), table_linear (the same table interpolated "
+                                                     "multilinearly: cheaper, coarser), fastsim, "
+                                                     "shen_hedrick_elkins, polach")
     p.add_argument("--geometry", default=None, choices=("online", "table"),
                    help="contact geometry: online search (default) or the precomputed table for the rigid rail "
                         "profile (built once, ~1 min, cached)")

@@ -44,7 +44,7 @@ from ..jit import compiled
 from . import linear as _linear
 from .fastsim import fastsim_core
 from .laws import polach_core, she_core
-from .table import NU_TOLERANCE, load_table, table_core
+from .table import NU_TOLERANCE, ORDER_CUBIC, ORDER_LINEAR, load_table, table_core
 
 __all__ = ["CreepLaw", "LAWS", "CREEP_LAWS", "CREEP_AB_CLAMPED", "CreepModel", "creep_model", "creep_forces",
            "combined_elastic_constants"]
@@ -73,6 +73,8 @@ LAWS = dict(zip(CREEP_LAW_NAMES, (
     CreepLaw(3, "USETAB-style table of Kalker's exact theory", True, False, True),
     CreepLaw(4, "Shen-Hedrick-Elkins saturation of the linear theory", False, False, True),
     CreepLaw(5, "Polach's law, k_A = k_S = 1", False, False, True),
+    CreepLaw(6, "the table of Kalker's exact theory interpolated multilinearly (about half the lookup's cost)", True,
+             False, True),
 ), strict=True))
 
 #: name -> code of the compiled dispatch (derived from :data:`LAWS`)
@@ -84,6 +86,7 @@ _NONE = LAWS["none"].code
 _TABLE = LAWS["table"].code
 _SHE = LAWS["shen_hedrick_elkins"].code
 _POLACH = LAWS["polach"].code
+_TABLE_LINEAR = LAWS["table_linear"].code
 #: per code: whether the Coulomb bound applies (read by the compiled dispatch)
 _BOUNDED = tuple(law.coulomb_bound for law in sorted(LAWS.values(), key=lambda law: law.code))
 assert [law.code for law in sorted(LAWS.values(), key=lambda law: law.code)] == list(range(len(LAWS)))
@@ -122,8 +125,9 @@ def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
         flag = CREEP_AB_CLAMPED
     C11, C22, C23 = _linear.kalker_coefficients_core(math.log(ab), cp[CP_NU], t_nodes, coef, 0)
     G = cp[CP_G]
-    if law == _TABLE:
-        Fx, Fy, Mz = _table_law(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, tab)
+    if law == _TABLE or law == _TABLE_LINEAR:
+        Fx, Fy, Mz = _table_law(a, b, xi, eta, phi, N, cp[CP_MU], G, C11, C22, tab,
+                                ORDER_CUBIC if law == _TABLE else ORDER_LINEAR)
         return Fx, Fy, Mz, flag
     if law == _SHE or law == _POLACH:
         C33 = 32.0 / (15.0 * math.pi) * C23 * ab ** -1.5     # simplified-theory spin-moment coefficient
@@ -143,13 +147,13 @@ def _law_forces(law, a, b, xi, eta, phi, N, cp, t_nodes, coef, tab):
 
 
 @compiled(refcount=False)
-def _table_law(a, b, xi, eta, phi, N, mu, G, C11, C22, tab):
-    """The table of the exact theory (cubic lookup, :func:`~.table.table_core`) with its arrays ``tab``; ``None``
-    (a law without a table): zero, and the lookup is not compiled (numba drops the branch on a ``None`` argument's
-    type)."""
+def _table_law(a, b, xi, eta, phi, N, mu, G, C11, C22, tab, order):
+    """The table of the exact theory (:func:`~.table.table_core`, interpolation ``order``) with its arrays ``tab``;
+    ``None`` (a law without a table): zero, and the lookup is not compiled (numba drops the branch on a ``None``
+    argument's type)."""
     if tab is None:
         return 0.0, 0.0, 0.0
-    return table_core(a, b, xi, eta, phi, N, mu, G, C11, C22, tab[0], tab[1], tab[2], tab[3], tab[4], tab[5], 3)
+    return table_core(a, b, xi, eta, phi, N, mu, G, C11, C22, tab[0], tab[1], tab[2], tab[3], tab[4], tab[5], order)
 
 
 def combined_elastic_constants(E_wheel_Pa: float, nu_wheel: float, E_rail_Pa: float,

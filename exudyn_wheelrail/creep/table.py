@@ -74,10 +74,12 @@ lookup).  Ends of the axes:
 * a/b: the interpolation never reaches across a/b = 0.1 and 10 (the normalisation's kinks; "break" nodes: the
   slope at a break node is the one-sided secant) nor beyond 0.05 … 20 (ValueError).
 
-``interpolation="linear"`` gives plain multilinear interpolation on the same nodes (16 values per lookup); it is
-kept for comparison.  Measured on the default grid against FASTSIM (``benchmarks/bench_creep_table.py``, 4000
-random off-grid points, |ΔF|/(μN)): cubic RMS 0.10 %, 99.9 % quantile 1.0 %, max 3.1 % (one point at
-a/b = 0.09 where FASTSIM's own 16 strips make it rough); linear RMS 0.35 %, 99.9 % 2.5 %, max 3.7 %.  Cost
+``interpolation="linear"`` gives plain multilinear interpolation on the same nodes (16 values per lookup, summed
+over those 16 alone); the connector offers it as the creep law ``"table_linear"`` (the ``fast`` preset's: about
+half the lookup's cost; midway between the nodes up to 2.9 % of μN instead of 1.0 %, docs/validation.md).
+Measured on the default grid against FASTSIM (``benchmarks/bench_creep_table.py``, 4000 random off-grid points,
+|ΔF|/(μN)): cubic RMS 0.10 %, 99.9 % quantile 1.0 %, max 3.1 % (one point at a/b = 0.09 where FASTSIM's own 16
+strips make it rough); linear RMS 0.35 %, 99.9 % 2.5 %, max 3.7 %.  Cost
 (compiled, warm): cubic ≈ 0.45 µs, linear ≈ 0.23 µs per lookup including C11, C22.
 
 Beyond the table
@@ -127,7 +129,8 @@ from ._inputs import check_contact_inputs
 __all__ = [
     "TABLE_PATH", "FASTSIM_TABLE_PATH", "FORMAT", "FORMAT_VERSION", "NU_TABLE", "NU_TOLERANCE",
     "NORMALISATION", "BUILD_COMMAND", "CreepTable", "load_table", "save_table", "pad_table", "table_forces",
-    "table_core", "normalised_creepages", "physical_creepages", "normalisation_coefficients",
+    "table_core", "normalised_creepages", "physical_creepages", "normalisation_coefficients", "ORDER_LINEAR",
+    "ORDER_CUBIC",
 ]
 
 DATA_DIR = Path(__file__).resolve().parents[1] / "data"
@@ -147,6 +150,7 @@ NORMALISATION = ("lever-v1: xi_hat = xi*G*c^2*C11/(3*mu*N), eta_hat = eta*G*c^2*
                  "a/b clamped to [0.1, 10] (quadratic in nu); values Fx/(mu*N), Fy/(mu*N), Mz/(mu*N*c)")
 BUILD_COMMAND = "python -m exudyn_wheelrail creep-table --out {path} --generator exact"
 
+#: the interpolation orders of :func:`table_core` (``interpolation="linear"``, ``"cubic"``)
 ORDER_LINEAR = 1
 ORDER_CUBIC = 3
 
@@ -316,6 +320,8 @@ def table_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, t_
     elif ips > ps_nodes.size - 3:
         ips = ps_nodes.size - 3
     wps = _weights(ps_nodes, ips, ps, True, True, order)
+    if order != ORDER_CUBIC:
+        return _linear_sum(values, it, ir, ith, ips, wt, wr, wth, wps, sx, sy, mu * normal_force, math.sqrt(a * b))
     fx = 0.0
     fy = 0.0
     mz = 0.0
@@ -342,6 +348,32 @@ def table_core(a, b, xi, eta, phi, normal_force, mu, shear_modulus, C11, C22, t_
                     mz += w4 * v[ips - 1 + m, 2]
     muN = mu * normal_force
     return sx * fx * muN, sy * fy * muN, sy * mz * muN * math.sqrt(a * b)
+
+
+@compiled(refcount=False)
+def _linear_sum(values, it, ir, ith, ips, wt, wr, wth, wps, sx, sy, muN, c):
+    """The multilinear order's sum of :func:`table_core`: the 16 nodes its weights reach (the middle two of each
+    axis's four)."""
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    for p in range(1, 3):
+        w1 = wt[p]
+        if w1 == 0.0:
+            continue
+        for q in range(1, 3):
+            w2 = w1 * wr[q]
+            if w2 == 0.0:
+                continue
+            for u in range(1, 3):
+                w3 = w2 * wth[u]
+                v = values[it - 1 + p, ir - 1 + q, ith - 1 + u]
+                for m in range(1, 3):
+                    w4 = w3 * wps[m]
+                    fx += w4 * v[ips - 1 + m, 0]
+                    fy += w4 * v[ips - 1 + m, 1]
+                    mz += w4 * v[ips - 1 + m, 2]
+    return sx * fx * muN, sy * fy * muN, sy * mz * muN * c
 
 
 # ----------------------------------------------------------------------------------------------------------------

@@ -25,7 +25,9 @@ class LoadModelHandle:
     axle_x_m : the axles' distances behind the first axle (running order; the first 0) [m].
     axle_load_N : their static (downward) loads [N].
     modal_forces : ``modal_forces(mbs, t) -> Q`` — the generalized forces on the bridge's modal node at the state
-        being recorded (n_modes,), for the modal accelerations.
+        being recorded (n_modes,), for the modal accelerations; ``None``: those of ``contact`` (its
+        ``modal_forces_N()``, the full interaction), and the deck's columns are recorded by the run's watch in the
+        compiled force call where the run allows it.
     probes : extra recorder probes (:class:`~exudyn_wheelrail.simulation.recorder.Recorder`), recorded after the
         deck's columns.
     summary : ``summary(table) -> dict`` merged into ``summary.json`` under ``"load_model"`` (optional).
@@ -37,7 +39,7 @@ class LoadModelHandle:
     contact: object | None
     axle_x_m: np.ndarray
     axle_load_N: np.ndarray
-    modal_forces: Callable
+    modal_forces: Callable | None
     probes: list = field(default_factory=list)
     summary: Callable | None = None
     description: str = ""

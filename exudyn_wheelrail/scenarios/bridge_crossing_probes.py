@@ -1,18 +1,18 @@
-"""The bridge crossing's recorded columns (:func:`deck_columns`) and the recorder probes that fill them: the first
-axle's place and the quasi-static deflection (:class:`FirstAxleProbe`), the deck's modal response
-(:class:`DeckProbe`)."""
+"""The bridge crossing's recorded columns (:func:`deck_columns`, in the order of
+:func:`~exudyn_wheelrail.structures.deck_response.deck_row`) and the recorder probes that fill them: the first axle's
+place and the quasi-static deflection (:class:`FirstAxleProbe`), the deck's modal response (:class:`DeckProbe`)."""
 from __future__ import annotations
 
 import numpy as np
 
-from ..jit import compiled
 from ..structures.beam import N_DOF_NODE
+from ..structures.deck_response import DeckRowArrays, deck_row
 from ..structures.load_models import AxleTrain, quasi_static_midspan_deflection_m
 from .bridge_crossing_deck import elements_per_span
 from .deck import CHECK_POINTS_X_OVER_L
 
 __all__ = ["DECK_COLUMNS", "LATERAL_COLUMNS", "SPAN_COLUMNS", "SPAN_LATERAL_COLUMNS", "deck_columns",
-           "FirstAxleProbe", "DeckProbe", "deck_row"]
+           "FirstAxleProbe", "DeckProbe"]
 
 #: the recorded columns after ``time_s`` and ``x_first_axle_m`` (module docstring)
 DECK_COLUMNS = (("deck_midspan_displacement_m", "deck_midspan_velocity_m_s", "deck_midspan_acceleration_m_s2",
@@ -73,103 +73,62 @@ class FirstAxleProbe:
 
 
 class DeckProbe:
-    """The deck's columns (:func:`deck_columns`) from the modal state and the modal accelerations: the modal state
-    read from Exudyn, the load model's modal forces, every column of the row in one compiled call
-    (:func:`deck_row`)."""
+    """The deck's columns (:func:`deck_columns`) from the modal state and the modal accelerations: every column of the
+    row in one compiled call (:func:`~exudyn_wheelrail.structures.deck_response.deck_row`).  The modal state is read
+    from Exudyn, the modal forces from the load model (``modal_forces(mbs, t)``) — or, when they are those of the
+    wheel–rail ``contact`` (``modal_forces=None``: the full interaction), the probe is **watched**: the run's
+    watch fills its columns in the compiled force call from the connector's coordinates and forces
+    (:mod:`~exudyn_wheelrail.simulation.watch`), the same arithmetic on the same numbers."""
 
-    def __init__(self, case, bridge, deck, modal_forces, cutoffs_Hz):
+    def __init__(self, case, bridge, deck, modal_forces, cutoffs_Hz, contact=None):
         modes = deck.modes
         cutoff_Hz = cutoffs_Hz[0]
-        self.bridge, self.modal_forces = bridge, modal_forces
+        self.bridge = bridge
+        self.c = contact if modal_forces is None else None
+        if modal_forces is None and contact is None:
+            raise ValueError("DeckProbe: no modal forces (modal_forces=None needs the contact whose they are)")
+        self.modal_forces = modal_forces if modal_forces is not None else (lambda mbs, t: contact.modal_forces_N())
+        self.watched = "deck" if self.c is not None else None
         L, x0 = case.span_m, case.deck_start_m
         phi, dphi = modes.shape_and_slope_at(np.array([x0 + 0.5 * L, x0, x0 + L]))
-        self.phi_mid = phi[0, 1].copy()
-        self.slopes = dphi[1:, 1].copy()                              # (2, n): dw/dx at the supports
+        slopes = dphi[1:, 1].copy()                                   # (2, n): dw/dx at the supports
         if case.n_spans > 1 and not case.global_modes:  # x0 + L also starts span 2: span 1's end node, dw/dx = -θy
-            self.slopes[1] = -modes.shapes[N_DOF_NODE * elements_per_span(case) + 4]
+            slopes[1] = -modes.shapes[N_DOF_NODE * elements_per_span(case) + 4]
         elif case.n_spans > 1:       # the slope at x0 + L from the left: the first span's end (a joint's other side
-            self.slopes[1] = modes.shape_and_slope_at(np.nextafter(x0 + L, -np.inf))[1][1]   # starts the next deck)
+            slopes[1] = modes.shape_and_slope_at(np.nextafter(x0 + L, -np.inf))[1][1]   # starts the next deck)
         s_pts = x0 + L * np.asarray(CHECK_POINTS_X_OVER_L)
-        self.phi_pts = np.ascontiguousarray(modes.shape_at(s_pts)[:, 1, :])
+        phi_pts = np.ascontiguousarray(modes.shape_at(s_pts)[:, 1, :])
         keep = modes.frequencies_Hz <= 1.01 * cutoff_Hz          # FE frequencies lie slightly above the exact ones
-        self.phi_pts_cut = np.ascontiguousarray(np.where(keep[None, :], self.phi_pts, 0.0))
-        self.w2 = np.diag(modes.modal_stiffness()).copy()
-        self.d = np.diag(modes.modal_damping()).copy()
         self.columns = [("deck", c) for c in deck_columns(case)]
-        self.lateral = bool(case.lateral_modes)
+        lateral = bool(case.lateral_modes)
         # the lateral columns: the lateral modes' y rows (a vertical mode's lateral DOFs are the eigen-solver's
         # rounding, about 1e-13 of its vertical ones)
         lat = np.zeros(modes.n_modes, dtype=bool)
         for idx in deck.lateral:
             lat[idx] = True
         n = modes.n_modes
-        self.phi_lat_mid = (np.where(lat, modes.shape_at(x0 + 0.5 * L)[0], 0.0) if self.lateral
-                            else np.zeros(n))
         k_sp = case.n_spans if case.n_spans > 1 else 0
-        self.span_mid = np.zeros((k_sp, n))
-        self.span_cut = np.zeros((k_sp, len(CHECK_POINTS_X_OVER_L), n))
-        self.span_lat = np.zeros((k_sp, n))
+        span_mid = np.zeros((k_sp, n))
+        span_cut = np.zeros((k_sp, len(CHECK_POINTS_X_OVER_L), n))
+        span_lat = np.zeros((k_sp, n))
         for k in range(k_sp):
             xk, Lk = case.span_start_m(k), case.chain_m[k]
             mid = modes.shape_at(xk + 0.5 * Lk)
             mine = np.zeros(n, dtype=bool)
             mine[deck.vertical[k]] = True
-            keep = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
+            cut = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
             pts = modes.shape_at(xk + Lk * np.asarray(CHECK_POINTS_X_OVER_L))[:, 1, :]
-            self.span_mid[k] = mid[1]
-            self.span_cut[k] = np.where(keep[None, :], pts, 0.0)
-            self.span_lat[k] = np.where(lat, mid[0], 0.0)
+            span_mid[k] = mid[1]
+            span_cut[k] = np.where(cut[None, :], pts, 0.0)
+            span_lat[k] = np.where(lat, mid[0], 0.0)
+        self.rows = DeckRowArrays(
+            w2=np.diag(modes.modal_stiffness()).copy(), d=np.diag(modes.modal_damping()).copy(),
+            phi_mid=phi[0, 1].copy(), slopes=slopes, phi_pts=phi_pts,
+            phi_pts_cut=np.ascontiguousarray(np.where(keep[None, :], phi_pts, 0.0)),
+            phi_lat_mid=(np.where(lat, modes.shape_at(x0 + 0.5 * L)[0], 0.0) if lateral else np.zeros(n)),
+            lateral=lateral, span_mid=span_mid, span_cut=span_cut, span_lat=span_lat)
+        self._q_tt = np.zeros(n)                        # the modal accelerations of the row being filled
 
     def fill(self, mbs, t, out):
         q, q_t = (np.atleast_1d(v) for v in self.bridge.coordinates(mbs))      # a scalar for one mode
-        deck_row(q, q_t, np.atleast_1d(self.modal_forces(mbs, t)), self.w2, self.d, self.phi_mid, self.slopes,
-                 self.phi_pts, self.phi_pts_cut, self.phi_lat_mid, self.lateral, self.span_mid, self.span_cut,
-                 self.span_lat, out)
-
-
-@compiled
-def deck_row(q, q_t, Q, w2, d, phi_mid, slopes, phi_pts, phi_pts_cut, phi_lat_mid, lateral, span_mid, span_cut,
-             span_lat, out):
-    """One row of the deck's columns (:func:`deck_columns`, in their order) into ``out`` from the modal state ``q``,
-    ``q_t`` and the modal forces ``Q``: the modal accelerations ``q̈ = Q − d q̇ − w2 q`` (mass-normalised modes),
-    then the mid-span displacement, velocity and acceleration, the support slopes, the check points'
-    accelerations, the largest of them with the modes up to the cut-off, the lateral ones and every span's."""
-    n = q.shape[0]
-    q_tt = np.empty(n)
-    for j in range(n):
-        q_tt[j] = Q[j] - d[j] * q_t[j] - w2[j] * q[j]
-    out[0] = np.dot(phi_mid, q)
-    out[1] = np.dot(phi_mid, q_t)
-    out[2] = np.dot(phi_mid, q_tt)
-    out[3] = np.dot(slopes[0], q)
-    out[4] = np.dot(slopes[1], q)
-    k = 5
-    for i in range(phi_pts.shape[0]):
-        out[k + i] = np.dot(phi_pts[i], q_tt)
-    k += phi_pts.shape[0]
-    out[k] = _max_abs_rows(phi_pts_cut, q_tt)
-    k += 1
-    if lateral:
-        out[k] = np.dot(phi_lat_mid, q)
-        out[k + 1] = np.dot(phi_lat_mid, q_tt)
-        k += 2
-    for s in range(span_mid.shape[0]):
-        out[k] = np.dot(span_mid[s], q)
-        out[k + 1] = np.dot(span_mid[s], q_tt)
-        out[k + 2] = _max_abs_rows(span_cut[s], q_tt)
-        k += 3
-        if lateral:
-            out[k] = np.dot(span_lat[s], q)
-            out[k + 1] = np.dot(span_lat[s], q_tt)
-            k += 2
-
-
-@compiled
-def _max_abs_rows(A, x):
-    """``max_i |A[i] · x|``."""
-    m = 0.0
-    for i in range(A.shape[0]):
-        v = abs(np.dot(A[i], x))
-        if v > m:
-            m = v
-    return m
+        deck_row(q, q_t, np.atleast_1d(self.modal_forces(mbs, t)), *self.rows, self._q_tt, out)

@@ -145,7 +145,7 @@ def _build(mbs, case: BridgeCrossing, bridge) -> LoadModelHandle:
                 "criteria": crit}
 
     return LoadModelHandle(contact=contact, axle_x_m=float(x_ws[0]) - x_ws, axle_load_N=consist.static_axle_loads_N(),
-                           modal_forces=lambda mbs_, t: contact.modal_forces_N().copy(), probes=probes,
+                           modal_forces=None, probes=probes,
                            summary=summary,
                            description=f"{consist.name}: {consist.n_cars} car(s), {len(x_ws)} wheelsets, full "
                                        f"vehicle-bridge interaction (one wheel-rail contact, {cs.creep_law})",

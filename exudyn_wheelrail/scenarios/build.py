@@ -356,7 +356,7 @@ def build_crossing(case: BridgeCrossing, scenario: dict | None = None) -> Scenar
         dt = default_dt_s(case) if handle.max_dt_s is None else min(default_dt_s(case), float(handle.max_dt_s))
     run = RunSettings(solver=case.solver, dt_s=dt, duration_s=duration)
     probes = [FirstAxleProbe(case, axle_x, handle.axle_load_N, deck),
-              DeckProbe(case, bridge, deck, handle.modal_forces, cutoffs)] + list(handle.probes)
+              DeckProbe(case, bridge, deck, handle.modal_forces, cutoffs, contact=handle.contact)] + list(handle.probes)
     recorder = Recorder(probes, n_rows_hint=run.steps + 2)
     mbs.Assemble()
     h = ScenarioModel(scenario=scenario, system_container=sc, mbs=mbs, vehicle=None, model=None, pair=None,

@@ -153,8 +153,9 @@ entered with :func:`~..structures.bridge_exudyn.add_bridge`):
     ballast forces.
 
 ``[contact]`` (optional) — the fields of :class:`~exudyn_wheelrail.simulation.settings.ContactSettings`, validated
-    by it: ``creep_law`` ("table" (default: Kalker's exact theory, tabulated), "fastsim", "shen_hedrick_elkins",
-    "polach", "linear", "none"), ``friction`` (μ, 0.3), ``fastsim_grid`` ([24, 8]), ``geometry`` ("online" search
+    by it: ``creep_law`` ("table" (default: Kalker's exact theory, tabulated), "table_linear" (the same table
+    interpolated multilinearly), "fastsim", "shen_hedrick_elkins", "polach", "linear", "none"), ``friction`` (μ,
+    0.3), ``fastsim_grid`` ([24, 8]), ``geometry`` ("online" search
     (default) or "table": precomputed for the rigid rail profile), ``wheel_rail`` ("contact" (default) or
     "springs": linear springs at the nominal rail position, a cost baseline without irregularities, contact and
     recording — needs ``run.record = false``).

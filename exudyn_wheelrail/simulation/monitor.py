@@ -457,8 +457,6 @@ class RunMonitor(StabilityEstimate):
             return "a wall-clock limit"
         if self._pose_arrays is None:
             return "a contact without pose arrays"
-        if self._phi_ws.shape[2]:
-            return "a structure under the rails"
         return None
 
     def watch_arrays(self) -> tuple:

@@ -7,10 +7,11 @@ summary states the preset, what it set and what was overridden (:func:`apply_pre
 work–precision study (``benchmarks/work_precision.py``, RTRI 20 m at 250 km/h against a converged RK44 0.05 ms
 reference; table and reasons in ``benchmarks/README.md``).  Targets (one core): ``default`` at least 6x faster than
 real time with at most 1 % error in the peak lateral contact force; ``fast`` at least 15x with at most 5 %.
-Measured (``benchmarks/bench_presets.py``, 2 shared cores, load 0.9; real-time factor without / with recording,
-peak lateral force error): accurate 0.56x / 0.56x, 0.05 %; default 2.1x / 2.0x, 0.57 %; fast 2.6x / 2.5x, 1.8 %
-(on that machine the vehicle on linear rail springs runs at 8.7x) — the error targets are met, the speed targets
-are not (benchmarks/README.md says why).
+Measured (``benchmarks/bench_presets.py``, 2 shared cores, load 1.0; real-time factor without / with recording,
+peak lateral force error): accurate 1.0x / 1.0x, 0.05 %; default 3.8x / 4.0x, 0.57 %; fast 5.5x / 5.0x, 2.5 %
+(on that machine the vehicle on linear rail springs runs at 8.6x) — the error targets are met, the speed targets
+are not (benchmarks/README.md says why).  ``fast`` interpolates the creep table multilinearly (the law
+``table_linear``): 10 % of its step for 0.7 % more error in the peak lateral force than the cubic table.
 
 Without a preset a front end keeps its own settings (``rtri``: the paper's Newmark β = 1/4, γ = 1/2, 1 ms, online
 geometry).  A preset does not set the simulated duration.
@@ -54,10 +55,11 @@ PRESETS = {
                       contact=dict(geometry="online", creep_law="table"),
                       purpose="everyday runs: RK44 at 1 ms (the paper's step), online contact search, Kalker's "
                               "exact theory (table); peak lateral force within 1 % of the converged reference"),
-    "fast": Preset("fast", run=dict(solver="rk44", dt_s=DEFAULT_STEP_S), contact=dict(geometry="table", creep_law="table"),
+    "fast": Preset("fast", run=dict(solver="rk44", dt_s=DEFAULT_STEP_S),
+                   contact=dict(geometry="table", creep_law="table_linear"),
                    purpose="parameter studies and interactive use: RK44 at 1 ms with the precomputed contact "
-                           "geometry (rigid rail profile) and Kalker's exact theory (table); peak lateral force "
-                           "within 5 % of the converged reference"),
+                           "geometry (rigid rail profile) and Kalker's exact theory (table, interpolated "
+                           "multilinearly); peak lateral force within 5 % of the converged reference"),
 }
 
 #: per preset: (minimum real-time factor on one core, maximum relative error of the peak lateral contact force of

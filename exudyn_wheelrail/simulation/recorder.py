@@ -95,20 +95,24 @@ class Recorder:
 
     def watched_columns(self, contact, reserve: int = 0):
         """For the compiled force call's watch (:mod:`.watch`) of ``contact``: ``(table, first wheel column, first
-        wheelset column)`` (-1: not recorded) with room for ``reserve`` more rows — the table it writes the rows of
-        those probes into (:meth:`take_watched` then counts them) —, or None when a probe fills its columns from
-        Python at every state (or reads another contact)."""
-        cols = {"wheels": -1, "wheelset_lateral": -1}
+        wheelset column, first deck column, the deck probe's rows)`` (a column -1: not recorded; the rows a
+        :class:`~..structures.deck_response.DeckRowArrays`, or None without a watched deck probe) with room for
+        ``reserve`` more rows — the table it writes the rows of those probes into (:meth:`take_watched` then counts
+        them) —, or None when a probe fills its columns from Python at every state (or reads another contact)."""
+        cols = {"wheels": -1, "wheelset_lateral": -1, "deck": -1}
+        deck = None
         for p, sl in zip(self.probes, self._slices):
             if hasattr(p, "fill_rows"):
                 continue
             kind = getattr(p, "watched", None)
-            if kind not in cols or p.c is not contact:
+            if kind not in cols or cols[kind] >= 0 or p.c is not contact:
                 return None
             cols[kind] = sl.start
+            if kind == "deck":
+                deck = p.rows
         if reserve and self._data.shape[0] < self.n + reserve:
             self._grow(self.n + int(reserve))
-        return self._data, cols["wheels"], cols["wheelset_lateral"]
+        return self._data, cols["wheels"], cols["wheelset_lateral"], cols["deck"], deck
 
     def _grow(self, rows: int) -> None:
         """The table with ``rows`` rows, its rows so far kept, the new ones NaN."""

@@ -22,7 +22,9 @@ still hold its evaluation.  Exudyn's explicit solvers call nothing else between 
 What is done there, in the order of the pre-step function (:meth:`~.runner._Hook.state`): the monitor's compiled
 check (:func:`~.monitor_core.monitor_state`, with the wheelset poses and the history row), the flange-climb window
 (:func:`~.guidance.window_quotient`) and, on the recording grid, the recorder's wheel and wheelset columns
-(:func:`~.recorder.wheel_columns`, the wheelset poses) written into the recorder's table. A state whose check needs
+(:func:`~.recorder.wheel_columns`, the wheelset poses) and a structure's deck columns (a watched deck probe: its
+:func:`~..structures.deck_response.deck_row` from the structure's modal coordinates of the state and the modal
+forces of its evaluation) written into the recorder's table. A state whose check needs
 Python (the monitor's code, the window above Nadal's limit) is marked, its coordinates kept (``ev_q``, ``ev_v``);
 the runner's pre-step function, called by Exudyn after that step, finds the mark and builds the events as it does
 for a state it checks itself (:meth:`Watch.handle`) — the monitor's and the window's arrays still hold that state's
@@ -34,9 +36,11 @@ the final state (after the solve) are checked by the pre-step function.
 
 The numbers are those of the pre-step path bit for bit: the same compiled checks on the same evaluation
 (``tests/test_watch.py``).  The watch needs the compiled call path, an explicit solver, and a run whose per-state
-work is all compiled: no wall-clock limit, no caller's per-state user function, a rigid track (the deck shapes under
-the wheelsets change within a step), probes that are compiled or filled after the run; otherwise the runner's
-pre-step function does the work (:func:`unwatchable`).
+work is all compiled: no wall-clock limit, no caller's per-state user function, probes that are compiled or filled
+after the run; otherwise the runner's pre-step function does the work (:func:`unwatchable`).  A structure under the
+rails is no obstacle: its modal coordinates are the connector's last coordinates, and every array the checks read of
+it (the shapes under the wheelsets, the modal forces) is written by the evaluation of the state being checked (a
+bridge crossing of the full interaction, deck columns included: ``tests/test_watch.py``).
 """
 from __future__ import annotations
 
@@ -49,6 +53,7 @@ from numba.experimental import structref
 from ..jit import compiled
 from ..multibody.direct_call import forces_step
 from ..multibody.core_data import compiled_for
+from ..structures.deck_response import deck_row, empty_deck_row_arrays
 from .guidance import window_quotient
 from .monitor_core import monitor_state, rail_poses
 from .recorder import wheel_columns
@@ -79,11 +84,13 @@ W_NADAL = 16          # Nadal's limit
 W_COL_WHEELS = 17     # the first column of the wheel columns in the recorder's table (-1: none)
 W_COL_LATERAL = 18    # the first column of the wheelset columns (-1: none)
 W_MISSED = 19         # states not checked because an earlier one still waited for Python (always 0 if sound)
-N_W = 20
+W_COL_DECK = 20       # the first of the deck's columns in the recorder's table (-1: none)
+W_MODAL = 21          # the first modal coordinate of the structure in the connector's coordinates (and forces)
+N_W = 22
 
 _FIELDS = ["call", "state", "pend_q", "pend_v", "ev_q", "ev_v", "res", "out", "side_poses", "half_gauge", "poses",
            "par", "ws_par", "ext", "iv", "wq", "wflag", "wss", "rings", "G", "work", "phi_ws", "hist", "g_idx", "ring_t",
-           "ring_y", "ring_q", "sums", "max_quotient", "first", "mq_saved", "rows"]
+           "ring_y", "ring_q", "sums", "max_quotient", "first", "mq_saved", "rows", "deck", "deck_state"]
 
 
 @structref.register
@@ -106,14 +113,14 @@ structref.define_boxing(WatchCallType, WatchCall)
 @compiled
 def watch_call(call, state, pend_q, pend_v, ev_q, ev_v, res, out, side_poses, half_gauge, poses, par, ws_par, ext, iv,
                wq, wflag, wss, rings, G, work, phi_ws, hist, g_idx, ring_t, ring_y, ring_q, sums, max_quotient, first,
-               mq_saved, rows):
+               mq_saved, rows, deck, deck_state):
     """The :class:`WatchCall` of these arrays (compiled and cached)."""
     return WatchCall(call, state, pend_q, pend_v, ev_q, ev_v, res, out, side_poses, half_gauge, poses, par, ws_par, ext,
                      iv, wq, wflag, wss, rings, G, work, phi_ws, hist, g_idx, ring_t, ring_y, ring_q, sums,
-                     max_quotient, first, mq_saved, rows)
+                     max_quotient, first, mq_saved, rows, deck, deck_state)
 
 
-@compiled
+@compiled(refcount=False)
 def _grid_index(st, t) -> int:
     """The grid index of time ``t``, or -1 when ``t`` is not on the grid."""
     x = (t - st[W_T0]) / st[W_DT]
@@ -166,7 +173,24 @@ def check_state(wc, t):
             if c >= 0:
                 for j in range(n_w // 2):
                     row_out[c + j] = wc.poses[j, 0]         # the right wheel's c_y plus the half gauge
+            c = int(st[W_COL_DECK])
+            if c >= 0:
+                _deck_columns(wc, int(st[W_MODAL]), row_out[c:])
             st[W_ROWS] += 1.0
+
+
+@compiled
+def _deck_columns(wc, m0, out):
+    """The deck's columns (:func:`~..structures.deck_response.deck_row`) from the structure's modal coordinates and
+    rates of the accepted state and the connector's modal forces of its evaluation (``call.f``), each copied into
+    its own vector as the pre-step path reads them."""
+    q, q_t, Q = wc.deck_state[0], wc.deck_state[1], wc.deck_state[2]
+    q[:] = wc.pend_q[m0:]
+    q_t[:] = wc.pend_v[m0:]
+    Q[:] = wc.call.f[m0:]
+    dk = wc.deck
+    deck_row(q, q_t, Q, dk[0], dk[1], dk[2], dk[3], dk[4], dk[5], dk[6], dk[7], dk[8], dk[9], dk[10],
+             wc.deck_state[3], out)
 
 
 @compiled
@@ -224,11 +248,17 @@ class Watch:
         states = int(n_steps) + 2
         monitor.reserve_history(states)
         rows = np.zeros((0, 1))
+        st[W_COL_DECK] = -1.0
+        st[W_MODAL] = 6 * len(contact.nodes_exu)
+        deck = None
         if recorder is not None:
-            rows, c_wheels, c_lateral = recorder.watched_columns(contact,
-                                                                 reserve=states // max(1, int(record_every)) + 2)
+            rows, c_wheels, c_lateral, c_deck, deck = recorder.watched_columns(
+                contact, reserve=states // max(1, int(record_every)) + 2)
             st[W_EVERY] = int(record_every)
-            st[W_COL_WHEELS], st[W_COL_LATERAL] = c_wheels, c_lateral
+            st[W_COL_WHEELS], st[W_COL_LATERAL], st[W_COL_DECK] = c_wheels, c_lateral, c_deck
+        if deck is None:
+            deck = empty_deck_row_arrays()
+        deck_state = np.zeros((4, n - int(st[W_MODAL])))       # q, q_t, Q of the state; q_tt (deck_row)
         g = guidance.watch_arrays(dt_s) if guidance is not None else None
         if g is None:
             n_w = 2 * len(contact.nodes_exu)
@@ -241,7 +271,7 @@ class Watch:
         _, call = contact.compiled_step
         out, side_poses, half_gauge, poses, records, hist = monitor.watch_arrays()
         self._args = (call, st, self._pend_q, self._pend_v, self.ev_q, self.ev_v, contact.results, out, side_poses,
-                      half_gauge, poses, *records, hist, *g, self._mq_saved, rows)
+                      half_gauge, poses, *records, hist, *g, self._mq_saved, rows, tuple(deck), deck_state)
         self.call = watch_call(*self._args)
         self.bound = False
         self._checks0 = None                # the monitor's checks before the watch took over
