@@ -21,6 +21,7 @@ from exudyn_wheelrail.scenarios.build import build_crossing
 from exudyn_wheelrail.scenarios.rtri import RtriCase
 from exudyn_wheelrail.scenarios.scenario import build_scenario
 from exudyn_wheelrail.simulation import runner as R
+from exudyn_wheelrail.simulation import monitor_core as MC
 from exudyn_wheelrail.simulation import watch as W
 from exudyn_wheelrail.simulation.guidance import FlangeClimbCheck
 from exudyn_wheelrail.simulation.monitor import RunMonitor
@@ -82,6 +83,15 @@ def test_the_watch_gives_the_pre_step_functions_numbers_and_checks_every_state_a
     assert out.stop.kind == "completed"
     assert out.watched_states == steps - 1          # the first state and the final one: the Python path
     assert out.monitor.n_checks == steps + 1
+
+
+def test_the_watch_and_the_pre_step_path_share_one_compiled_check():
+    """The monitor's check is compiled for the argument types both paths pass (the deck shapes as the contact's
+    read-only view): a watched run adds no second specialization (each costs seconds of a first run's compilation)."""
+    before = set(MC.monitor_state.overloads)
+    out = _solve(0.02, True)[1]
+    assert out.watched_states > 0
+    assert len(set(MC.monitor_state.overloads) - before) <= 1
 
 
 def test_events_on_the_way_are_those_of_the_pre_step_function():

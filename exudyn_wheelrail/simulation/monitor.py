@@ -255,8 +255,10 @@ class RunMonitor(StabilityEstimate):
         n_ws = self.n_wheelsets
         records = [a.copy() for a in (self._ext, self._iv, self._wq, self._wflag, self._wss, self._rings, self._G,
                                       self._work)]
+        # the deck shapes as themselves (a read-only view the check only reads): a copy would be writable, another
+        # type, and the watch's call (which passes the view) would compile the check a second time
         args = (0.0, np.zeros_like(self.contact.results), self._out, np.zeros((n_ws, 3)), np.zeros(6 * n_ws),
-                np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records, self._phi_ws.copy(), self._hist,
+                np.zeros(6 * n_ws), self._par.copy(), self._ws_par.copy(), *records, self._phi_ws, self._hist,
                 -1)
         MC.monitor_state(*args)
         # the compiled specialization for exactly these argument types: no type dispatch per state
