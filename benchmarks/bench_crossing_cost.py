@@ -6,8 +6,8 @@ Case: the README's ``bridge-crossing --span-m 20 --bridge-mass-kg-per-m 15000 --
 it and run through the runner as the command runs it: ``watched`` (the run's checks and the recorder's columns in
 the compiled force call, :mod:`exudyn_wheelrail.simulation.watch`) and, for comparison, ``pre_step`` (every state
 checked and recorded by the runner's Python pre-step function, ``watch=False``).  The baseline: the vehicle on
-linear rail springs of ``bench_step_overhead.py`` (RTRI 20 m, RK44 1 ms, no user function) — the issue's "springs
-vehicle".  Every configuration a fresh model, interleaved, ``--repeats`` rounds; time = the thread's CPU time inside
+linear rail springs of ``bench_step_overhead.py`` (RTRI 20 m, RK44 1 ms, no user function), the baseline of every
+ratio to "springs".  Every configuration a fresh model, interleaved, ``--repeats`` rounds; time = the thread's CPU time inside
 ``mbs.SolveDynamic`` (less disturbed than the wall time on a shared machine; the wall time is stored too), the
 median over the rounds.  Cost per car and step = solve time / steps / cars.  The load average is printed beside
 every run.

@@ -79,8 +79,8 @@ over those 16 alone); the connector offers it as the creep law ``"table_linear"`
 half the lookup's cost; midway between the nodes up to 2.9 % of μN instead of 1.0 %, docs/validation.md).
 Measured on the default grid against FASTSIM (``benchmarks/bench_creep_table.py``, 4000 random off-grid points,
 |ΔF|/(μN)): cubic RMS 0.10 %, 99.9 % quantile 1.0 %, max 3.1 % (one point at a/b = 0.09 where FASTSIM's own 16
-strips make it rough); linear RMS 0.35 %, 99.9 % 2.5 %, max 3.7 %.  Cost
-(compiled, warm): cubic ≈ 0.45 µs, linear ≈ 0.23 µs per lookup including C11, C22.
+strips make it rough); linear RMS 0.35 %, 99.9 % 2.5 %, max 3.7 %.  Cost (compiled, warm; two machines,
+docs/performance.md): cubic 0.45–0.58 µs, linear 0.23–0.25 µs per lookup.
 
 Beyond the table
 ----------------

@@ -85,8 +85,8 @@ class DeckProbe:
         cutoff_Hz = cutoffs_Hz[0]
         self.bridge = bridge
         self.c = contact if modal_forces is None else None
-        if modal_forces is None and contact is None:
-            raise ValueError("DeckProbe: no modal forces (modal_forces=None needs the contact whose they are)")
+        if modal_forces is None and getattr(contact, "structure", None) is not bridge:
+            raise ValueError("DeckProbe: modal_forces=None needs the contact whose structure is this bridge")
         self.modal_forces = modal_forces if modal_forces is not None else (lambda mbs, t: contact.modal_forces_N())
         self.watched = "deck" if self.c is not None else None
         L, x0 = case.span_m, case.deck_start_m
@@ -99,6 +99,7 @@ class DeckProbe:
         s_pts = x0 + L * np.asarray(CHECK_POINTS_X_OVER_L)
         phi_pts = np.ascontiguousarray(modes.shape_at(s_pts)[:, 1, :])
         keep = modes.frequencies_Hz <= 1.01 * cutoff_Hz          # FE frequencies lie slightly above the exact ones
+        phi_pts_cut = np.ascontiguousarray(np.where(keep[None, :], phi_pts, 0.0))
         self.columns = [("deck", c) for c in deck_columns(case)]
         lateral = bool(case.lateral_modes)
         # the lateral columns: the lateral modes' y rows (a vertical mode's lateral DOFs are the eigen-solver's
@@ -116,15 +117,15 @@ class DeckProbe:
             mid = modes.shape_at(xk + 0.5 * Lk)
             mine = np.zeros(n, dtype=bool)
             mine[deck.vertical[k]] = True
-            cut = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
+            keep = mine & (modes.frequencies_Hz <= 1.01 * cutoffs_Hz[k])
             pts = modes.shape_at(xk + Lk * np.asarray(CHECK_POINTS_X_OVER_L))[:, 1, :]
             span_mid[k] = mid[1]
-            span_cut[k] = np.where(cut[None, :], pts, 0.0)
+            span_cut[k] = np.where(keep[None, :], pts, 0.0)
             span_lat[k] = np.where(lat, mid[0], 0.0)
         self.rows = DeckRowArrays(
             w2=np.diag(modes.modal_stiffness()).copy(), d=np.diag(modes.modal_damping()).copy(),
             phi_mid=phi[0, 1].copy(), slopes=slopes, phi_pts=phi_pts,
-            phi_pts_cut=np.ascontiguousarray(np.where(keep[None, :], phi_pts, 0.0)),
+            phi_pts_cut=phi_pts_cut,
             phi_lat_mid=(np.where(lat, modes.shape_at(x0 + 0.5 * L)[0], 0.0) if lateral else np.zeros(n)),
             lateral=lateral, span_mid=span_mid, span_cut=span_cut, span_lat=span_lat)
         self._q_tt = np.zeros(n)                        # the modal accelerations of the row being filled

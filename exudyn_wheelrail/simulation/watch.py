@@ -249,7 +249,7 @@ class Watch:
         monitor.reserve_history(states)
         rows = np.zeros((0, 1))
         st[W_COL_DECK] = -1.0
-        st[W_MODAL] = 6 * len(contact.nodes_exu)
+        st[W_MODAL] = n - contact.n_modes                 # the structure's modal coordinates come last
         deck = None
         if recorder is not None:
             rows, c_wheels, c_lateral, c_deck, deck = recorder.watched_columns(
@@ -258,6 +258,9 @@ class Watch:
             st[W_COL_WHEELS], st[W_COL_LATERAL], st[W_COL_DECK] = c_wheels, c_lateral, c_deck
         if deck is None:
             deck = empty_deck_row_arrays()
+        elif deck.w2.shape[0] != contact.n_modes:
+            raise ValueError(f"the deck probe has {deck.w2.shape[0]} modes, the contact's structure "
+                             f"{contact.n_modes}: not the same structure")
         deck_state = np.zeros((4, n - int(st[W_MODAL])))       # q, q_t, Q of the state; q_tt (deck_row)
         g = guidance.watch_arrays(dt_s) if guidance is not None else None
         if g is None:
