@@ -63,7 +63,8 @@ from exudyn_wheelrail.contact.normal import hertz_from_penetration
 from exudyn_wheelrail.creep.registry import creep_forces
 from exudyn_wheelrail.multibody.connector_core import (contact_forces_core, wheel_forces, wheel_geometry,
                                                        wheelset_poses)
-from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, GEO_TABLE, MODEL_CREEP, MODEL_GEOMETRY, ST_DECK_STATE,
+from exudyn_wheelrail.multibody.core_data import (GEO_PARAMS, GEO_PATCH, GEO_TABLE, MODEL_CREEP, MODEL_GEOMETRY,
+                                                  ST_DECK_STATE,
                                                   ST_OUT, ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL,
                                                   V_P_CENTRE, V_P_CONTACT, V_V_CENTRE, V_V_RAIL, W_FRAME, W_GEOMETRY,
                                                   W_ROT, W_VEC, W_WHEELSET, WS_COS_ROLL, WS_COS_TH, WS_COS_YAW,
@@ -128,11 +129,11 @@ def stage_poses(qs, vs, ts, model, state, work, i0, i1):
 
 
 @njit
-def stage_geometry(sp_all, ws, warm, model, state, out_all, table, scratch, i0, i1):
+def stage_geometry(sp_all, ws, warm, model, state, out_all, table, scratch, patch, i0, i1):
     stats = state[ST_STATS]
     for i in range(i0, i1):
         warm[:] = ws[i]
-        wheel_geometry(model, sp_all[i], warm, out_all[i], stats, table, scratch)
+        wheel_geometry(model, sp_all[i], warm, out_all[i], stats, table, scratch, patch)
 
 
 @njit
@@ -304,13 +305,14 @@ def profile(c, qs, vs, ts, ws, repeats: int, inputs: tuple) -> dict:
     out_tmp = np.empty_like(out_all)
     params = model[MODEL_GEOMETRY][GEO_PARAMS]
     table = model[MODEL_GEOMETRY][GEO_TABLE]
+    patch = model[MODEL_GEOMETRY][GEO_PATCH]
     v_min = c.cp[CP_V_MIN]
     stages = {
         "restore": lambda a, b: stage_restore(ws, warm, a, b),
         "core_numba": lambda a, b: stage_core(qs, vs, ts, ws, warm, data, f, res, a, b),
         "pose_irregularity": lambda a, b: stage_poses(qs, vs, ts, model, state, work, a, b),
         "geometry_hertz": lambda a, b: stage_geometry(sp_all, ws, warm, model, state, out_tmp, table,
-                                                      work[W_GEOMETRY], a, b),
+                                                      work[W_GEOMETRY], patch, a, b),
         "hertz": lambda a, b: stage_hertz(out_all, params, a, b),
         "creepages": lambda a, b: stage_creepages(qs, vs, c.p_ref, out_all, rot_all, wsd_all, state[ST_DECK_STATE],
                                                   work[W_VEC], work[W_FRAME], v_min, a, b),
@@ -384,12 +386,13 @@ def rescan_effect(c, ws, sp_all) -> dict:
     n = len(ws)
     params = model[MODEL_GEOMETRY][GEO_PARAMS]
     table = model[MODEL_GEOMETRY][GEO_TABLE]
+    patch = model[MODEL_GEOMETRY][GEO_PATCH]
     outs = []
     distance = params[..., P_RESCAN_DISTANCE].copy()
     for d in (distance, 1.0):
         params[..., P_RESCAN_DISTANCE] = d
         o = np.empty((n,) + state[ST_OUT].shape)
-        stage_geometry(sp_all, ws, warm, model, state, o, table, scratch, 0, n)
+        stage_geometry(sp_all, ws, warm, model, state, o, table, scratch, patch, 0, n)
         outs.append(o)
     params[..., P_RESCAN_DISTANCE] = distance
     a, b = (np.nansum(o[..., F_NORMAL_FORCE], axis=2) for o in outs)

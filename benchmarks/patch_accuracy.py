@@ -89,7 +89,7 @@ def main(argv=None):
             rows.append(entry)
             p, h = entry["patch"], entry["hertz"]
             print(f"y {y_mm:5.1f} mm {entry['region']:7} N {ref.normal_force_N:7.0f} N | patch force {p['force']:+.3f} "
-                  f"area {p['area']:+.3f} angle {p['angle']:+.3f} ({t_patch * 1e3:.0f} ms) | Hertz {h['force']:+.3f} "
+                  f"area {p['area']:+.3f} angle {p['angle']:+.3f} ({t_patch * 1e6:.0f} us) | Hertz {h['force']:+.3f} "
                   f"{h['area']:+.3f} {h['angle']:+.3f}", flush=True)
     result = dict(case="Manchester A-2.2 pair, no yaw, Hertz pose of 10 kN", strips=args.strips,
                   ref_strips=args.ref_strips, n_x=args.n_x, load_average=os.getloadavg()[0], rows=rows)

@@ -11,6 +11,11 @@ also the sign of the benchmark's input as distributed with CONTACT (Vollebregt),
 right rail and z down like ours.  Free rolling (zero axle moment) is solved, not a prescribed pitch rate.
 
 Run:  python examples/manchester_a22.py --out a22.csv [--plot a22.png] [--creep-law fastsim|table|exact]
+      [--contact-patch hertz|non-hertzian]
+
+With ``--contact-patch non-hertzian`` each contact where Hertz does not hold (the conformal tread near y = 0, the
+flange root) is the non-Hertzian patch's resultant: its normal force, contact angle and point, and for the creep
+law the equivalent ellipse of its area and lateral extent (exudyn_wheelrail.contact.patch_pass).
 CSV: one row per contact point, columns y_m, yaw_rad, side, region, y_rail_m, contact_angle_rad, normal_force_N,
 longitudinal_force_N, lateral_force_N (creep forces Fx, Fy on the wheel in the contact frame), then extras
 (see EXTRA_COLUMNS; vertical_force_N is the upward component of the whole contact force on the wheel).
@@ -25,6 +30,7 @@ import numpy as np
 
 from exudyn_wheelrail.analysis.quasi_static import CREEP_LAWS, creep_law_by_name, solve_quasi_static
 from exudyn_wheelrail.contact import WheelRailPair, WheelsetContact
+from exudyn_wheelrail.contact_defaults import CONTACT_PATCH, CONTACT_PATCHES
 
 SHEAR_MODULUS_PA = 82e9
 POISSON = 0.28
@@ -39,11 +45,11 @@ EXTRA_COLUMNS = ("spin_moment_Nm", "vertical_force_N", "xi", "eta", "phi_per_m",
                  "y_wheel_m", "lead_m", "z_m", "roll_rad", "pitch_rate_rad_s", "converged", "flags")
 
 
-def build_contact():
+def build_contact(contact_patch="hertz"):
     pair = WheelRailPair("S1002", "UIC60", gauge_m=1.435, inclination="1/40", back_to_back_m=1.360, r0_m=0.46)
     e_pa = 2.0 * SHEAR_MODULUS_PA * (1.0 + POISSON)
     return WheelsetContact(pair, global_search=True, E_wheel_Pa=e_pa, nu_wheel=POISSON, E_rail_Pa=e_pa,
-                           nu_rail=POISSON)
+                           nu_rail=POISSON, contact_patch=contact_patch)
 
 
 def check_creep_law(name):
@@ -57,10 +63,11 @@ def check_creep_law(name):
     return law
 
 
-def run(y_values_m, creep_law="fastsim"):
-    """Quasi-static solutions for the lateral shifts, yaw = YAW_PER_Y * y; ``creep_law`` a name of CREEP_LAWS."""
+def run(y_values_m, creep_law="fastsim", contact_patch="hertz"):
+    """Quasi-static solutions for the lateral shifts, yaw = YAW_PER_Y * y; ``creep_law`` a name of CREEP_LAWS,
+    ``contact_patch`` one of CONTACT_PATCHES."""
     check_creep_law(creep_law)
-    contact = build_contact()
+    contact = build_contact(contact_patch)
     return [solve_quasi_static(contact, float(y), YAW_PER_Y * float(y), WHEEL_LOAD_N, SPEED_M_S, mu=MU,
                                shear_modulus_Pa=SHEAR_MODULUS_PA, poisson=POISSON, creep_law=creep_law)
             for y in y_values_m]
@@ -122,6 +129,8 @@ def main(argv=None):
     parser.add_argument("--out", required=True, help="CSV file, one row per contact point")
     parser.add_argument("--plot", help="PNG file with forces and contact angles over y")
     parser.add_argument("--creep-law", default="fastsim", choices=sorted(CREEP_LAWS))
+    parser.add_argument("--contact-patch", default=CONTACT_PATCH, choices=CONTACT_PATCHES,
+                        help="normal contact: Hertz's ellipse, or the non-Hertzian patch where Hertz does not hold")
     parser.add_argument("--y-mm", help="comma-separated lateral shifts in mm (default 0:0.5:10)")
     args = parser.parse_args(argv)
     try:
@@ -135,11 +144,12 @@ def main(argv=None):
             parser.exit(2, f"error: --y-mm {args.y_mm!r}: expected comma-separated numbers (mm)\n")
     else:
         y_values = np.round(np.arange(0, 21) * 0.5e-3, 12)
-    results = run(y_values, args.creep_law)
+    results = run(y_values, args.creep_law, args.contact_patch)
     table = rows(results)
     write_csv(table, args.out)
     if args.plot:
-        plot(table, args.plot, f"Manchester A-2.2, S1002/UIC60 1:40, {args.creep_law}, free rolling")
+        plot(table, args.plot, f"Manchester A-2.2, S1002/UIC60 1:40, {args.creep_law}, {args.contact_patch}, "
+                               "free rolling")
     print(f"{'y mm':>5} {'side':5} {'region':6} {'angle':>6} {'N kN':>7} {'Fx kN':>7} {'Fy kN':>7}  status")
     for res in results:
         status = "ok" if res.converged else f"NOT CONVERGED: {res.message}"

@@ -9,7 +9,8 @@ This module imports nothing, so that a front end can show the defaults before an
 ('table', 0.3, 'online')
 """
 
-__all__ = ["CREEP_LAW", "CREEP_LAW_NAMES", "FRICTION", "GEOMETRY", "GEOMETRY_MODES"]
+__all__ = ["CREEP_LAW", "CREEP_LAW_NAMES", "FRICTION", "GEOMETRY", "GEOMETRY_MODES", "CONTACT_PATCH",
+           "CONTACT_PATCHES"]
 
 
 #: the creep laws' names (the connector's ``creep_law=``), in the order of their codes in the compiled dispatch
@@ -25,3 +26,7 @@ FRICTION = 0.3
 #: (:mod:`exudyn_wheelrail.contact.geometry_table`)
 GEOMETRY_MODES = ("online", "table")
 GEOMETRY = GEOMETRY_MODES[0]
+#: the normal contact: Hertz's ellipse at the contact point, or the non-Hertzian patch where Hertz does not hold
+#: (:mod:`exudyn_wheelrail.contact.patch_pass`)
+CONTACT_PATCHES = ("hertz", "non-hertzian")
+CONTACT_PATCH = CONTACT_PATCHES[0]

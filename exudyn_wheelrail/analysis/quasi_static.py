@@ -26,7 +26,9 @@ Geometry, normal problem, creepages, creep forces
 * geometry: :class:`~exudyn_wheelrail.contact.wheelset.WheelsetContact` in **global-search** mode at the pose
   (y, z, roll) — yaw is neglected by the search; the start is the rigid touching state of
   :func:`~exudyn_wheelrail.analysis.geometry_functions.solve_rigid_contact` lowered by the Hertz approach of ``Q``;
-* normal forces and the Hertz semi-axes a (rolling), b (lateral) from the kernel (penetration → Hertz);
+* normal forces and the Hertz semi-axes a (rolling), b (lateral) from the kernel (penetration → Hertz), or, for a
+  contact built with ``contact_patch="non-hertzian"``, the non-Hertzian patch's resultant and equivalent ellipse
+  where Hertz does not hold (:mod:`exudyn_wheelrail.contact.patch_pass`; flag ``patch``);
 * creepages: :func:`~exudyn_wheelrail.contact.creepage.creepages_core`, wheelset centre (0, y, z) moving with
   (V, 0, 0), angular velocity ``pitch_rate · ê_axle``, rigid track.  Yaw enters here: the axle
   ``ê_axle = R_z(ψ) R_x(roll) e_y`` and the contact point, placed on its wheel circle at the yaw lead/lag
@@ -258,6 +260,10 @@ class _Evaluator:
                         flags.append("deep_penetration")
                     if kf & K.FLAG_HERTZ_CLAMPED:
                         flags.append("hertz_clamped")
+                    if kf & K.FLAG_PATCH:
+                        flags.append("patch")
+                    if kf & K.FLAG_PATCH_FAILED:
+                        flags.append("patch_failed")
                     flags += list(creep_status_names(cstat)) + list(cflags)
                     y_wheel, y_rail = self.contact.pair.profile_coordinates(o[K.F_S_WHEEL], o[K.F_S_RAIL])
                     points.append(QuasiStaticPoint(

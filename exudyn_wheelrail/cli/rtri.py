@@ -8,6 +8,7 @@ import dataclasses
 import json
 from pathlib import Path
 
+from ..contact_defaults import CONTACT_PATCHES
 from ..scenarios.defaults import CAR_BODY_MODELS
 from ..simulation.presets import PRESETS, apply_preset
 from ..simulation.settings import DURATION_AUTO, SPEED_KM_H, ContactSettings, RunSettings, SettingsError
@@ -82,7 +83,7 @@ def _steps(text):
 
 #: the command line's option of each run/contact setting (errors name the option)
 SETTING_OPTIONS = {"solver": "--solver", "dt_s": "--dt", "duration_s": "--duration", "creep_law": "--creep-law",
-                   "geometry": "--geometry"}
+                   "geometry": "--geometry", "contact_patch": "--contact-patch"}
 
 
 def _settings_error(exc):
@@ -124,7 +125,8 @@ def _rtri_settings(args):
     try:
         run, contact, preset = apply_preset(args.preset, run, case.contact,
                                             run_options=dict(solver=args.solver, dt_s=args.dt, duration_s=duration),
-                                            contact_options=dict(creep_law=args.creep_law, geometry=args.geometry))
+                                            contact_options=dict(creep_law=args.creep_law, geometry=args.geometry,
+                                                                 contact_patch=args.contact_patch))
         if isinstance(args.steps, int):         # --steps N: N steps of the resolved dt
             run = dataclasses.replace(run, duration_s=args.steps * run.dt_s)
     except SettingsError as exc:
@@ -234,6 +236,9 @@ def _add_rtri_common(p: argparse.ArgumentParser, duration_default: str):
     p.add_argument("--geometry", default=None, choices=("online", "table"),
                    help="contact geometry: online search (default) or the precomputed table for the rigid rail "
                         "profile (built once, ~1 min, cached)")
+    p.add_argument("--contact-patch", default=None, choices=CONTACT_PATCHES,
+                   help="normal contact: hertz (default: Hertz's ellipse at each contact point) or non-hertzian (the "
+                        "patch of the profiles' interpenetration where Hertz does not hold; slower)")
     p.add_argument("--delta-mm", type=float, default=None,
                    help="deviation amplitude [mm] (default: RtriAssumptions, 10 mm; an override is marked in the "
                         "summary)")

@@ -79,6 +79,8 @@ FLAG_PROFILE_END = 1        # the wheel or rail point is at an end of its profil
 FLAG_DEEP_PENETRATION = 2   # penetration above P_MAX_PENETRATION: far outside elastic contact (climbing, bad pose)
 FLAG_HERTZ_CLAMPED = 4      # relative curvature clamped (conformal contact): Hertz is an approximation there
 FLAG_BLENDED = 8            # one of two blended penetration maxima of one overlap zone (normal force weighted)
+FLAG_PATCH = 16             # the non-Hertzian patch's resultant (contact.patch_pass), partly where the switch blends
+FLAG_PATCH_FAILED = 32      # the non-Hertzian patch could not be solved: Hertz kept (contact.patch_pass)
 
 STATUS_SEPARATED = 0  # a solution was found, no penetration
 STATUS_CONVEX = 1     # contact from the convex search

@@ -13,12 +13,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..contact_defaults import CONTACT_PATCH, CONTACT_PATCHES
 from ..jit import compile_ahead
 from ..validation import poisson_ratio, youngs_modulus
 from . import kernel as K
 from .normal import E_STEEL as E_STEEL_PA
 from .normal import NU_STEEL, effective_modulus
 from .pair import WheelRailPair
+from .patch_pass import patch_params, patch_wheels
 from .search import monotone_rows
 
 #: the entries of a wheelset pose (track frame), in the order of the pose arrays
@@ -71,16 +73,23 @@ class WheelsetContact:
         sweep needs it) instead of warm-starting from the last solution.
     n_concave_wheel, n_concave_rail : discretisation of the concave search (points per wheel region / rail).
     refine : refine the concave search's maximum on the continuous curves (otherwise the discrete paper method).
+    contact_patch : "hertz" (Hertz's ellipse at each contact point) or "non-hertzian" (the patch where Hertz does
+        not hold: :mod:`~exudyn_wheelrail.contact.patch_pass`; its rows then carry the patch's resultant).
     """
 
     def __init__(self, pair: WheelRailPair, n_wheelsets: int = 1, E_wheel_Pa: float = E_STEEL_PA,
                  nu_wheel: float = NU_STEEL, E_rail_Pa: float = E_STEEL_PA, nu_rail: float = NU_STEEL,
                  global_search: bool = False, n_scan: int = 200, n_concave_wheel: int = 100, n_concave_rail: int = 100,
-                 refine: bool = True):
+                 refine: bool = True, contact_patch: str = CONTACT_PATCH):
         if not isinstance(pair, WheelRailPair):
             raise TypeError(f"pair: expected a WheelRailPair, got {type(pair).__name__}")
         if isinstance(n_wheelsets, bool) or int(n_wheelsets) != n_wheelsets or n_wheelsets < 1:
             raise ValueError(f"n_wheelsets: expected a positive integer, got {n_wheelsets!r}")
+        if contact_patch not in CONTACT_PATCHES:
+            raise ValueError(f"contact_patch={contact_patch!r}: expected one of {CONTACT_PATCHES}")
+        #: the pass's parameters (:func:`~exudyn_wheelrail.contact.patch_pass.patch_params`), None for Hertz
+        self.patch = patch_params() if contact_patch == "non-hertzian" else None
+        self.contact_patch = contact_patch
         E_wheel_Pa = youngs_modulus("E_wheel_Pa", E_wheel_Pa)
         E_rail_Pa = youngs_modulus("E_rail_Pa", E_rail_Pa)
         nu_wheel = poisson_ratio("nu_wheel", nu_wheel)
@@ -158,6 +167,8 @@ class WheelsetContact:
             compile_ahead(K.evaluate_wheels, args, *K.compile_shares(*args)).wait()
         K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self._fill_side_poses(poses), self.warm,
                           self.params, self.out, self.scan)
+        if self.patch is not None:
+            patch_wheels(self.nodes, self.meta, self.curve_ids, self._side_poses, self.params, self.out, self.patch)
         self.poses[:] = poses
         return self.out
 

@@ -1,5 +1,6 @@
-"""The Exudyn wheel–rail item: the connector (:mod:`.connector`), its compiled core (:mod:`.connector_core`) and its
-Jacobian (:mod:`.contact_jacobian`), with the rotations they share (:mod:`.rotations`).
+"""The Exudyn wheel–rail item: the connector (:mod:`.connector`; a train's wheelsets on one:
+:mod:`.train_contact`), its compiled core (:mod:`.connector_core`) and its Jacobian (:mod:`.contact_jacobian`),
+with the rotations they share (:mod:`.rotations`).
 
 This face also gathers, for a model script, the pieces the item couples — vehicles and trains
 (:mod:`exudyn_wheelrail.rolling_stock`) and the rigid track (:mod:`exudyn_wheelrail.track.rigid`) — all from the
@@ -19,7 +20,8 @@ from ..rolling_stock.vehicle_data import VehicleDataError, load_vehicle, shipped
 from ..rolling_stock.vehicle_records import VehicleData
 from ..track.rigid import (Harmonic, Irregularity, IrregularitySum, NoIrregularity, RigidStraightTrack,
                            SampledIrregularity, SpanDeflection, irregularity_at, irregularity_many)
-from .connector import ContactStateError, WheelRailContact, add_train_contact, add_wheel_rail_contact
+from .connector import ContactStateError, WheelRailContact, add_wheel_rail_contact
+from .train_contact import add_train_contact
 
 __all__ = [
     "load_vehicle", "vehicle_from_dict", "shipped_vehicles", "VehicleData", "VehicleDataError",

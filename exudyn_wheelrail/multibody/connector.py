@@ -96,13 +96,12 @@ from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, 
 from .direct_call import COUNT_CALLS, COUNT_REUSED, N_COUNTS, KeptEvaluation, call_data, compiled_call, forces_step
 from .contact_jacobian import JACOBIAN_METHODS, N_BLOCK, needs_differences, semi_analytic_jacobian
 from ..rolling_stock.placement import place_on_rails, static_axle_offset_m  # noqa: F401  (importable from here)
-from ..rolling_stock.train import place_train_on_track
 from .rotations import rotation_from_vector  # noqa: F401  (importable from here)
 from .rotations import rotation_vector_from_matrix as _rotation_vector_from_matrix  # noqa: F401
 from ..track.layout import TrackLayout
 from ..track.rigid import RigidStraightTrack
 
-__all__ = ["WheelRailContact", "add_wheel_rail_contact", "add_train_contact", "contact_forces_core", "contact_jacobian_core",
+__all__ = ["WheelRailContact", "add_wheel_rail_contact", "contact_forces_core", "contact_jacobian_core",
            "ContactStateError", "CREEP_LAWS", "GEOMETRY_MODES", "place_on_rails", "static_axle_offset_m", "N_RES",
            "RES_STATUS", "RES_N", "RES_FX", "RES_FY", "RES_MZ", "RES_F_TRACK_X", "RES_F_TRACK_Y", "RES_F_TRACK_Z",
            "RES_P_X", "RES_P_Y", "RES_P_Z", "RES_GAMMA", "RES_XI", "RES_ETA", "RES_PHI", "RES_A", "RES_B",
@@ -166,6 +165,8 @@ class WheelRailContact:
         creepages get the terms of the turning frame (:mod:`.connector_core`, "Curved track"); the bodies' inertia
         terms and the suspension geometry of the curve are
         :class:`~exudyn_wheelrail.rolling_stock.track_following.TrackFollowingFrame`'s.  Needs ``frame="moving"``.
+    contact_patch : ``"hertz"`` or ``"non-hertzian"``: the patch's resultant where Hertz does not hold
+        (:mod:`exudyn_wheelrail.contact.patch_pass`; the implicit solvers' Jacobian then differences numerically).
     """
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
@@ -175,7 +176,8 @@ class WheelRailContact:
                  fastsim_grid=(DEFAULT_NX, DEFAULT_NY),
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
                  v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", structure=None,
-                 geometry: str = DEFAULT.GEOMETRY, geometry_grid=None, layout=None):
+                 geometry: str = DEFAULT.GEOMETRY, geometry_grid=None, layout=None,
+                 contact_patch: str = DEFAULT.CONTACT_PATCH):
         if structure is not None and not isinstance(structure, ExudynBridge):
             raise TypeError(f"structure={structure!r}: expected an ExudynBridge, what moves the rails (a deck: "
                             "structures.add_bridge; a flexible track: track.add_flexible_track), or None")
@@ -248,7 +250,9 @@ class WheelRailContact:
             lay = (np.ascontiguousarray(packed.pieces, dtype=float), np.ascontiguousarray(packed.par, dtype=float))
         else:
             lay = (None, None)           # straight track: nothing of the layout is compiled
-        self._kc = WheelsetContact(pair, n_ws, E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail, global_search=global_search)
+        self._kc = WheelsetContact(pair, n_ws, E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail, global_search=global_search,
+                                   contact_patch=contact_patch)
+        self.contact_patch = contact_patch
         self.geometry = geometry
         self.geometry_table = None
         if geometry == "table":
@@ -282,7 +286,8 @@ class WheelRailContact:
         kc = self._kc
         # the compiled call's packed arguments (connector_core): model data, updated arrays, scratch: one object
         self._model = model_tuple(vehicle_tuple(self.p_ref, self._frame, *lay), irr,
-                                  geometry_tuple(kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params, table, kc.scan),
+                                  geometry_tuple(kc.nodes, kc.meta, kc.mono, kc.curve_ids, kc.params, table, kc.scan,
+                                                 kc.patch),
                                   creep.core, self._deck)
         self._state = state_tuple(kc.warm, kc.out, self._side_poses, self._stats, self._rail_delta, self._phi_ws,
                                   self._rail_f, self._deck_state)
@@ -682,19 +687,3 @@ def add_wheel_rail_contact(mbs, wheelset_nodes, pair: WheelRailPair, **options) 
     :class:`WheelRailContact`.  Returns the contact handle (results, forces, the Exudyn object number)."""
     return WheelRailContact(mbs, wheelset_nodes, pair, **options)
 
-
-def add_train_contact(mbs, train, pair: WheelRailPair, *, track=None, place: bool = True,
-                      **options) -> WheelRailContact:
-    """Couple every wheelset of a train (:func:`exudyn_wheelrail.rolling_stock.train.build_train` with
-    ``wheel_rail="none"``), car after car, front first, to the rails by **one** connector (the run monitor and the
-    recorder watch one connector), before ``mbs.Assemble()``.  ``track``: default a perfect straight track;
-    ``options`` as :class:`WheelRailContact` (``creep_law``, ``mu``, ``structure``, ...); the train's speed and start
-    are its own.  ``place``: every car in static equilibrium on the rails and on the displaced track
-    (:func:`~exudyn_wheelrail.rolling_stock.train.place_train_on_track`).  Returns the connector, also kept as
-    ``train.contact``."""
-    track = track if track is not None else RigidStraightTrack()
-    train.contact = add_wheel_rail_contact(mbs, train.wheelset_nodes, pair, speed_m_s=train.speed_m_s, track=track,
-                                           s_start_m=train.s_start_m, **options)
-    if place:
-        place_train_on_track(mbs, train, pair, track)
-    return train.contact

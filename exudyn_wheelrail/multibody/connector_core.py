@@ -1,18 +1,16 @@
 """The compiled call behind the wheel–rail connector: the contact forces of all wheelsets (and on the bridge deck)
 in one call, and their Jacobian by structured forward differences.
 
-The arguments — ``contact_forces_core(q, q_t, t, data, f_out, res)`` with the ``model``, ``state`` and ``work``
-tuples in ``data`` and their fields by name — are described in :mod:`.core_data`, which builds them.
-
-The call runs in three stages (:func:`wheelset_poses`, :func:`contact_geometry`, :func:`wheel_forces`); the
-trigonometry of a wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
+The arguments (``contact_forces_core(q, q_t, t, data, f_out, res)``, the tuples in ``data``): :mod:`.core_data`.
+Three stages (:func:`wheelset_poses`, :func:`contact_geometry`, :func:`wheel_forces`); the trigonometry of a
+wheelset's roll, yaw and deck roll is evaluated once per wheelset, not per contact.
 
 Per wheel it takes the wheelset pose from the node coordinates, subtracts the rails' position (irregularity, ground
 motion, deck: :mod:`~exudyn_wheelrail.structures.deck_kinematics`; the cross level rolls the rail pair on top of the
 deck roll, the gauge deviation moves each rail outwards by half of it in its side frame:
-:mod:`exudyn_wheelrail.conventions`), solves the contact geometry and Hertz
-(:mod:`exudyn_wheelrail.contact.kernel` or the geometry table), places each contact point in 3-D (yaw lead),
-computes the creepages and the creep law (:mod:`exudyn_wheelrail.creep.registry`) and applies
+:mod:`exudyn_wheelrail.conventions`), solves the contact geometry and Hertz (:mod:`exudyn_wheelrail.contact.kernel`
+or the geometry table; the non-Hertzian patch on request: :mod:`exudyn_wheelrail.contact.patch_pass`), places each
+contact point in 3-D (yaw lead), computes the creepages and the creep law (:mod:`exudyn_wheelrail.creep.registry`) and applies
 ``N n_rail + Fx x_c + Fy y_c`` at the contact point and ``Mz z_c`` to the wheelset; the equal and opposite force
 goes to the rails and, on the deck, to the modal coordinates.
 
@@ -41,6 +39,7 @@ from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F
                               RES_FX, RES_FY, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_GROUND_VY,
                               RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_PHI, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS,
                               RES_S_TRACK, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
+from ..contact.patch_pass import patch_wheels
 from ..creep.registry import creep_forces
 from ..jit import compiled, is_compiled
 from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, SC_AT, SC_AY, SC_AZ,
@@ -50,9 +49,9 @@ from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESI
                                           series_contacts)
 from ..track.layout import LAYOUT_DPHI, LAYOUT_KAPPA, LAYOUT_PHI, layout_at
 from ..track.rigid import irregularity_channels_at
-from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, GEO_TABLE, MODEL_DECK,
-                        MODEL_GEOMETRY, MODEL_VEHICLE, N_FRAME, ST_DECK_STATE, ST_OUT, ST_RAIL_F, ST_SIDE_POSES,
-                        ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL, V_P_CENTRE, V_P_CONTACT,
+from .core_data import (FRAME_CURVED, FRAME_MOVING, FRAME_PITCH, FRAME_S_START, FRAME_SPEED, GEO_PATCH, GEO_TABLE,
+                        MODEL_DECK, MODEL_GEOMETRY, MODEL_VEHICLE, N_FRAME, ST_DECK_STATE, ST_OUT, ST_RAIL_F,
+                        ST_SIDE_POSES, ST_STATS, ST_WARM, V_E_AXLE, V_N_RAIL, V_OMEGA, V_OMEGA_RAIL, V_P_CENTRE, V_P_CONTACT,
                         V_V_CENTRE, V_V_RAIL, VEH_FRAME, VEH_LAYOUT, VEH_LAYOUT_PAR, VEH_P_REF, W_CONTACTS, W_DECK,
                         W_FRAME, W_GEOMETRY, W_INDEX, W_LAYOUT, W_RESIDUAL, W_ROT, W_SERIES, W_VEC, W_WHEELSET,
                         WS_COS_ROLL, WS_COS_TH, WS_COS_YAW, WS_HALF_GAUGE, WS_ROLL, WS_S, WS_SIN_ROLL, WS_SIN_TH,
@@ -362,28 +361,28 @@ def contact_forces_core(q, q_t, t, data, f_out, res):
     if bad >= 0:
         return bad
     _, _, _, _, _, residual, _ = model[MODEL_DECK]     # the deck arrays' residual flexibility table (or None)
-    contact_geometry(q, model, state, work, model[MODEL_GEOMETRY][GEO_TABLE], residual)
+    contact_geometry(q, model, state, work, model[MODEL_GEOMETRY][GEO_TABLE], residual,
+                     model[MODEL_GEOMETRY][GEO_PATCH])
     wheel_forces(q, q_t, model, state, work, f_out, res)
     return -1
 
 
 @compiled(refcount=False)
-def contact_geometry(q, model, state, work, table, residual):
+def contact_geometry(q, model, state, work, table, residual, patch):
     """Stage 2: the contact geometry and Hertz of every wheel (the kernel's output ``state[ST_OUT]``), with
     ``table`` the geometry table's arrays (``model[MODEL_GEOMETRY][GEO_TABLE]``;
     :func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`) and ``residual`` the structure's
-    residual flexibility table (the deck arrays' ``node_residual``) in series with the contacts.  Either may be
-    ``None``: then numba compiles none of its code, so a run on the rigid track with the online search compiles
-    neither the table nor the series solve.  numba drops a branch by the type of a ``None`` argument only where the
-    branch is the ``if`` or the ``else`` of that test: code after an early ``return`` is compiled, hence the
-    if/else here.  (The geometry itself, :func:`_wheel_geometry`, is inlined, not called: every layer of compiled
-    functions generates the machine code of all it calls once more.)"""
+    residual flexibility table (the deck arrays' ``node_residual``) in series with the contacts, ``patch`` the
+    non-Hertzian patch's (``GEO_PATCH``).  Any may be ``None``: numba then compiles none of its code.  numba drops a
+    branch by the type of a ``None`` argument only where the branch is the ``if`` or the ``else`` of that test: code
+    after an early ``return`` is compiled, hence the if/else here.  (The geometry itself, :func:`_wheel_geometry`,
+    is inlined, not called: every layer of compiled functions generates the machine code of all it calls again.)"""
     if residual is None:                 # an if/else on the argument's type: the other branch is not compiled
-        _wheel_geometry(model, state, work, table)
+        _wheel_geometry(model, state, work, table, patch)
     else:
         _predict_residual(q, model, state, work)
         for attempt in range(2):
-            _wheel_geometry(model, state, work, table)
+            _wheel_geometry(model, state, work, table, patch)
             # a solve that moves its rails further than the geometry's linearization is trusted: move them there
             # and find the geometry again (once)
             if attempt == 1 or not series_compliance(state, work, False):
@@ -393,21 +392,22 @@ def contact_geometry(q, model, state, work, table, residual):
 
 
 @compiled(inline="always")
-def _wheel_geometry(model, state, work, table):
+def _wheel_geometry(model, state, work, table, patch):
     """The contact geometry and Hertz of every wheel at the poses of ``state``: the online search, or the geometry
-    table ``table`` (not None)."""
+    table ``table`` (not None); then the non-Hertzian patch (``patch`` not None)."""
     wheel_geometry(model, state[ST_SIDE_POSES], state[ST_WARM], state[ST_OUT], state[ST_STATS], table,
-                   work[W_GEOMETRY])
+                   work[W_GEOMETRY], patch)
 
 
 @compiled(inline="always")
-def wheel_geometry(model, poses, warm, out, stats, table, scratch):
+def wheel_geometry(model, poses, warm, out, stats, table, scratch, patch):
     """The geometry stage on its own arrays: the contact geometry and Hertz of every wheel at ``poses`` (the
     side poses) from the warm start ``warm`` into ``out`` (the kernel's output), counting into ``stats`` — the
     online search, or the geometry table ``table`` (``model[MODEL_GEOMETRY][GEO_TABLE]``, an argument: numba
-    compiles only the branch of its type), ``scratch`` the stage's work array (``work[W_GEOMETRY]``).  What the
-    core calls for the state's arrays, and what a benchmark calls for recorded states."""
-    nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
+    compiles only the branch of its type), ``scratch`` the stage's work array (``work[W_GEOMETRY]``), ``patch`` the
+    non-Hertzian patch's or ``None`` (:mod:`~exudyn_wheelrail.contact.patch_pass`).  What the core calls for the
+    state's arrays, and what a benchmark calls for recorded states."""
+    nodes, meta, mono, curve_ids, params, _, scan, _ = model[MODEL_GEOMETRY]
     if table is None:
         K.solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch)
         GT.count_fallback(out, stats)
@@ -415,6 +415,8 @@ def wheel_geometry(model, poses, warm, out, stats, table, scratch):
         table_par, table_cz_ref, table_data = table
         GT.tabulated_wheels(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses, warm, params,
                             out, stats, scan, scratch)
+    if patch is not None:
+        patch_wheels(nodes, meta, curve_ids, poses, params, out, patch)
 
 
 #: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of
@@ -566,11 +568,11 @@ def compile_shares(q, q_t, t, model, state, work, f_out, res):
     (creepages, creep law, deck) — or, with the search kernel compiled already, this process the poses and the
     geometry and the other the forces.  The arguments are those the call hands each callee."""
     _, _, _, _, _, residual, _ = model[MODEL_DECK]
-    nodes, meta, mono, curve_ids, params, _, scan = model[MODEL_GEOMETRY]
+    nodes, meta, mono, curve_ids, params, table, scan, patch = model[MODEL_GEOMETRY]
     search = (nodes, meta, mono, curve_ids, state[ST_SIDE_POSES], state[ST_WARM], params, state[ST_OUT], scan)
     poses = (wheelset_poses, (q, q_t, t, model, state, work))
     forces = (wheel_forces, (q, q_t, model, state, work, f_out, res))
-    geometry = (contact_geometry, (q, model, state, work, model[MODEL_GEOMETRY][GEO_TABLE], residual))
+    geometry = (contact_geometry, (q, model, state, work, table, residual, patch))
     if is_compiled(K.evaluate_wheels, search):
         return [poses, geometry], [forces]
     return [geometry], [poses, forces]

@@ -52,7 +52,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..contact.creepage import CREEP_DEGENERATE_FRAME, CREEP_INVALID_INPUT, CREEP_REVERSED, contact_frame_core
-from ..contact.kernel import FLAG_BLENDED, FLAG_HERTZ_CLAMPED
+from ..contact.kernel import FLAG_BLENDED, FLAG_HERTZ_CLAMPED, FLAG_PATCH
 from ..contact.kernel import STATUS_CONVEX as K_STATUS_CONVEX
 from ..contact.layout import (CP_V_MIN, F_DN_DDELTA, F_FLAGS, F_KR_LAT, F_KW_LAT, F_NR_Y, F_NR_Z, F_PENETRATION,
                               P_BLEND_DEPTH, RES_A, RES_B, RES_CREEP_STATUS, RES_ETA, RES_FX, RES_FY, RES_MZ, RES_N,
@@ -349,14 +349,15 @@ CONFORMAL_LIMIT = 0.015
 @compiled
 def needs_differences(res, out):
     """Whether a contact of the state turns its normal too fast for the semi-analytic derivatives: a point of the
-    concave search, a clamped (conformal) Hertz curvature, or a relative lateral curvature with
+    concave search, a clamped (conformal) Hertz curvature, a non-Hertzian patch, or a relative lateral curvature with
     ``δ |κ_w κ_r/(κ_w + κ_r)| > CONFORMAL_LIMIT`` (the normal turns by ``κ_w κ_r/(κ_w + κ_r)`` per unit of
     tangential relative motion: the flange root against the gauge corner, where it reaches ~1e4 rad/m)."""
     for w in range(res.shape[0]):
         for reg in range(res.shape[1]):
             if res[w, reg, RES_STATUS] <= 0 or not res[w, reg, RES_N] > 0.0:
                 continue
-            if res[w, reg, RES_STATUS] != K_STATUS_CONVEX or int(out[w, reg, F_FLAGS]) & FLAG_HERTZ_CLAMPED:
+            if res[w, reg, RES_STATUS] != K_STATUS_CONVEX or int(out[w, reg, F_FLAGS]) & (FLAG_HERTZ_CLAMPED
+                                                                                          | FLAG_PATCH):
                 return True
             kw = out[w, reg, F_KW_LAT]
             kr = out[w, reg, F_KR_LAT]

@@ -23,11 +23,12 @@ argument, and :func:`compiled_for` (a compiled specialization called without num
   - ``track``: the irregularity's packed arrays ``(rows, knots, coefs)``
     (:func:`~exudyn_wheelrail.track.rigid.irregularity_channels_at`: alignment, vertical level, cross level and
     gauge deviation);
-  - ``geometry[GEO_*]`` (:func:`geometry_tuple`) ``= (nodes, meta, mono, curve_ids, params, table, scan)``: the
+  - ``geometry[GEO_*]`` (:func:`geometry_tuple`) ``= (nodes, meta, mono, curve_ids, params, table, scan, patch)``: the
     profiles and kernel parameters of a :class:`~exudyn_wheelrail.contact.WheelsetContact`, the geometry table's
     ``(par, cz_ref, data)`` (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`; ``None``
-    for the online search, :func:`~.connector_core.contact_geometry`) and the coarse scan's cached wheel points
-    (:func:`~exudyn_wheelrail.contact.kernel.scan_array`);
+    for the online search, :func:`~.connector_core.contact_geometry`), the coarse scan's cached wheel points
+    (:func:`~exudyn_wheelrail.contact.kernel.scan_array`) and the non-Hertzian patch's parameters
+    (:func:`~exudyn_wheelrail.contact.patch_pass.patch_params`; ``None`` for Hertz);
   - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
   - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
     ``par``);
@@ -66,8 +67,8 @@ from ..track.layout import N_LAYOUT
 __all__ = ["FRAME_SPEED", "FRAME_MOVING", "FRAME_S_START", "FRAME_CURVED", "FRAME_PITCH", "N_FRAME", "MODEL_VEHICLE",
            "MODEL_TRACK", "MODEL_GEOMETRY", "MODEL_CREEP", "MODEL_DECK", "VEH_P_REF", "VEH_FRAME", "VEH_LAYOUT",
            "VEH_LAYOUT_PAR", "GEO_NODES", "GEO_META", "GEO_MONO", "GEO_CURVE_IDS", "GEO_PARAMS", "GEO_TABLE",
-           "GEO_SCAN", "ST_WARM", "ST_OUT", "ST_SIDE_POSES", "ST_STATS", "ST_RAIL_DELTA", "ST_PHI_WS", "ST_RAIL_F",
-           "ST_DECK_STATE", "W_DECK", "W_ROT", "W_WHEELSET", "W_VEC", "W_FRAME", "W_LAYOUT", "W_RESIDUAL", "W_CONTACTS",
+           "GEO_SCAN", "GEO_PATCH", "ST_WARM", "ST_OUT", "ST_SIDE_POSES", "ST_STATS", "ST_RAIL_DELTA", "ST_PHI_WS",
+           "ST_RAIL_F", "ST_DECK_STATE", "W_DECK", "W_ROT", "W_WHEELSET", "W_VEC", "W_FRAME", "W_LAYOUT", "W_RESIDUAL", "W_CONTACTS",
            "W_SERIES", "W_INDEX", "W_GEOMETRY", "model_tuple", "vehicle_tuple", "geometry_tuple", "state_tuple",
            "work_arrays", "ContactData", "contact_data", "compiled_for"]
 
@@ -126,6 +127,7 @@ GEO_CURVE_IDS = 3
 GEO_PARAMS = 4        # the kernel's parameters per wheel
 GEO_TABLE = 5         # the geometry table's (par, cz_ref, data), or None for the online search
 GEO_SCAN = 6          # the coarse scan's cached wheel points
+GEO_PATCH = 7         # the non-Hertzian patch's parameters (contact.patch_pass.patch_params), or None for Hertz
 
 # ---- the updated arrays: state[ST_*] (state_tuple) ------------------------------------------------------------------
 ST_WARM = 0           # the kernel's warm start
@@ -161,9 +163,9 @@ def vehicle_tuple(p_ref, frame, layout, layout_par) -> tuple:
     return (p_ref, frame, layout, layout_par)
 
 
-def geometry_tuple(nodes, meta, mono, curve_ids, params, table, scan) -> tuple:
+def geometry_tuple(nodes, meta, mono, curve_ids, params, table, scan, patch) -> tuple:
     """``model[MODEL_GEOMETRY]``, read as ``geometry[GEO_*]`` (module docstring)."""
-    return (nodes, meta, mono, curve_ids, params, table, scan)
+    return (nodes, meta, mono, curve_ids, params, table, scan, patch)
 
 
 def state_tuple(warm, out, side_poses, stats, rail_delta, phi_ws, rail_f, deck_state) -> tuple:

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..analysis.safety import EN14363_YQ_LIMIT, WHEEL_UNLOADING_LIMIT
 from ..contact.pair import WheelRailPair
-from ..multibody.connector import add_train_contact
+from ..multibody.train_contact import add_train_contact
 from ..rolling_stock.train import ConsistError, build_train, load_consist
 from ..rolling_stock.vehicle_builder import RailSprings, static_load_path
 from ..simulation.solvers import RESOLUTION_LIMIT

@@ -268,6 +268,7 @@ def build_scenario(scenario, *, vehicle=None, pair=None, irregularity=None) -> S
             contact = add_wheel_rail_contact(mbs, model.wheelset_nodes, pair, speed_m_s=V, track=track,
                                              s_start_m=s_start, creep_law=cs.creep_law, mu=cs.friction,
                                              fastsim_grid=cs.fastsim_grid, geometry=cs.geometry,
+                                             contact_patch=cs.contact_patch,
                                              **({"layout": layout} if layout is not None else {}),
                                              **({"structure": bridge} if bridge is not None else {}),
                                              **({"structure": flex} if flex is not None else {}))

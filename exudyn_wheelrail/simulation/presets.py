@@ -13,6 +13,11 @@ peak lateral force error): accurate 1.0x / 1.0x, 0.05 %; default 3.8x / 4.0x, 0.
 are not (benchmarks/README.md says why).  ``fast`` interpolates the creep table multilinearly (the law
 ``table_linear``): 10 % of its step for 0.7 % more error in the peak lateral force than the cubic table.
 
+No preset sets the normal contact: every one runs Hertz's ellipse (the contact settings' default) unless the
+non-Hertzian patch is asked for (``--contact-patch non-hertzian``, :mod:`~exudyn_wheelrail.contact.patch_pass`), on
+top of any preset and at its cost (``docs/performance.md``); the presets' accuracy is measured against a reference
+with Hertz.
+
 Without a preset a front end keeps its own settings (``rtri``: the paper's Newmark β = 1/4, γ = 1/2, 1 ms, online
 geometry).  A preset does not set the simulated duration.
 """

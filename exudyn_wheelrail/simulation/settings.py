@@ -171,7 +171,8 @@ class RunSettings:
 class ContactSettings:
     """How the wheels touch the rails: creep law, friction coefficient, FASTSIM grid, contact geometry (``"online"``
     search or the precomputed ``"table"`` for the rigid rail profile, :mod:`~exudyn_wheelrail.contact.
-    geometry_table`) and the wheel–rail element (:data:`WHEEL_RAIL_MODES`).  The defaults of the creep law, the
+    geometry_table`), the wheel–rail element (:data:`WHEEL_RAIL_MODES`) and the normal contact (Hertz or the
+    non-Hertzian patch).  The defaults of the creep law, the
     friction coefficient and the geometry are the connector's, declared in :mod:`exudyn_wheelrail.contact_defaults`;
     the creep laws are those of :data:`exudyn_wheelrail.creep.registry.LAWS`."""
 
@@ -183,6 +184,9 @@ class ContactSettings:
     fastsim_grid: tuple[int, int] = (24, 8)
     geometry: str = DEFAULT.GEOMETRY
     wheel_rail: str = WHEEL_RAIL_MODES[0]
+    #: the normal contact: Hertz's ellipse, or the non-Hertzian patch where Hertz does not hold
+    #: (:mod:`~exudyn_wheelrail.contact.patch_pass`)
+    contact_patch: str = DEFAULT.CONTACT_PATCH
 
     def __post_init__(self):
         _choice("creep_law", self.creep_law, tuple(sorted(DEFAULT.CREEP_LAW_NAMES)))
@@ -198,6 +202,7 @@ class ContactSettings:
         object.__setattr__(self, "fastsim_grid", (int(grid[0]), int(grid[1])))
         _choice("geometry", self.geometry, DEFAULT.GEOMETRY_MODES)
         _choice("wheel_rail", self.wheel_rail, WHEEL_RAIL_MODES)
+        _choice("contact_patch", self.contact_patch, DEFAULT.CONTACT_PATCHES)
 
     def as_dict(self) -> dict:
         d = dataclasses.asdict(self)

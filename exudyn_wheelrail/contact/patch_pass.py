@@ -1,0 +1,221 @@
+r"""The non-Hertzian patch in the contact's output: each contact the kernel found, where Hertz does not hold, gets the
+resultant of its patch (:mod:`.patch`) in place of Hertz's point.
+
+The switch (per contact, continuous)
+------------------------------------
+Hertz assumes the interpenetration of the undeformed profiles quadratic over its ellipse, ``g(η) = δ - B η²``.  The
+pass reads ``g`` at the lateral edges of Hertz's own ellipse, ``η = ±b`` (two strips of :mod:`.strips`), and its
+miss ``D = max |g(±b) - (δ - B b²)| / δ``:
+
+* ``D ≤ D_lo`` (:data:`SWITCH_LO`): Hertz, untouched (the patch would give Hertz's ellipse within its own error);
+* ``D ≥ D_hi`` (:data:`SWITCH_HI`): the patch;
+* between, the two blended with the smoothstep weight ``w`` of ``(D - D_lo)/(D_hi - D_lo)``: normal force, contact
+  angle, lateral position of the point, the semi-axes and dN/dδ each ``(1 - w) Hertz + w patch`` — so the contact
+  force is continuous in the pose across the switch.
+
+On S1002/UIC60 (``docs/validation.md``) D is 0.25 at the centred position (one overlap zone 18 mm wide with two
+humps), 0.06–0.2 on the conformal tread within ±3 mm of it, ≤ 0.03 on the tread at 2–5 mm and 0 on the flange.
+
+What the pass writes (a contact's row of :mod:`.layout`)
+--------------------------------------------------------
+``F_NORMAL_FORCE`` the blended force; ``F_CONTACT_ANGLE`` and ``F_NR_*`` the blended resultant's direction (the
+strips' normals weighted by their loads); ``F_PR_*`` the rail point at the blended lateral position of the resultant
+and ``F_PW_*`` the wheel point δ inside it along that normal (``F_PENETRATION`` stays the kernel's δ);
+``F_ROLLING_RADIUS`` the wheel's radius there; ``F_SEMI_A/B`` the equivalent ellipse (the patch's lateral half-width
+b, the semi-axis a of the same area) for the tangential problem — the creep laws and the creep table take the patch
+as that ellipse, with the creepages at the resultant's point; ``F_DN_DDELTA`` ``1.5 N/δ`` for the patch part (the
+force's exponent taken as Hertz's: an estimate, read by the implicit solvers' Jacobian and the stability estimate);
+``F_FLAGS`` gains the kernel's ``FLAG_PATCH``.  Another contact of the same wheel whose point lies inside the zone is the same
+zone seen twice (the kernel's two maxima of one zone, or a tread and a flange contact across the split): it becomes
+``STATUS_MERGED`` with no force.  A patch that cannot be solved leaves Hertz and sets ``FLAG_PATCH_FAILED``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..jit import compiled
+from . import kernel as K
+from .layout import (F_B_REL, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
+                     F_PENETRATION, F_PR_Y, F_PR_Z, F_PW_Y, F_PW_Z, F_ROLLING_RADIUS, F_S_RAIL, F_S_WHEEL, F_SEMI_A,
+                     F_SEMI_B, F_STATUS, N_SLOTS, P_E_STAR, P_RAIL_ROLL_CURVATURE)
+from .patch import N_STRIPS, scratch, solve_core
+from .strips import (N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_RADIUS, S_RAIL_Y, S_RAIL_Z, fill_strips, strip_at,
+                     zone_edges)
+
+__all__ = ["SWITCH_LO", "SWITCH_HI", "PP_N_STRIPS", "PP_SWITCH_LO", "PP_SWITCH_HI", "N_PP", "patch_params",
+           "hertz_miss", "patch_wheels"]
+
+#: Hertz's miss of the interpenetration at its ellipse's edges below which Hertz is kept, above which the patch
+#: replaces it (relative to δ; module docstring)
+SWITCH_LO = 0.02
+SWITCH_HI = 0.05
+
+#: the smallest step out of a zone towards its edges (Hertz's lateral semi-axis otherwise) [m]
+MIN_STEP_M = 1e-4
+
+# the pass's parameters: pp[PP_*]
+PP_N_STRIPS = 0
+PP_SWITCH_LO = 1
+PP_SWITCH_HI = 2
+N_PP = 3
+
+
+def patch_params(n_strips: int = N_STRIPS, switch_lo: float = SWITCH_LO, switch_hi: float = SWITCH_HI) -> tuple:
+    """The pass's argument ``patch``: its parameters ``pp[PP_*]`` and its work arrays (nothing is allocated per
+    call): ``(pp, strips (n, N_STRIP_FIELDS), zones (N_SLOTS, 6), vecs (4, n): g, A, q, x_l, *patch.scratch(n),
+    order (N_SLOTS,) int)``."""
+    if not (isinstance(n_strips, int) and n_strips >= 5):
+        raise ValueError(f"n_strips: expected an integer >= 5, got {n_strips!r}")
+    if not 0.0 <= switch_lo < switch_hi:
+        raise ValueError(f"switch: expected 0 <= switch_lo < switch_hi, got {switch_lo!r}, {switch_hi!r}")
+    pp = np.zeros(N_PP)
+    pp[PP_N_STRIPS] = n_strips
+    pp[PP_SWITCH_LO] = switch_lo
+    pp[PP_SWITCH_HI] = switch_hi
+    return ((pp, np.zeros((n_strips, N_STRIP_FIELDS)), np.zeros((N_SLOTS, 6)), np.zeros((4, n_strips)))
+            + scratch(n_strips) + (np.zeros(N_SLOTS, dtype=np.int64),))
+
+
+@compiled(refcount=False)
+def hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, scratch):
+    """D = max |g(±b) - (δ - B b²)| / δ of a contact's row (module docstring)."""
+    delta = row[F_PENETRATION]
+    b = row[F_SEMI_B]
+    quad = delta - row[F_B_REL] * b * b
+    miss = 0.0
+    for side in (-1.0, 1.0):
+        g = strip_at(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row[F_PR_Y], row[F_PR_Z], row[F_NR_Y],
+                     row[F_NR_Z], row[F_S_RAIL], row[F_S_WHEEL], k_rail_roll, side * b, scratch)
+        miss = max(miss, abs(g - quad))
+    return miss / delta
+
+
+@compiled(refcount=False)
+def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, e_star, n, weight,
+               strips, zone, vecs, C, aug, vectors, idx):
+    """Solve the patch of ``row``'s zone and write the blend into ``row``; ``zone`` receives the zone's plane
+    (o_y, o_z, t_y, t_z, lo, hi).  False (row untouched) if the patch could not be solved."""
+    o_y, o_z, n_y, n_z = row[F_PR_Y], row[F_PR_Z], row[F_NR_Y], row[F_NR_Z]
+    s_r, s_w = row[F_S_RAIL], row[F_S_WHEEL]
+    lo, hi = zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w,
+                        k_rail_roll, 0.0, max(row[F_SEMI_B], MIN_STEP_M), strips[0])
+    zone[0], zone[1], zone[2], zone[3], zone[4], zone[5] = o_y, o_z, -n_z, n_y, lo, hi
+    if not hi - lo > 0.0:
+        return False
+    fill_strips(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w, k_rail_roll,
+                lo, hi, strips)
+    g = vecs[0]
+    A = vecs[1]
+    q = vecs[2]
+    xl = vecs[3]
+    for j in range(n):
+        if strips[j, S_OK] == 0.0:
+            return False
+        g[j] = strips[j, S_G]
+        A[j] = strips[j, S_A]
+        if not A[j] > 0.0:
+            return False
+    width = (hi - lo) / n
+    it, _ = solve_core(g, A, n, width, e_star, q, xl, C, aug, vectors, idx)
+    if it < 0:
+        return False
+    force = 0.0
+    area = 0.0
+    sy = 0.0
+    sz = 0.0
+    se = 0.0
+    first = -1
+    last = -1
+    for j in range(n):
+        load = 0.5 * math.pi * q[j] * xl[j] * width
+        if load > 0.0:
+            if first < 0:
+                first = j
+            last = j
+        force += load
+        area += 2.0 * xl[j] * width
+        sy += load * math.sin(strips[j, S_GAMMA])
+        sz += load * math.cos(strips[j, S_GAMMA])
+        se += load * strips[j, S_ETA]
+    if not force > 0.0:
+        return False
+    delta = row[F_PENETRATION]
+    w = weight
+    eta = w * se / force                          # Hertz's point is η = 0
+    gamma = (1.0 - w) * row[F_CONTACT_ANGLE] + w * math.atan2(sy, sz)
+    b_patch = 0.5 * (last - first + 1) * width
+    a_patch = area / (math.pi * b_patch)
+    # the rail point and the wheel's radius at the resultant's lateral position (a strip of its own)
+    strip_at(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w, k_rail_roll,
+             eta, strips[0])
+    rny = -math.sin(gamma)
+    rnz = -math.cos(gamma)
+    row[F_NORMAL_FORCE] = (1.0 - w) * row[F_NORMAL_FORCE] + w * force
+    row[F_DN_DDELTA] = (1.0 - w) * row[F_DN_DDELTA] + w * 1.5 * force / delta
+    row[F_SEMI_A] = (1.0 - w) * row[F_SEMI_A] + w * a_patch
+    row[F_SEMI_B] = (1.0 - w) * row[F_SEMI_B] + w * b_patch
+    row[F_CONTACT_ANGLE] = gamma
+    row[F_NR_Y] = rny
+    row[F_NR_Z] = rnz
+    row[F_PR_Y] = strips[0, S_RAIL_Y]
+    row[F_PR_Z] = strips[0, S_RAIL_Z]
+    row[F_PW_Y] = strips[0, S_RAIL_Y] - delta * rny
+    row[F_PW_Z] = strips[0, S_RAIL_Z] - delta * rnz
+    row[F_ROLLING_RADIUS] = strips[0, S_RADIUS]
+    return True
+
+
+@compiled(refcount=False)
+def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
+    """The pass over the kernel's output ``out`` (n_wheels, N_SLOTS, N_FIELDS) at the side-frame ``poses``
+    (module docstring), ``patch`` of :func:`patch_params`; rows rewritten in place."""
+    pp, strips, zones, vecs, C, aug, vectors, idx, order = patch
+    n = int(pp[PP_N_STRIPS])
+    lo_sw = pp[PP_SWITCH_LO]
+    hi_sw = pp[PP_SWITCH_HI]
+    e_star = params[P_E_STAR]
+    k_rr = params[P_RAIL_ROLL_CURVATURE]
+    for w in range(poses.shape[0]):
+        rail, tread, flange = curve_ids[w, 0], curve_ids[w, 1], curve_ids[w, 2]
+        c_y, c_z = poses[w, 0], poses[w, 1]
+        cos_r = math.cos(poses[w, 2])
+        sin_r = math.sin(poses[w, 2])
+        # the contacts by depth: a shallower contact inside a deeper one's zone is that zone seen twice
+        m = 0
+        for slot in range(N_SLOTS):
+            if out[w, slot, F_STATUS] > 0 and out[w, slot, F_NORMAL_FORCE] > 0.0:
+                order[m] = slot
+                m += 1
+        for a in range(1, m):
+            b = a
+            while b > 0 and out[w, order[b], F_PENETRATION] > out[w, order[b - 1], F_PENETRATION]:
+                order[b], order[b - 1] = order[b - 1], order[b]
+                b -= 1
+        n_zones = 0
+        for a in range(m):
+            row = out[w, order[a]]
+            inside = False
+            for z in range(n_zones):
+                e = (row[F_PR_Y] - zones[z, 0]) * zones[z, 2] + (row[F_PR_Z] - zones[z, 1]) * zones[z, 3]
+                if zones[z, 4] <= e <= zones[z, 5]:
+                    inside = True
+            if inside:
+                row[F_STATUS] = K.STATUS_MERGED
+                row[F_NORMAL_FORCE] = 0.0
+                row[F_DN_DDELTA] = 0.0
+                row[F_SEMI_A] = 0.0
+                row[F_SEMI_B] = 0.0
+                continue
+            miss = hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rr, strips[0])
+            x = (miss - lo_sw) / (hi_sw - lo_sw)
+            if x <= 0.0:
+                continue
+            weight = 1.0 if x >= 1.0 else x * x * (3.0 - 2.0 * x)
+            if _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rr, e_star, n, weight,
+                          strips, zones[n_zones], vecs, C, aug, vectors, idx):
+                row[F_FLAGS] = int(row[F_FLAGS]) | K.FLAG_PATCH
+                n_zones += 1
+            else:
+                row[F_FLAGS] = int(row[F_FLAGS]) | K.FLAG_PATCH_FAILED
