@@ -155,41 +155,65 @@ def build_table_core(nodes, meta, mono, curve_row, params_global, ys, rolls, cz_
 
 
 @compiled
-def _build_column(nodes, meta, mono, curve_row, params_global, ys, rolls, j, cz_start, delta_ref, dh, data, cz_ref):
-    """One roll column of :func:`build_table_core`; returns its number of failed nodes."""
+def height_at_penetration(nodes, meta, mono, cids, pose, warm, params_global, out, target, cz):
+    """The height ``c_z`` from ``cz`` (Newton, steps ≤ 2 mm) at which the deepest contact of the wheel at ``pose``'s
+    lateral offset and roll has the penetration ``target``: ``(c_z, converged)``; ``out`` holds the kernel's output
+    there (``pose[0, 1]`` is set)."""
+    for it in range(40):
+        pose[0, 1] = cz
+        K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out)
+        k, d = _deepest(out)
+        if k < 0:
+            cz += 1e-3          # nothing faces the rail at all: move down
+            continue
+        g = -out[0, k, K.F_NR_Z]
+        if g < 0.05:
+            g = 0.05
+        step = (target - d) / g
+        if step > 2e-3:
+            step = 2e-3
+        elif step < -2e-3:
+            step = -2e-3
+        if abs(step) < 1e-10:
+            return cz, True
+        cz += step
+    return cz, False
+
+
+@compiled
+def column_arrays(curve_row):
+    """The arrays of one wheel's kernel evaluations while a table's column is built: its curve ids (1, 3), pose
+    (1, 3), warm start and two outputs."""
     cids = np.empty((1, 3), dtype=np.int64)
     for i in range(3):
         cids[0, i] = curve_row[i]
-    pose = np.zeros((1, 3))
-    warm = np.full((1, 2, K.N_WARM), np.nan)
-    out = np.zeros((1, K.N_SLOTS, K.N_FIELDS))
-    out2 = np.zeros((1, K.N_SLOTS, K.N_FIELDS))
+    return (cids, np.zeros((1, 3)), np.full((1, 2, K.N_WARM), np.nan), np.zeros((1, K.N_SLOTS, K.N_FIELDS)),
+            np.zeros((1, K.N_SLOTS, K.N_FIELDS)))
+
+
+def save_cached(path: Path, **arrays) -> None:
+    """Write a table's arrays to the cache file ``path`` (through a file of this process's own: test workers may
+    race); a folder that cannot be written leaves the table uncached."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+        np.savez_compressed(tmp, **arrays)
+        os.replace(tmp, path)
+    except OSError:
+        pass
+
+
+@compiled
+def _build_column(nodes, meta, mono, curve_row, params_global, ys, rolls, j, cz_start, delta_ref, dh, data, cz_ref):
+    """One roll column of :func:`build_table_core`; returns its number of failed nodes."""
+    cids, pose, warm, out, out2 = column_arrays(curve_row)
     c2 = np.zeros(K.N_SLOTS)
     failed = 0
     cz = cz_start
     for i in range(ys.shape[0]):
         pose[0, 0] = ys[i]
         pose[0, 2] = rolls[j]
-        ok = False
-        for it in range(40):
-            pose[0, 1] = cz
-            K.evaluate_wheels(nodes, meta, mono, cids, pose, warm, params_global, out)
-            k, d = _deepest(out)
-            if k < 0:
-                cz += 1e-3          # nothing faces the rail at all: move down
-                continue
-            g = -out[0, k, K.F_NR_Z]
-            if g < 0.05:
-                g = 0.05
-            step = (delta_ref - d) / g
-            if step > 2e-3:
-                step = 2e-3
-            elif step < -2e-3:
-                step = -2e-3
-            if abs(step) < 1e-10:
-                ok = True
-                break
-            cz += step
+        cz, ok = height_at_penetration(nodes, meta, mono, cids, pose, warm, params_global, out, delta_ref, cz)
         if not ok:
             failed += 1
             data[i, j, :, :] = np.nan
@@ -577,7 +601,8 @@ class GeometryTable:
 _MEMORY: dict = {}
 
 
-def _cache_dir() -> Path:
+def cache_dir() -> Path:
+    """The folder of the cached tables (``$EXUDYN_WHEELRAIL_CACHE`` or ``~/.cache/exudyn_wheelrail``)."""
     d = os.environ.get("EXUDYN_WHEELRAIL_CACHE")
     return Path(d) if d else Path.home() / ".cache" / "exudyn_wheelrail"
 
@@ -603,7 +628,7 @@ def geometry_table(nodes, meta, mono, curve_row, params, grid: GeometryTableGrid
     key = _key(nodes, meta, curve_row, pg, grid)
     if key in _MEMORY:
         return _MEMORY[key]
-    path = _cache_dir() / f"geometry_table_{key}.npz"
+    path = cache_dir() / f"geometry_table_{key}.npz"
     if cache and path.exists():
         try:
             z = np.load(path)
@@ -618,23 +643,17 @@ def geometry_table(nodes, meta, mono, curve_row, params, grid: GeometryTableGrid
     ys, rolls = grid.axes()
     data = np.zeros((len(ys), len(rolls), K.N_SLOTS, N_G))
     cz_ref = np.zeros((len(ys), len(rolls)))
-    r0 = _nominal_height(nodes, meta, curve_row)
+    r0 = nominal_height(nodes, meta, curve_row)
     failed = build_table_core(nodes, meta, mono, np.asarray(curve_row, dtype=np.int64), pg, ys, rolls, r0,
                               grid.delta_ref_m, grid.dh_m, data, cz_ref)
     t = GeometryTable(grid, cz_ref, data, failed, key)
     _MEMORY[key] = t
     if cache:
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")    # one per process: test workers may race
-            np.savez_compressed(tmp, cz_ref=cz_ref, data=data, failed=failed)
-            os.replace(tmp, path)
-        except OSError:
-            pass
+        save_cached(path, cz_ref=cz_ref, data=data, failed=failed)
     return t
 
 
-def _nominal_height(nodes, meta, curve_row) -> float:
+def nominal_height(nodes, meta, curve_row) -> float:
     """A start height for the reference search: minus the wheel tread curve's largest z (its radius)."""
     first = int(meta[curve_row[1], 0])
     n = int(meta[curve_row[1], 1])

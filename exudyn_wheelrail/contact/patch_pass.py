@@ -21,7 +21,7 @@ What the pass writes (a contact's row of :mod:`.layout`)
 ``F_NORMAL_FORCE`` the blended force; ``F_CONTACT_ANGLE`` and ``F_NR_*`` the blended resultant's direction (the
 strips' normals weighted by their loads); ``F_PR_*`` the rail point at the blended lateral position of the resultant
 and ``F_PW_*`` the wheel point δ inside it along that normal (``F_PENETRATION`` stays the kernel's δ);
-``F_ROLLING_RADIUS`` the wheel's radius there; ``F_SEMI_A/B`` the equivalent ellipse (the patch's lateral half-width
+``F_ROLLING_RADIUS`` the wheel's radius there, ``F_S_RAIL``/``F_S_WHEEL`` the profiles' arc lengths there; ``F_SEMI_A/B`` the equivalent ellipse (the patch's lateral half-width
 b, the semi-axis a of the same area) for the tangential problem — the creep laws and the creep table take the patch
 as that ellipse, with the creepages at the resultant's point; ``F_DN_DDELTA`` ``1.5 N/δ`` for the patch part (the
 force's exponent taken as Hertz's: an estimate, read by the implicit solvers' Jacobian and the stability estimate);
@@ -41,8 +41,8 @@ from .layout import (F_B_REL, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FO
                      F_PENETRATION, F_PR_Y, F_PR_Z, F_PW_Y, F_PW_Z, F_ROLLING_RADIUS, F_S_RAIL, F_S_WHEEL, F_SEMI_A,
                      F_SEMI_B, F_STATUS, N_SLOTS, P_E_STAR, P_RAIL_ROLL_CURVATURE)
 from .patch import N_STRIPS, scratch, solve_core
-from .strips import (N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_RADIUS, S_RAIL_Y, S_RAIL_Z, fill_strips, strip_at,
-                     zone_edges)
+from .strips import (N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_RADIUS, S_RAIL_Y, S_RAIL_Z, S_S_RAIL,
+                     S_S_WHEEL, fill_strips, strip_at, zone_edges)
 
 __all__ = ["SWITCH_LO", "SWITCH_HI", "PP_N_STRIPS", "PP_SWITCH_LO", "PP_SWITCH_HI", "N_PP", "patch_params",
            "hertz_miss", "patch_wheels"]
@@ -164,6 +164,8 @@ def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_
     row[F_PW_Y] = strips[0, S_RAIL_Y] - delta * rny
     row[F_PW_Z] = strips[0, S_RAIL_Z] - delta * rnz
     row[F_ROLLING_RADIUS] = strips[0, S_RADIUS]
+    row[F_S_RAIL] = strips[0, S_S_RAIL]
+    row[F_S_WHEEL] = strips[0, S_S_WHEEL]
     return True
 
 

@@ -24,7 +24,7 @@ from ..profiles.curve import curve_eval, curve_point
 from .search import place_point
 
 __all__ = ["S_G", "S_A", "S_GAMMA", "S_RADIUS", "S_RAIL_Y", "S_RAIL_Z", "S_S_RAIL", "S_S_WHEEL", "S_OK", "S_ETA",
-           "S_WIDTH", "N_STRIP_FIELDS", "strip_at", "zone_edges", "fill_strips"]
+           "S_WIDTH", "N_STRIP_FIELDS", "curve_of", "strip_at", "zone_edges", "fill_strips"]
 
 # one strip's fields (a row of the strips' array)
 S_G = 0          # interpenetration g of the undeformed profiles along the plane's normal [m]
@@ -47,7 +47,7 @@ _MAX_HALF_WIDTH_M = 0.06
 
 
 @compiled(refcount=False)
-def _curve_of(nodes, meta, first, second, s):
+def curve_of(nodes, meta, first, second, s):
     """The curve holding arc length ``s`` of a profile split in two curves sharing its arc length: ``second`` (the
     wheel's flange, or -1 for an unsplit profile) before ``first``'s first node, else ``first``."""
     if second >= 0 and s < nodes[int(meta[first, 0]), 0]:
@@ -61,7 +61,7 @@ def _point_at(nodes, meta, first, second, s0, c_y, c_z, cos_r, sin_r, o_y, o_z, 
     the plane, Newton from ``s0``: (s, ok)."""
     s = s0
     for _ in range(_NEWTON_MAX):
-        py, pz, ty, tz = curve_point(nodes, meta, _curve_of(nodes, meta, first, second, s), s)
+        py, pz, ty, tz = curve_point(nodes, meta, curve_of(nodes, meta, first, second, s), s)
         wy, wz = place_point(py, pz, c_y, c_z, cos_r, sin_r)
         f = (wy - o_y) * t_y + (wz - o_z) * t_z - eta
         df = (cos_r * ty - sin_r * tz) * t_y + (sin_r * ty + cos_r * tz) * t_z
@@ -84,7 +84,7 @@ def strip_at(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z,
     s_r, ok_r = _point_at(nodes, meta, rail, -1, s_r0, 0.0, 0.0, 1.0, 0.0, o_y, o_z, t_y, t_z, eta)
     s_w, ok_w = _point_at(nodes, meta, tread, flange, s_w0, c_y, c_z, cos_r, sin_r, o_y, o_z, t_y, t_z, eta)
     ry, rz, _, _, rny, rnz, _ = curve_eval(nodes, meta, rail, s_r)
-    qy, qz, _, _, _, qnz, _ = curve_eval(nodes, meta, _curve_of(nodes, meta, tread, flange, s_w), s_w)
+    qy, qz, _, _, _, qnz, _ = curve_eval(nodes, meta, curve_of(nodes, meta, tread, flange, s_w), s_w)
     wy, wz = place_point(qy, qz, c_y, c_z, cos_r, sin_r)
     g = (ry - wy) * n_y + (rz - wz) * n_z
     row[S_G] = g

@@ -20,7 +20,7 @@ from . import kernel as K
 from .normal import E_STEEL as E_STEEL_PA
 from .normal import NU_STEEL, effective_modulus
 from .pair import WheelRailPair
-from .patch_pass import patch_params, patch_wheels
+from .patch_table import PatchTableGrid, patch_argument, patch_contacts, patch_table
 from .search import monotone_rows
 
 #: the entries of a wheelset pose (track frame), in the order of the pose arrays
@@ -87,8 +87,9 @@ class WheelsetContact:
             raise ValueError(f"n_wheelsets: expected a positive integer, got {n_wheelsets!r}")
         if contact_patch not in CONTACT_PATCHES:
             raise ValueError(f"contact_patch={contact_patch!r}: expected one of {CONTACT_PATCHES}")
-        #: the pass's parameters (:func:`~exudyn_wheelrail.contact.patch_pass.patch_params`), None for Hertz
-        self.patch = patch_params() if contact_patch == "non-hertzian" else None
+        #: the patch's argument (:func:`~exudyn_wheelrail.contact.patch_table.patch_argument`; its patches solved
+        #: online until :meth:`use_patch_table`), None for Hertz
+        self.patch = patch_argument() if contact_patch == "non-hertzian" else None
         self.contact_patch = contact_patch
         E_wheel_Pa = youngs_modulus("E_wheel_Pa", E_wheel_Pa)
         E_rail_Pa = youngs_modulus("E_rail_Pa", E_rail_Pa)
@@ -119,6 +120,18 @@ class WheelsetContact:
         self._first_call = True
         #: last evaluated wheelset poses (y, z, roll); nominal height at start
         self.poses = np.tile([0.0, pair.nominal_axle_height_m(), 0.0], (self.n_wheelsets, 1))
+
+    def use_patch_table(self, grid: PatchTableGrid | None = None):
+        """Read the non-Hertzian patch from its table (:mod:`~exudyn_wheelrail.contact.patch_table`, built or loaded
+        from the cache) instead of solving it at every evaluation; needs ``contact_patch="non-hertzian"`` and the
+        same curves on every wheel.  Returns the table."""
+        if self.patch is None:
+            raise ValueError("use_patch_table: the contact was built with contact_patch='hertz'")
+        if not np.all(self.curve_ids == self.curve_ids[0]):
+            raise ValueError("use_patch_table: the table needs the same wheel/rail curves on every wheel")
+        table = patch_table(self.nodes, self.meta, self.mono, self.curve_ids[0], self.params, self.patch[0][0], grid)
+        self.patch = patch_argument(table, self.patch[0][0])
+        return table
 
     def reset(self):
         """Forget the warm start (and the separation bounds)."""
@@ -168,7 +181,7 @@ class WheelsetContact:
         K.evaluate_wheels(self.nodes, self.meta, self.mono, self.curve_ids, self._fill_side_poses(poses), self.warm,
                           self.params, self.out, self.scan)
         if self.patch is not None:
-            patch_wheels(self.nodes, self.meta, self.curve_ids, self._side_poses, self.params, self.out, self.patch)
+            patch_contacts(self.nodes, self.meta, self.curve_ids, self._side_poses, self.params, self.out, self.patch)
         self.poses[:] = poses
         return self.out
 

@@ -166,7 +166,9 @@ class WheelRailContact:
         terms and the suspension geometry of the curve are
         :class:`~exudyn_wheelrail.rolling_stock.track_following.TrackFollowingFrame`'s.  Needs ``frame="moving"``.
     contact_patch : ``"hertz"`` or ``"non-hertzian"``: the patch's resultant where Hertz does not hold
-        (:mod:`exudyn_wheelrail.contact.patch_pass`; the implicit solvers' Jacobian then differences numerically).
+        (:mod:`exudyn_wheelrail.contact.patch_pass`; the implicit solvers' Jacobian then differences numerically),
+        read from its table (:mod:`exudyn_wheelrail.contact.patch_table`, ``patch_grid`` or its default grid; built
+        once, cached) where it covers the pose and the curves are the same on every wheel, else solved online.
     """
 
     def __init__(self, mbs, wheelset_nodes, pair: WheelRailPair, *, speed_m_s: float,
@@ -177,7 +179,7 @@ class WheelRailContact:
                  creep_table=None, global_search: bool = False, jacobian: str | None = "numerical",
                  v_min_m_s: float = DEFAULT_V_MIN_M_S, name: str = "wheel_rail_contact", structure=None,
                  geometry: str = DEFAULT.GEOMETRY, geometry_grid=None, layout=None,
-                 contact_patch: str = DEFAULT.CONTACT_PATCH):
+                 contact_patch: str = DEFAULT.CONTACT_PATCH, patch_grid=None):
         if structure is not None and not isinstance(structure, ExudynBridge):
             raise TypeError(f"structure={structure!r}: expected an ExudynBridge, what moves the rails (a deck: "
                             "structures.add_bridge; a flexible track: track.add_flexible_track), or None")
@@ -253,6 +255,9 @@ class WheelRailContact:
         self._kc = WheelsetContact(pair, n_ws, E_wheel_Pa, nu_wheel, E_rail_Pa, nu_rail, global_search=global_search,
                                    contact_patch=contact_patch)
         self.contact_patch = contact_patch
+        self.patch_table = None          # the patch's table (contact.patch_table), where the patch is read from one
+        if contact_patch == "non-hertzian" and np.all(self._kc.curve_ids == self._kc.curve_ids[0]):
+            self.patch_table = self._kc.use_patch_table(patch_grid)
         self.geometry = geometry
         self.geometry_table = None
         if geometry == "table":

@@ -39,7 +39,7 @@ from ..contact.layout import (CP_V_MIN, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F
                               RES_FX, RES_FY, RES_F_TRACK_X, RES_F_TRACK_Y, RES_F_TRACK_Z, RES_GAMMA, RES_GROUND_VY,
                               RES_GROUND_Y, RES_MZ, RES_N, RES_ON_DECK, RES_PHI, RES_P_X, RES_P_Y, RES_P_Z, RES_STATUS,
                               RES_S_TRACK, RES_V, RES_XI, STAT_OFF_DECK, STAT_ON_DECK)
-from ..contact.patch_pass import patch_wheels
+from ..contact.patch_table import patch_contacts
 from ..creep.registry import creep_forces
 from ..jit import compiled, is_compiled
 from ..structures.deck_kinematics import (DECK_GROUND_VY, DECK_GROUND_Y, DS_RESIDUAL, SC_AT, SC_AY, SC_AZ,
@@ -416,7 +416,7 @@ def wheel_geometry(model, poses, warm, out, stats, table, scratch, patch):
         GT.tabulated_wheels(table_par, table_cz_ref, table_data, nodes, meta, mono, curve_ids, poses, warm, params,
                             out, stats, scan, scratch)
     if patch is not None:
-        patch_wheels(nodes, meta, curve_ids, poses, params, out, patch)
+        patch_contacts(nodes, meta, curve_ids, poses, params, out, patch)
 
 
 #: the rails' residual displacement beyond which the contact geometry is found again on the moved rails instead of

@@ -28,7 +28,7 @@ argument, and :func:`compiled_for` (a compiled specialization called without num
     ``(par, cz_ref, data)`` (:func:`~exudyn_wheelrail.contact.geometry_table.evaluate_wheels_tabulated`; ``None``
     for the online search, :func:`~.connector_core.contact_geometry`), the coarse scan's cached wheel points
     (:func:`~exudyn_wheelrail.contact.kernel.scan_array`) and the non-Hertzian patch's parameters
-    (:func:`~exudyn_wheelrail.contact.patch_pass.patch_params`; ``None`` for Hertz);
+    (:func:`~exudyn_wheelrail.contact.patch_table.patch_argument`; ``None`` for Hertz);
   - ``creep``: ``(code, cp, t_nodes, coef, tab)`` of :func:`~exudyn_wheelrail.creep.registry.creep_model`;
   - ``deck``: :func:`~exudyn_wheelrail.structures.deck_kinematics.deck_arrays` (ground motion at t in its
     ``par``);
@@ -127,7 +127,7 @@ GEO_CURVE_IDS = 3
 GEO_PARAMS = 4        # the kernel's parameters per wheel
 GEO_TABLE = 5         # the geometry table's (par, cz_ref, data), or None for the online search
 GEO_SCAN = 6          # the coarse scan's cached wheel points
-GEO_PATCH = 7         # the non-Hertzian patch's parameters (contact.patch_pass.patch_params), or None for Hertz
+GEO_PATCH = 7         # the non-Hertzian patch's argument (contact.patch_table.patch_argument), or None for Hertz
 
 # ---- the updated arrays: state[ST_*] (state_tuple) ------------------------------------------------------------------
 ST_WARM = 0           # the kernel's warm start
