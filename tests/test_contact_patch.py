@@ -353,3 +353,20 @@ def test_table_converges_to_the_pass_between_its_nodes(a22_contact, a22_patch_co
     rms = {k: float(np.sqrt(np.mean(np.square(v)))) for k, v in errors.items()}
     assert rms["fine"] < 0.5 * rms["coarse"], rms
     assert rms["random"] < 0.01, rms
+
+
+def test_two_contacts_of_one_zone_are_one_patch(a22_contact, a22_patch_contact):
+    """y = 0.2 mm (Hertz's pose): the kernel reports two tread contacts of one overlap zone (its two maxima, 7.1 and
+    2.9 kN).  The pass makes them one patch: the deepest row carries the zone's patch (as patch_of_contact of that
+    row), the other is merged with no force; the patch is not the sum of two patches."""
+    z, roll = hertz_pose(a22_contact, 0.2e-3)
+    hertz, pose = right_wheel(a22_contact, 0.2e-3, z, roll)
+    rows, _ = right_wheel(a22_patch_contact, 0.2e-3, z, roll)
+    loaded = [s for s in range(K.N_SLOTS) if hertz[s, K.F_STATUS] > 0 and hertz[s, K.F_NORMAL_FORCE] > 0]
+    assert loaded == [K.SLOT_TREAD, K.SLOT_TREAD_2]
+    deep, shallow = sorted(loaded, key=lambda s: -hertz[s, K.F_PENETRATION])
+    assert rows[shallow, K.F_STATUS] == K.STATUS_MERGED and rows[shallow, K.F_NORMAL_FORCE] == 0.0
+    _, sol = P.patch_of_contact(a22_contact.nodes, a22_contact.meta, a22_contact.curve_ids[0], hertz[deep], pose,
+                                0.0, a22_contact.E_star, n_strips=int(a22_patch_contact.patch[0][0][0]))
+    assert rows[deep, K.F_NORMAL_FORCE] == pytest.approx(sol.normal_force_N, rel=1e-9)
+    assert sol.lateral_extent_m[0] < 0.0 < sol.lateral_extent_m[1]

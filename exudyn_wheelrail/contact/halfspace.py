@@ -34,8 +34,7 @@ solution: non-negative pressure, no interpenetration at any centre.
 Accuracy: the pressure is exact for the discrete problem; against the continuous one the error is that of the
 cell size — the patch's edge is resolved to within a cell, so the patch area carries an error ~ perimeter × cell /
 area and the force a smaller one (the pressure vanishes at the edge).  The Hertz case is the check
-(``tests/test_halfspace.py``): elliptical patch and pressure within the grid's error, and convergence under
-refinement.
+(``tests/test_contact_patch.py``): elliptical patch and pressure within the grid's error.
 """
 from __future__ import annotations
 

@@ -587,6 +587,16 @@ def evaluate_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan
 
 
 @compiled(refcount=False)
+def merge_row(row):
+    """Make a contact's output row the tail of another contact's zone: STATUS_MERGED, no force, no ellipse."""
+    row[F_STATUS] = STATUS_MERGED
+    row[F_NORMAL_FORCE] = 0.0
+    row[F_DN_DDELTA] = 0.0
+    row[F_SEMI_A] = 0.0
+    row[F_SEMI_B] = 0.0
+
+
+@compiled(refcount=False)
 def solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, scratch):
     """:func:`evaluate_wheels` with its scratch given (nothing allocated): ``scratch`` a work array of at least
     (N_SCRATCH_ROWS, SCRATCH_WIDTH), overwritten."""
@@ -626,12 +636,7 @@ def solve_wheels(nodes, meta, mono, curve_ids, poses, warm, params, out, scan, s
             elif np.hypot(t[F_PW_Y] - f[F_PW_Y], t[F_PW_Z] - f[F_PW_Z]) < params[P_DEDUP_DISTANCE]:
                 drop_reg = 1 if t[F_PENETRATION] >= f[F_PENETRATION] else 0
             if drop_reg >= 0:
-                drop = out[w, drop_reg]
-                drop[F_STATUS] = STATUS_MERGED
-                drop[F_NORMAL_FORCE] = 0.0
-                drop[F_DN_DDELTA] = 0.0
-                drop[F_SEMI_A] = 0.0
-                drop[F_SEMI_B] = 0.0
+                merge_row(out[w, drop_reg])
 
 
 def compile_shares(nodes, meta, mono, curve_ids, poses, warm, params, out, scan=NO_SCAN):

@@ -10,8 +10,15 @@ miss ``D = max |g(±b) - (δ - B b²)| / δ``:
 * ``D ≤ D_lo`` (:data:`SWITCH_LO`): Hertz, untouched (the patch would give Hertz's ellipse within its own error);
 * ``D ≥ D_hi`` (:data:`SWITCH_HI`): the patch;
 * between, the two blended with the smoothstep weight ``w`` of ``(D - D_lo)/(D_hi - D_lo)``: normal force, contact
-  angle, lateral position of the point, the semi-axes and dN/dδ each ``(1 - w) Hertz + w patch`` — so the contact
-  force is continuous in the pose across the switch.
+  angle, lateral position of the point and the semi-axes each ``(1 - w) Hertz + w patch`` — so the contact force
+  is continuous in the pose across the switch.
+
+Contacts of one overlap zone (the kernel's two maxima of one zone, or a tread and a flange contact across the
+split: a shallower contact whose point lies inside the deepest one's zone) are decided together, before any row is
+changed: the weight is that of the group's most non-Hertzian contact, "Hertz" is the group's Hertz contacts
+together (their forces summed, their angle and lateral position force-weighted), the deepest row gets the blend
+and the others become ``STATUS_MERGED`` with no force — at ``w → 0`` the group's Hertz force, so a second maximum
+does not lose its share when the switch turns on.
 
 On S1002/UIC60 (``docs/validation.md``) D is 0.25 at the centred position (one overlap zone 18 mm wide with two
 humps), 0.06–0.2 on the conformal tread within ±3 mm of it, ≤ 0.03 on the tread at 2–5 mm and 0 on the flange.
@@ -21,13 +28,14 @@ What the pass writes (a contact's row of :mod:`.layout`)
 ``F_NORMAL_FORCE`` the blended force; ``F_CONTACT_ANGLE`` and ``F_NR_*`` the blended resultant's direction (the
 strips' normals weighted by their loads); ``F_PR_*`` the rail point at the blended lateral position of the resultant
 and ``F_PW_*`` the wheel point δ inside it along that normal (``F_PENETRATION`` stays the kernel's δ);
-``F_ROLLING_RADIUS`` the wheel's radius there, ``F_S_RAIL``/``F_S_WHEEL`` the profiles' arc lengths there; ``F_SEMI_A/B`` the equivalent ellipse (the patch's lateral half-width
-b, the semi-axis a of the same area) for the tangential problem — the creep laws and the creep table take the patch
-as that ellipse, with the creepages at the resultant's point; ``F_DN_DDELTA`` ``1.5 N/δ`` for the patch part (the
-force's exponent taken as Hertz's: an estimate, read by the implicit solvers' Jacobian and the stability estimate);
-``F_FLAGS`` gains the kernel's ``FLAG_PATCH``.  Another contact of the same wheel whose point lies inside the zone is the same
-zone seen twice (the kernel's two maxima of one zone, or a tread and a flange contact across the split): it becomes
-``STATUS_MERGED`` with no force.  A patch that cannot be solved leaves Hertz and sets ``FLAG_PATCH_FAILED``.
+``F_ROLLING_RADIUS`` the wheel's radius there, ``F_S_RAIL``/``F_S_WHEEL`` the profiles' arc lengths there;
+``F_SEMI_A/B`` the equivalent ellipse (the patch's lateral half-width b, the semi-axis a of the same area) for the
+tangential problem — the creep laws and the creep table take the patch
+as that ellipse, with the creepages at the resultant's point; ``F_DN_DDELTA`` :data:`HERTZ_EXPONENT` ``N/δ`` (the
+force's exponent taken as Hertz's: an estimate, read by the series compliance of a structure's residual
+flexibility and the run's stability estimate; the implicit solvers difference a patched contact numerically);
+``F_FLAGS`` gains the kernel's ``FLAG_PATCH``.  A patch that cannot be solved leaves Hertz and sets
+``FLAG_PATCH_FAILED``.
 """
 from __future__ import annotations
 
@@ -44,7 +52,8 @@ from .patch import N_STRIPS, scratch, solve_core
 from .strips import (N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_RADIUS, S_RAIL_Y, S_RAIL_Z, S_S_RAIL,
                      S_S_WHEEL, fill_strips, strip_at, zone_edges)
 
-__all__ = ["SWITCH_LO", "SWITCH_HI", "PP_N_STRIPS", "PP_SWITCH_LO", "PP_SWITCH_HI", "N_PP", "patch_params",
+__all__ = ["SWITCH_LO", "SWITCH_HI", "HERTZ_EXPONENT", "PP_N_STRIPS", "PP_SWITCH_LO", "PP_SWITCH_HI", "N_PP",
+           "patch_params",
            "hertz_miss", "patch_wheels"]
 
 #: Hertz's miss of the interpenetration at its ellipse's edges below which Hertz is kept, above which the patch
@@ -54,6 +63,16 @@ SWITCH_HI = 0.05
 
 #: the smallest step out of a zone towards its edges (Hertz's lateral semi-axis otherwise) [m]
 MIN_STEP_M = 1e-4
+
+# a zone's Hertz resultant (the pass's scratch, zones[group, 1:]): hertz[_H_*]
+_H_FORCE = 0
+_H_ETA = 1
+_H_GAMMA = 2
+_H_A = 3
+_H_B = 4
+N_H = 5
+#: the exponent of the force against the penetration taken for dN/dδ (Hertz's; the patch's own is close to it)
+HERTZ_EXPONENT = 1.5
 
 # the pass's parameters: pp[PP_*]
 PP_N_STRIPS = 0
@@ -94,14 +113,14 @@ def hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_
 
 @compiled(refcount=False)
 def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, e_star, n, weight,
-               strips, zone, vecs, C, aug, vectors, idx):
-    """Solve the patch of ``row``'s zone and write the blend into ``row``; ``zone`` receives the zone's plane
-    (o_y, o_z, t_y, t_z, lo, hi).  False (row untouched) if the patch could not be solved."""
+               hertz, strips, vecs, C, aug, vectors, idx):
+    """Solve the patch of ``row``'s zone and write its blend with Hertz's resultant ``hertz`` (_H_*: force,
+    lateral position in the plane, angle, semi-axes — the zone's Hertz contacts together) into ``row``.  False (row
+    untouched) if the patch could not be solved."""
     o_y, o_z, n_y, n_z = row[F_PR_Y], row[F_PR_Z], row[F_NR_Y], row[F_NR_Z]
     s_r, s_w = row[F_S_RAIL], row[F_S_WHEEL]
     lo, hi = zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w,
                         k_rail_roll, 0.0, max(row[F_SEMI_B], MIN_STEP_M), strips[0])
-    zone[0], zone[1], zone[2], zone[3], zone[4], zone[5] = o_y, o_z, -n_z, n_y, lo, hi
     if not hi - lo > 0.0:
         return False
     fill_strips(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w, k_rail_roll,
@@ -143,19 +162,22 @@ def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_
         return False
     delta = row[F_PENETRATION]
     w = weight
-    eta = w * se / force                          # Hertz's point is η = 0
-    gamma = (1.0 - w) * row[F_CONTACT_ANGLE] + w * math.atan2(sy, sz)
+    eta = (1.0 - w) * hertz[_H_ETA] + w * se / force
+    gamma = (1.0 - w) * hertz[_H_GAMMA] + w * math.atan2(sy, sz)
     b_patch = 0.5 * (last - first + 1) * width
     a_patch = area / (math.pi * b_patch)
     # the rail point and the wheel's radius at the resultant's lateral position (a strip of its own)
     strip_at(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w, k_rail_roll,
              eta, strips[0])
+    if strips[0, S_OK] == 0.0:
+        return False
     rny = -math.sin(gamma)
     rnz = -math.cos(gamma)
-    row[F_NORMAL_FORCE] = (1.0 - w) * row[F_NORMAL_FORCE] + w * force
-    row[F_DN_DDELTA] = (1.0 - w) * row[F_DN_DDELTA] + w * 1.5 * force / delta
-    row[F_SEMI_A] = (1.0 - w) * row[F_SEMI_A] + w * a_patch
-    row[F_SEMI_B] = (1.0 - w) * row[F_SEMI_B] + w * b_patch
+    force = (1.0 - w) * hertz[_H_FORCE] + w * force
+    row[F_NORMAL_FORCE] = force
+    row[F_DN_DDELTA] = HERTZ_EXPONENT * force / delta
+    row[F_SEMI_A] = (1.0 - w) * hertz[_H_A] + w * a_patch
+    row[F_SEMI_B] = (1.0 - w) * hertz[_H_B] + w * b_patch
     row[F_CONTACT_ANGLE] = gamma
     row[F_NR_Y] = rny
     row[F_NR_Z] = rnz
@@ -184,7 +206,8 @@ def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
         c_y, c_z = poses[w, 0], poses[w, 1]
         cos_r = math.cos(poses[w, 2])
         sin_r = math.sin(poses[w, 2])
-        # the contacts by depth: a shallower contact inside a deeper one's zone is that zone seen twice
+        # the contacts by depth; a shallower contact inside a deeper one's overlap zone is that zone seen twice:
+        # one group, its patch the deepest's (found before any is decided, so that a group is decided as one)
         m = 0
         for slot in range(N_SLOTS):
             if out[w, slot, F_STATUS] > 0 and out[w, slot, F_NORMAL_FORCE] > 0.0:
@@ -195,29 +218,60 @@ def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
             while b > 0 and out[w, order[b], F_PENETRATION] > out[w, order[b - 1], F_PENETRATION]:
                 order[b], order[b - 1] = order[b - 1], order[b]
                 b -= 1
-        n_zones = 0
         for a in range(m):
-            row = out[w, order[a]]
-            inside = False
-            for z in range(n_zones):
-                e = (row[F_PR_Y] - zones[z, 0]) * zones[z, 2] + (row[F_PR_Z] - zones[z, 1]) * zones[z, 3]
-                if zones[z, 4] <= e <= zones[z, 5]:
-                    inside = True
-            if inside:
-                row[F_STATUS] = K.STATUS_MERGED
-                row[F_NORMAL_FORCE] = 0.0
-                row[F_DN_DDELTA] = 0.0
-                row[F_SEMI_A] = 0.0
-                row[F_SEMI_B] = 0.0
+            zones[a, 0] = -1.0                        # the group's leader (an index into order), -1: none yet
+        for a in range(m):
+            if zones[a, 0] >= 0.0:
                 continue
-            miss = hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rr, strips[0])
-            x = (miss - lo_sw) / (hi_sw - lo_sw)
-            if x <= 0.0:
+            zones[a, 0] = a
+            if a == m - 1:
+                break
+            lead = out[w, order[a]]
+            t_y, t_z = -lead[F_NR_Z], lead[F_NR_Y]
+            lo, hi = zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead[F_PR_Y], lead[F_PR_Z],
+                                lead[F_NR_Y], lead[F_NR_Z], lead[F_S_RAIL], lead[F_S_WHEEL], k_rr, 0.0,
+                                max(lead[F_SEMI_B], MIN_STEP_M), strips[0])
+            for b in range(a + 1, m):
+                other = out[w, order[b]]
+                e = (other[F_PR_Y] - lead[F_PR_Y]) * t_y + (other[F_PR_Z] - lead[F_PR_Z]) * t_z
+                if zones[b, 0] < 0.0 and lo <= e <= hi:
+                    zones[b, 0] = a
+        for a in range(m):
+            if zones[a, 0] != a:
                 continue
-            weight = 1.0 if x >= 1.0 else x * x * (3.0 - 2.0 * x)
-            if _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rr, e_star, n, weight,
-                          strips, zones[n_zones], vecs, C, aug, vectors, idx):
-                row[F_FLAGS] = int(row[F_FLAGS]) | K.FLAG_PATCH
-                n_zones += 1
+            lead = out[w, order[a]]
+            # the group's switch weight (its most non-Hertzian contact's) and its Hertz resultant
+            weight = 0.0
+            hertz = zones[a, 1:1 + N_H]
+            for f in range(N_H):
+                hertz[f] = 0.0
+            sy = 0.0
+            sz = 0.0
+            for b in range(a, m):
+                if zones[b, 0] != a:
+                    continue
+                row = out[w, order[b]]
+                miss = hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rr, strips[0])
+                x = (miss - lo_sw) / (hi_sw - lo_sw)
+                if x > 0.0:
+                    weight = max(weight, 1.0 if x >= 1.0 else x * x * (3.0 - 2.0 * x))
+                f_n = row[F_NORMAL_FORCE]
+                hertz[_H_FORCE] += f_n
+                sy += f_n * math.sin(row[F_CONTACT_ANGLE])
+                sz += f_n * math.cos(row[F_CONTACT_ANGLE])
+                hertz[_H_ETA] += f_n * ((row[F_PR_Y] - lead[F_PR_Y]) * -lead[F_NR_Z]
+                                        + (row[F_PR_Z] - lead[F_PR_Z]) * lead[F_NR_Y])
+            if weight == 0.0:
+                continue                              # Hertz holds: the rows stay the kernel's
+            hertz[_H_ETA] /= hertz[_H_FORCE]
+            hertz[_H_GAMMA] = math.atan2(sy, sz)
+            hertz[_H_A] = lead[F_SEMI_A]
+            hertz[_H_B] = lead[F_SEMI_B]
+            if _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead, k_rr, e_star, n, weight,
+                          hertz, strips, vecs, C, aug, vectors, idx):
+                lead[F_FLAGS] = int(lead[F_FLAGS]) | K.FLAG_PATCH
+                for b in range(a + 1, m):
+                    if zones[b, 0] == a:
+                        K.merge_row(out[w, order[b]])
             else:
-                row[F_FLAGS] = int(row[F_FLAGS]) | K.FLAG_PATCH_FAILED
+                lead[F_FLAGS] = int(lead[F_FLAGS]) | K.FLAG_PATCH_FAILED

@@ -40,15 +40,17 @@ from numba import prange
 
 from ..jit import compiled
 from . import kernel as K
-from .geometry_table import GeometryTableGrid, cache_dir, column_arrays, height_at_penetration, nominal_height, save_cached
+from .geometry_table import (GeometryTableGrid, cache_dir, column_arrays, height_at_penetration, nominal_height,
+                             save_cached)
 from .patch import N_VECTORS
-from .patch_pass import PP_N_STRIPS, patch_params, patch_wheels
+from .patch_pass import HERTZ_EXPONENT, PP_N_STRIPS, PP_SWITCH_HI, PP_SWITCH_LO, patch_params, patch_wheels
 from ..profiles.curve import curve_point
 from .strips import N_STRIP_FIELDS, curve_of
 
-__all__ = ["PatchTableGrid", "PatchTable", "patch_table", "patch_tabulated", "patch_contacts", "patch_argument", "CODE_NONE", "CODE_PATCH",
+__all__ = ["PatchTableGrid", "PatchTable", "patch_table", "patch_tabulated", "patch_contacts", "patch_argument",
+           "CODE_NONE", "CODE_PATCH",
            "CODE_MERGED", "PT_CODE", "PT_DELTA", "PT_LOG_N", "PT_GAMMA", "PT_S_RAIL", "PT_S_WHEEL", "PT_A", "PT_B",
-           "PT_LOG_DELTA", "N_PT", "PATCH_TABLE_VERSION", "no_table"]
+           "PT_LOG_DELTA", "PT_PATCHED", "N_PT", "PATCH_TABLE_VERSION", "no_table"]
 
 CODE_NONE = -1.0
 CODE_PATCH = 1.0
@@ -64,7 +66,8 @@ PT_S_WHEEL = 5
 PT_A = 6            # the equivalent ellipse's semi-axes [m]
 PT_B = 7
 PT_LOG_DELTA = 8    # ln of the slot's penetration (where positive)
-N_PT = 9
+PT_PATCHED = 9      # 1 where the pass patched the contact (flag FLAG_PATCH), 0 where it kept Hertz
+N_PT = 10
 
 # the grid's parameters: par[TP_*]
 TP_Y0 = 0
@@ -75,7 +78,7 @@ TP_DR = 4
 TP_NR = 5
 N_TP = 6
 
-PATCH_TABLE_VERSION = 2
+PATCH_TABLE_VERSION = 3
 
 
 @dataclass(frozen=True)
@@ -113,7 +116,8 @@ def patch_argument(table: "PatchTable | None" = None, pp=None) -> tuple:
     """The patch's argument of a contact evaluation (:func:`patch_contacts`): the pass's work arrays
     (:func:`~.patch_pass.patch_params`; ``pp`` its parameters, default the defaults) and the table's arrays, or none
     (every patch solved online)."""
-    work = patch_params() if pp is None else patch_params(int(pp[PP_N_STRIPS]), float(pp[1]), float(pp[2]))
+    work = patch_params() if pp is None else patch_params(int(pp[PP_N_STRIPS]), float(pp[PP_SWITCH_LO]),
+                                                          float(pp[PP_SWITCH_HI]))
     return work, (table.arrays() if table is not None else no_table())
 
 
@@ -148,6 +152,8 @@ def _build_column(nodes, meta, mono, curve_row, params, pp, ys, rolls, deltas, j
                     row[PT_CODE] = CODE_NONE
                 elif p[K.F_STATUS] == K.STATUS_MERGED:
                     row[PT_CODE] = CODE_MERGED
+                elif int(p[K.F_FLAGS]) & K.FLAG_PATCH_FAILED:
+                    row[:] = np.nan                   # not tabulated: solved online (and failing there, flagged)
                 else:
                     row[PT_CODE] = CODE_PATCH
                     row[PT_LOG_N] = math.log(p[K.F_NORMAL_FORCE])
@@ -157,7 +163,8 @@ def _build_column(nodes, meta, mono, curve_row, params, pp, ys, rolls, deltas, j
                     row[PT_A] = p[K.F_SEMI_A]
                     row[PT_B] = p[K.F_SEMI_B]
                     row[PT_LOG_DELTA] = math.log(h[K.F_PENETRATION])
-        # the next node starts from this one's shallowest height
+                    row[PT_PATCHED] = 1.0 if int(p[K.F_FLAGS]) & K.FLAG_PATCH else 0.0
+        # the next node starts from this one's deepest height
         pose[0, 1] = cz
     return failed
 
@@ -235,12 +242,6 @@ def patch_table(nodes, meta, mono, curve_row, params, pp=None, grid: PatchTableG
 
 
 # ------------------------------------------------------------------------------------------------- evaluation
-#: the interpolated values of a slot (the table's fields from PT_LOG_N on, then the force's power-law slope)
-_ACC_SLOPE = N_PT
-#: Hertz's exponent of the force against the penetration (a zone appearing between two tabulated heights)
-HERTZ_EXPONENT = 1.5
-
-
 @compiled(refcount=False)
 def _corner(data, i, j, s, delta, log_delta, acc, weight):
     """Add ``weight`` × the values of node (i, j) for slot s at penetration ``delta`` into ``acc`` (module
@@ -255,9 +256,9 @@ def _corner(data, i, j, s, delta, log_delta, acc, weight):
         # upper height's values
         l1 = data[i, j, m + 1, s, PT_LOG_DELTA]
         acc[PT_LOG_N] += weight * (data[i, j, m + 1, s, PT_LOG_N] + HERTZ_EXPONENT * (log_delta - l1))
-        acc[_ACC_SLOPE] += weight * HERTZ_EXPONENT
         for f in range(PT_GAMMA, PT_LOG_DELTA):
             acc[f] += weight * data[i, j, m + 1, s, f]
+        acc[PT_PATCHED] += weight * data[i, j, m + 1, s, PT_PATCHED]
         return CODE_PATCH
     if data[i, j, m + 1, s, PT_CODE] != code:
         return np.nan
@@ -270,10 +271,10 @@ def _corner(data, i, j, s, delta, log_delta, acc, weight):
     u = (log_delta - l0) / (l1 - l0)
     slope = (data[i, j, m + 1, s, PT_LOG_N] - data[i, j, m, s, PT_LOG_N]) / (l1 - l0)
     acc[PT_LOG_N] += weight * (data[i, j, m, s, PT_LOG_N] + u * slope * (l1 - l0))
-    acc[_ACC_SLOPE] += weight * slope
     u = min(max(u, 0.0), 1.0)
     for f in range(PT_GAMMA, PT_LOG_DELTA):
         acc[f] += weight * ((1.0 - u) * data[i, j, m, s, f] + u * data[i, j, m + 1, s, f])
+    acc[PT_PATCHED] += weight * max(data[i, j, m, s, PT_PATCHED], data[i, j, m + 1, s, PT_PATCHED])
     return code
 
 
@@ -318,11 +319,7 @@ def patch_tabulated(par, data, slots, nodes, meta, curve_ids, poses, params, out
             if not (row[K.F_STATUS] > 0 and row[K.F_NORMAL_FORCE] > 0.0):
                 continue
             if acc[PT_CODE] == CODE_MERGED:
-                row[K.F_STATUS] = K.STATUS_MERGED
-                row[K.F_NORMAL_FORCE] = 0.0
-                row[K.F_DN_DDELTA] = 0.0
-                row[K.F_SEMI_A] = 0.0
-                row[K.F_SEMI_B] = 0.0
+                K.merge_row(row)
                 continue
             delta = row[K.F_PENETRATION]
             force = math.exp(acc[PT_LOG_N])
@@ -334,7 +331,7 @@ def patch_tabulated(par, data, slots, nodes, meta, curve_ids, poses, params, out
             ry, rz, _, _ = curve_point(nodes, meta, curve_ids[w, 0], s_r)
             _, qz, _, _ = curve_point(nodes, meta, curve_of(nodes, meta, curve_ids[w, 1], curve_ids[w, 2], s_w), s_w)
             row[K.F_NORMAL_FORCE] = force
-            row[K.F_DN_DDELTA] = acc[_ACC_SLOPE] * force / delta
+            row[K.F_DN_DDELTA] = HERTZ_EXPONENT * force / delta      # as the pass writes it
             row[K.F_SEMI_A] = acc[PT_A]
             row[K.F_SEMI_B] = acc[PT_B]
             row[K.F_CONTACT_ANGLE] = gamma
@@ -347,7 +344,8 @@ def patch_tabulated(par, data, slots, nodes, meta, curve_ids, poses, params, out
             row[K.F_PW_Y] = ry - delta * rny
             row[K.F_PW_Z] = rz - delta * rnz
             row[K.F_ROLLING_RADIUS] = qz
-            row[K.F_FLAGS] = int(row[K.F_FLAGS]) | K.FLAG_PATCH
+            if acc[PT_PATCHED] > 0.0:
+                row[K.F_FLAGS] = int(row[K.F_FLAGS]) | K.FLAG_PATCH
 
 
 @compiled(refcount=False)
