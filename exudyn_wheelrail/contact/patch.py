@@ -267,7 +267,8 @@ _V_ACTIVE = 2
 N_VECTORS = 3
 
 
-def scratch(n: int) -> tuple:
+@compiled
+def scratch(n):
     """The work arrays of :func:`solve_core` for n strips: ``(C (n, n), aug (n, n + 1), vectors (N_VECTORS, n),
     idx (n,) int)``."""
     return np.zeros((n, n)), np.zeros((n, n + 1)), np.zeros((N_VECTORS, n)), np.zeros(n, dtype=np.int64)

@@ -71,6 +71,12 @@ _H_GAMMA = 2
 _H_A = 3
 _H_B = 4
 N_H = 5
+# a contact's row of the pass's zones scratch: its group (the leader's index), the Hertz resultant, the zone's edges
+_Z_GROUP = 0
+_Z_HERTZ = 1
+_Z_LO = _Z_HERTZ + N_H
+_Z_HI = _Z_LO + 1
+_Z_WIDTH = _Z_HI + 1
 #: the exponent of the force against the penetration taken for dN/dδ (Hertz's; the patch's own is close to it)
 HERTZ_EXPONENT = 1.5
 
@@ -83,8 +89,8 @@ N_PP = 3
 
 def patch_params(n_strips: int = N_STRIPS, switch_lo: float = SWITCH_LO, switch_hi: float = SWITCH_HI) -> tuple:
     """The pass's argument ``patch``: its parameters ``pp[PP_*]`` and its work arrays (nothing is allocated per
-    call): ``(pp, strips (n, N_STRIP_FIELDS), zones (N_SLOTS, 6), vecs (4, n): g, A, q, x_l, *patch.scratch(n),
-    order (N_SLOTS,) int)``."""
+    call): ``(pp, strips (n, N_STRIP_FIELDS), zones (N_SLOTS, _Z_WIDTH): per contact its group, the group's Hertz
+    resultant and its zone's edges, vecs (4, n): g, A, q, x_l, *patch.scratch(n), order (N_SLOTS,) int)``."""
     if not (isinstance(n_strips, int) and n_strips >= 5):
         raise ValueError(f"n_strips: expected an integer >= 5, got {n_strips!r}")
     if not 0.0 <= switch_lo < switch_hi:
@@ -93,8 +99,16 @@ def patch_params(n_strips: int = N_STRIPS, switch_lo: float = SWITCH_LO, switch_
     pp[PP_N_STRIPS] = n_strips
     pp[PP_SWITCH_LO] = switch_lo
     pp[PP_SWITCH_HI] = switch_hi
-    return ((pp, np.zeros((n_strips, N_STRIP_FIELDS)), np.zeros((N_SLOTS, 6)), np.zeros((4, n_strips)))
-            + scratch(n_strips) + (np.zeros(N_SLOTS, dtype=np.int64),))
+    return pass_work(pp)
+
+
+@compiled
+def pass_work(pp):
+    """The pass's argument for the parameters ``pp`` (:func:`patch_params`, whose docstring lists the arrays)."""
+    n = int(pp[PP_N_STRIPS])
+    C, aug, vectors, idx = scratch(n)
+    return (pp, np.zeros((n, N_STRIP_FIELDS)), np.zeros((N_SLOTS, _Z_WIDTH)), np.zeros((4, n)), C, aug, vectors, idx,
+            np.zeros(N_SLOTS, dtype=np.int64))
 
 
 @compiled(refcount=False)
@@ -112,15 +126,21 @@ def hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_
 
 
 @compiled(refcount=False)
+def _zone_of(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, scratch):
+    """The edges (η_lo, η_hi) of the overlap zone of a contact's row, in its contact plane."""
+    return zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row[F_PR_Y], row[F_PR_Z],
+                      row[F_NR_Y], row[F_NR_Z], row[F_S_RAIL], row[F_S_WHEEL], k_rail_roll, 0.0,
+                      max(row[F_SEMI_B], MIN_STEP_M), scratch)
+
+
+@compiled(refcount=False)
 def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, e_star, n, weight,
-               hertz, strips, vecs, C, aug, vectors, idx):
+               hertz, lo, hi, strips, vecs, C, aug, vectors, idx):
     """Solve the patch of ``row``'s zone and write its blend with Hertz's resultant ``hertz`` (_H_*: force,
-    lateral position in the plane, angle, semi-axes — the zone's Hertz contacts together) into ``row``.  False (row
-    untouched) if the patch could not be solved."""
+    lateral position in the plane, angle, semi-axes — the zone's Hertz contacts together) into ``row``; ``lo``,
+    ``hi`` the zone's edges (:func:`_zone_of`).  False (row untouched) if the patch could not be solved."""
     o_y, o_z, n_y, n_z = row[F_PR_Y], row[F_PR_Z], row[F_NR_Y], row[F_NR_Z]
     s_r, s_w = row[F_S_RAIL], row[F_S_WHEEL]
-    lo, hi = zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w,
-                        k_rail_roll, 0.0, max(row[F_SEMI_B], MIN_STEP_M), strips[0])
     if not hi - lo > 0.0:
         return False
     fill_strips(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w, k_rail_roll,
@@ -219,36 +239,37 @@ def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
                 order[b], order[b - 1] = order[b - 1], order[b]
                 b -= 1
         for a in range(m):
-            zones[a, 0] = -1.0                        # the group's leader (an index into order), -1: none yet
+            zones[a, _Z_GROUP] = -1.0                 # the group's leader (an index into order), -1: none yet
+            zones[a, _Z_LO] = np.nan                  # the zone's edges: found when needed, once
         for a in range(m):
-            if zones[a, 0] >= 0.0:
+            if zones[a, _Z_GROUP] >= 0.0:
                 continue
-            zones[a, 0] = a
+            zones[a, _Z_GROUP] = a
             if a == m - 1:
                 break
             lead = out[w, order[a]]
             t_y, t_z = -lead[F_NR_Z], lead[F_NR_Y]
-            lo, hi = zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead[F_PR_Y], lead[F_PR_Z],
-                                lead[F_NR_Y], lead[F_NR_Z], lead[F_S_RAIL], lead[F_S_WHEEL], k_rr, 0.0,
-                                max(lead[F_SEMI_B], MIN_STEP_M), strips[0])
+            lo, hi = _zone_of(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead, k_rr, strips[0])
+            zones[a, _Z_LO] = lo
+            zones[a, _Z_HI] = hi
             for b in range(a + 1, m):
                 other = out[w, order[b]]
                 e = (other[F_PR_Y] - lead[F_PR_Y]) * t_y + (other[F_PR_Z] - lead[F_PR_Z]) * t_z
-                if zones[b, 0] < 0.0 and lo <= e <= hi:
-                    zones[b, 0] = a
+                if zones[b, _Z_GROUP] < 0.0 and lo <= e <= hi:
+                    zones[b, _Z_GROUP] = a
         for a in range(m):
-            if zones[a, 0] != a:
+            if zones[a, _Z_GROUP] != a:
                 continue
             lead = out[w, order[a]]
             # the group's switch weight (its most non-Hertzian contact's) and its Hertz resultant
             weight = 0.0
-            hertz = zones[a, 1:1 + N_H]
+            hertz = zones[a, _Z_HERTZ:_Z_HERTZ + N_H]
             for f in range(N_H):
                 hertz[f] = 0.0
             sy = 0.0
             sz = 0.0
             for b in range(a, m):
-                if zones[b, 0] != a:
+                if zones[b, _Z_GROUP] != a:
                     continue
                 row = out[w, order[b]]
                 miss = hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rr, strips[0])
@@ -267,11 +288,14 @@ def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
             hertz[_H_GAMMA] = math.atan2(sy, sz)
             hertz[_H_A] = lead[F_SEMI_A]
             hertz[_H_B] = lead[F_SEMI_B]
+            if np.isnan(zones[a, _Z_LO]):
+                zones[a, _Z_LO], zones[a, _Z_HI] = _zone_of(nodes, meta, rail, tread, flange, c_y, c_z, cos_r,
+                                                              sin_r, lead, k_rr, strips[0])
             if _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead, k_rr, e_star, n, weight,
-                          hertz, strips, vecs, C, aug, vectors, idx):
+                          hertz, zones[a, _Z_LO], zones[a, _Z_HI], strips, vecs, C, aug, vectors, idx):
                 lead[F_FLAGS] = int(lead[F_FLAGS]) | K.FLAG_PATCH
                 for b in range(a + 1, m):
-                    if zones[b, 0] == a:
+                    if zones[b, _Z_GROUP] == a:
                         K.merge_row(out[w, order[b]])
             else:
                 lead[F_FLAGS] = int(lead[F_FLAGS]) | K.FLAG_PATCH_FAILED

@@ -42,10 +42,9 @@ from ..jit import compiled
 from . import kernel as K
 from .geometry_table import (GeometryTableGrid, cache_dir, column_arrays, height_at_penetration, nominal_height,
                              save_cached)
-from .patch import N_VECTORS
-from .patch_pass import HERTZ_EXPONENT, PP_N_STRIPS, PP_SWITCH_HI, PP_SWITCH_LO, patch_params, patch_wheels
+from .patch_pass import HERTZ_EXPONENT, PP_N_STRIPS, PP_SWITCH_HI, PP_SWITCH_LO, pass_work, patch_params, patch_wheels
 from ..profiles.curve import curve_point
-from .strips import N_STRIP_FIELDS, curve_of
+from .strips import curve_of
 
 __all__ = ["PatchTableGrid", "PatchTable", "patch_table", "patch_tabulated", "patch_contacts", "patch_argument",
            "CODE_NONE", "CODE_PATCH",
@@ -124,10 +123,7 @@ def patch_argument(table: "PatchTable | None" = None, pp=None) -> tuple:
 @compiled
 def _build_column(nodes, meta, mono, curve_row, params, pp, ys, rolls, deltas, j, cz_start, data):
     """One roll column of :func:`build_patch_table_core`; returns its number of failed nodes."""
-    n = int(pp[PP_N_STRIPS])
-    patch = (pp.copy(), np.zeros((n, N_STRIP_FIELDS)), np.zeros((K.N_SLOTS, 6)), np.zeros((4, n)), np.zeros((n, n)),
-             np.zeros((n, n + 1)), np.zeros((N_VECTORS, n)), np.zeros(n, dtype=np.int64),
-             np.zeros(K.N_SLOTS, dtype=np.int64))
+    patch = pass_work(pp.copy())
     cids, pose, warm, out, out2 = column_arrays(curve_row)
     failed = 0
     cz = cz_start
