@@ -355,6 +355,53 @@ def test_table_converges_to_the_pass_between_its_nodes(a22_contact, a22_patch_co
     assert rms["random"] < 0.01, rms
 
 
+def _slot_codes(table, grid, y, roll, slot, delta):
+    """The codes of ``slot`` at the two heights bracketing ``delta`` at the four nodes around (y, roll)."""
+    from exudyn_wheelrail.contact.patch_table import PT_CODE, PT_DELTA
+    ys, rolls, _ = grid.axes()
+    i = min(int((y - ys[0]) / grid.dy_m), ys.size - 2)
+    j = min(int((roll - rolls[0]) / grid.droll_rad), rolls.size - 2)
+    codes = set()
+    for a in (0, 1):
+        for b in (0, 1):
+            col = table.data[i + a, j + b, :, slot]
+            m = 0
+            while m < col.shape[0] - 2 and col[m + 1, PT_DELTA] < delta:
+                m += 1
+            codes.update((float(col[m, PT_CODE]), float(col[m + 1, PT_CODE])))
+    return codes
+
+
+def test_table_answers_a_zone_merging_between_its_nodes(a22_contact, a22_patch_contact, tabulated):
+    """The kernel's second tread maximum inside the first one's zone: where its slot has no force of its own at any
+    of the cell's nodes (merged into the first at some, absent at the others), the table answers — the slot is the
+    zone's tail (merged, no force) and the first slot's interpolated resultant is the whole zone's.  Against the pass
+    solved online at the same random poses (about one in six has such a cell): the wheel's normal force within the
+    table's own accuracy (1 % RMS, as between its nodes), and each answer the table's, not the online pass's."""
+    from exudyn_wheelrail.analysis.geometry_functions import solve_rigid_contact
+    from exudyn_wheelrail.contact.patch_table import CODE_MERGED, CODE_NONE
+    contact, table, grid = tabulated
+    rng = np.random.default_rng(3)
+    errors = []
+    for _ in range(200):
+        y, roll = rng.uniform(-0.55e-3, 0.55e-3), rng.uniform(-0.45e-3, 0.45e-3)
+        z = solve_rigid_contact(a22_contact, y).z_m + rng.uniform(10e-6, 50e-6)
+        hertz, _ = right_wheel(a22_contact, y, z, roll)
+        second = hertz[K.SLOT_TREAD_2]
+        if not (second[K.F_STATUS] > 0 and second[K.F_NORMAL_FORCE] > 0.0):
+            continue
+        if _slot_codes(table, grid, y, roll, K.SLOT_TREAD_2, second[K.F_PENETRATION]) != {CODE_NONE, CODE_MERGED}:
+            continue
+        direct, _ = right_wheel(a22_patch_contact, y, z, roll)
+        tab, _ = right_wheel(contact, y, z, roll)
+        assert tab[K.SLOT_TREAD_2, K.F_STATUS] == K.STATUS_MERGED and tab[K.SLOT_TREAD_2, K.F_NORMAL_FORCE] == 0.0
+        assert not np.array_equal(tab, direct)
+        loaded = (tab[:, K.F_STATUS] > 0), (direct[:, K.F_STATUS] > 0)
+        errors.append(tab[loaded[0], K.F_NORMAL_FORCE].sum() / direct[loaded[1], K.F_NORMAL_FORCE].sum() - 1.0)
+    assert len(errors) >= 10, len(errors)
+    assert float(np.sqrt(np.mean(np.square(errors)))) < 0.01, errors
+
+
 def test_two_contacts_of_one_zone_are_one_patch(a22_contact, a22_patch_contact):
     """y = 0.2 mm (Hertz's pose): the kernel reports two tread contacts of one overlap zone (its two maxima, 7.1 and
     2.9 kN).  The pass makes them one patch: the deepest row carries the zone's patch (as patch_of_contact of that

@@ -168,13 +168,18 @@ class RailProfile:
     crown top lies on the head's centre line; tilted towards the track centre by alpha, the top moves towards the
     field side by about (R_crown - d) tan(alpha), d being the depth where the head's centre is measured.  The
     estimate is snapped to 0, 1:40, 1:30 or 1:20 (within 0.004); anything else is an error asking to state it,
-    so a canted file is never inclined twice without notice.
+    so a canted file is never inclined twice without notice.  A stated ``canted_tan`` is checked against the
+    estimate (within 0.01) unless ``worn=True``: on a worn head (a high rail's gauge corner worn away) the crown top
+    no longer marks the inclination, and the stated value is taken as it is.
     """
 
-    def __init__(self, curve: ProfileCurve, name: str = "rail", canted_tan: float | None = 0.0):
+    def __init__(self, curve: ProfileCurve, name: str = "rail", canted_tan: float | None = 0.0, worn: bool = False):
         self.curve = curve
         self.name = name
         self.estimated_cant_tan = self.estimate_cant_tan()
+        if worn and canted_tan is None:
+            raise ValueError(f"{name}: a worn rail head needs the inclination its data contain stated (canted_tan=): "
+                             "its crown does not show it")
         if canted_tan is None:
             near = [c for c in STANDARD_CANTS if abs(c - self.estimated_cant_tan) < 0.004]
             if not near:
@@ -183,7 +188,7 @@ class RailProfile:
                     "head centre line), which is not 0, 1:40, 1:30 or 1:20; state the inclination the data contain "
                     "(canted_tan= / --rail-canted) — or check the profile's lateral orientation (y to the field side)")
             canted_tan = near[0]
-        elif abs(float(canted_tan) - self.estimated_cant_tan) > 0.01:
+        elif not worn and abs(float(canted_tan) - self.estimated_cant_tan) > 0.01:
             raise ValueError(
                 f"{name}: stated inclination of the data tan = {float(canted_tan):.4f} but the head looks inclined by "
                 f"tan = {self.estimated_cant_tan:.4f}; check canted_tan / --rail-canted and the profile orientation")
@@ -221,7 +226,8 @@ class RailProfile:
     @classmethod
     def from_file(cls, path, smoothing=None, canted_tan: float | None = None, **kw) -> "RailProfile":
         """A rail profile from a SIMPACK ``.prr`` file or a y-z table; ``canted_tan`` is the inclination the data
-        already contain (the Manchester UIC60 file is canted 1:40), detected when None, so it is not applied twice."""
+        already contain (the Manchester UIC60 file is canted 1:40), detected when None, so it is not applied twice
+        (``worn=True``: stated, not checked; the class docstring)."""
         kw.setdefault("name", Path(path).stem)
         return cls.from_dense(load_profile(path, kind="rail", smoothing=smoothing), canted_tan=canted_tan, **kw)
 

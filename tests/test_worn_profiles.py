@@ -1,0 +1,79 @@
+"""Measured worn profiles (examples/profiles, examples/worn_profiles.py): read by the project's readers, and their
+conformal contact, where Hertz is wrong and the non-Hertzian patch is not, against the exact half-space solution.
+
+Reference: the normal problem on the elastic half-space solved exactly over the profiles' own interpenetration
+(contact.halfspace, checked against Hertz in test_contact_patch.py).  Tolerances: the patch's accuracy targets
+against that solution (force 3 %, area 10 %); the contact angle's error absolute, 1 mrad: that target's 2 % at the
+largest angle of the sweep (0.05 rad), since on a hollow tread the angle passes through zero where no relative error
+is meaningful.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from exudyn_wheelrail.profiles.profiles import RailProfile
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+import worn_profiles as W  # noqa: E402
+
+FORCE_TOL, AREA_TOL, ANGLE_TOL_RAD = 0.03, 0.10, 1e-3
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    return W.run([0.0, 13e-3, 15e-3])
+
+
+def test_worn_rail_needs_its_inclination_stated():
+    """A worn head's crown does not show the rail's inclination: a stated value is refused against the estimate,
+    and taken as it is with worn=True, which in turn needs it stated."""
+    with pytest.raises(ValueError, match="looks inclined"):
+        RailProfile.from_file(W.RAIL_FILE, canted_tan=0.0)
+    with pytest.raises(ValueError, match="worn rail head needs the inclination"):
+        RailProfile.from_file(W.RAIL_FILE, canted_tan=None, worn=True)
+    assert RailProfile.from_file(W.RAIL_FILE, canted_tan=0.0, worn=True).canted_tan == 0.0
+
+
+def test_measured_pair_is_placed_as_stated():
+    """The wheel's tape circle 70 mm from its flange back with z = 0 there (the file's z is the radius increase);
+    the gauge moved from 15.875 mm to 14 mm depth widens it by the gauge face's lean (a fraction of a mm each
+    side; the faces at 14 mm read from the file here)."""
+    pair = W.build_pair()
+    assert 0.025 < pair.wheel.flange_height_m < 0.040
+    assert abs(float(pair.wheel.curve.position([pair.wheel.s_at_y(0.0)])[0, 1])) < 2e-5
+    assert W.GAUGE_M < pair.gauge_m < W.GAUGE_M + 2e-3
+    ry, rz, _ = W.read_simpack_profile(W.RAIL_FILE, kind="rail")
+    faces = [float(np.interp(-d, -rz[(ry < -0.02) & (rz > 0.01)], ry[(ry < -0.02) & (rz > 0.01)]))
+             for d in (0.014, W.GAUGE_DEPTH_M)]
+    assert faces[0] > faces[1]
+    assert pair.gauge_m == pytest.approx(W.GAUGE_M + 2.0 * (faces[0] - faces[1]), abs=1e-5)
+
+
+def test_patch_meets_the_exact_solution_where_hertz_does_not(sweep):
+    """At 0 mm the contact is nearly Hertzian (Hertz within 2 % in force); at 13 and 15 mm the hollow wheel lies in
+    the worn rail over 18-24 mm: Hertz misses the area by more than 20 % and the force by more than 5 %, the patch
+    meets the exact solution within its targets everywhere."""
+    by_y = {round(r["y_m"] * 1e3): r for r in sweep if r["region"] == "tread"}
+    assert set(by_y) == {0, 13, 15}
+    for row in sweep:
+        p = W.errors(row, "patch")
+        assert abs(p["normal_force_N"]) < FORCE_TOL, row
+        assert abs(p["area_m2"]) < AREA_TOL, row
+        assert abs(p["contact_angle_rad"]) < ANGLE_TOL_RAD, row
+    assert abs(W.errors(by_y[0], "hertz")["normal_force_N"]) < 0.02
+    for y in (13, 15):
+        h = W.errors(by_y[y], "hertz")
+        assert h["area_m2"] < -0.20 and h["normal_force_N"] < -0.05, (y, h)
+        assert by_y[y]["lateral_extent_m"] > 0.015
+
+
+def test_example_command_line(tmp_path, capsys):
+    out = tmp_path / "worn.csv"
+    assert W.main(["--out", str(out), "--y-mm", "12"]) == 0
+    header = out.read_text().splitlines()[0].split(",")
+    assert tuple(header) == W.COLUMNS
+    with pytest.raises(SystemExit):
+        W.main(["--out", str(out), "--y-mm", "12;13"])
+    assert "--y-mm" in capsys.readouterr().err
