@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from exudyn_wheelrail.cli import main as cli_main
 from exudyn_wheelrail.profiles.profiles import RailProfile
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
@@ -77,3 +78,20 @@ def test_example_command_line(tmp_path, capsys):
     with pytest.raises(SystemExit):
         W.main(["--out", str(out), "--y-mm", "12;13"])
     assert "--y-mm" in capsys.readouterr().err
+
+
+def test_worn_rail_on_the_command_line(tmp_path, capsys):
+    """The geometry command takes the worn rail with --rail-canted and --rail-worn; --rail-worn alone, or the file
+    without it, is a one-line error before any work."""
+    out = tmp_path / "geometry.csv"
+    base = ["geometry", "--rail", str(W.RAIL_FILE), "--inclination", "none", "--y-max", "0.004", "--y-step", "0.002",
+            "--out", str(out)]
+    assert cli_main(base + ["--rail-canted", "0", "--rail-worn"]) == 0
+    assert out.exists()
+    out.unlink()
+    for extra, words in ((["--rail-worn"], "--rail-worn: a worn rail head needs --rail-canted"),
+                         (["--rail-canted", "0"], "--rail-worn")):
+        assert cli_main(base + extra) != 0
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("error:") and words in err[0], err
+        assert not out.exists()

@@ -47,6 +47,9 @@ def _check_pair_options(args) -> None:
     _check_inclination("--inclination", args.inclination)
     if str(args.rail_canted).lower() != "auto":
         _check_inclination("--rail-canted", args.rail_canted)
+    elif args.rail_worn:
+        raise ValueError("--rail-worn: a worn rail head needs --rail-canted (the inclination its data contain): its "
+                         "crown does not show it")
     Y_MAX_M.check("--y-max", args.y_max)
     Y_STEP_M.check("--y-step", args.y_step)
     if args.y_step > args.y_max:
@@ -80,6 +83,9 @@ def _add_pair_arguments(p: argparse.ArgumentParser):
     p.add_argument("--rail-canted", default="auto",
                    help="inclination the rail file already contains (e.g. 1/40 for the Manchester UIC60 file); "
                         "auto (default) detects it from the head shape")
+    p.add_argument("--rail-worn", action="store_true",
+                   help="the rail file is a worn head: --rail-canted is taken as stated, not checked against the "
+                        "crown (which wear has moved)")
     p.add_argument("--gauge", type=float, default=1.435, help="track gauge 14 mm below the rail top [m]")
     p.add_argument("--back-to-back", type=float, default=1.360, help="flange back-to-back distance [m]")
     p.add_argument("--r0", type=float, default=0.46, help="nominal rolling radius [m]")
@@ -93,7 +99,7 @@ def _pair_from_args(args):
     from ..conventions import parse_inclination
     from ..profiles.profiles import resolve_rail, resolve_wheel
     canted = None if str(args.rail_canted).lower() == "auto" else parse_inclination(args.rail_canted)
-    rail = resolve_rail(args.rail, canted_tan=canted)
+    rail = resolve_rail(args.rail, canted_tan=canted, worn=args.rail_worn)
     return WheelRailPair(resolve_wheel(args.wheel), rail, gauge_m=args.gauge, inclination=args.inclination,
                          back_to_back_m=args.back_to_back, r0_m=args.r0)
 

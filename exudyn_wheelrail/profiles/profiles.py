@@ -178,20 +178,22 @@ class RailProfile:
         self.name = name
         self.estimated_cant_tan = self.estimate_cant_tan()
         if worn and canted_tan is None:
-            raise ValueError(f"{name}: a worn rail head needs the inclination its data contain stated (canted_tan=): "
-                             "its crown does not show it")
+            raise ValueError(f"{name}: a worn rail head needs the inclination its data contain stated "
+                             "(canted_tan= / --rail-canted): its crown does not show it")
         if canted_tan is None:
             near = [c for c in STANDARD_CANTS if abs(c - self.estimated_cant_tan) < 0.004]
             if not near:
                 raise ValueError(
                     f"{name}: the rail head looks inclined by tan = {self.estimated_cant_tan:.4f} (crown top off the "
                     "head centre line), which is not 0, 1:40, 1:30 or 1:20; state the inclination the data contain "
-                    "(canted_tan= / --rail-canted) — or check the profile's lateral orientation (y to the field side)")
+                    "(canted_tan= / --rail-canted; for a worn head also worn=True / --rail-worn) — or check the "
+                    "profile's lateral orientation (y to the field side)")
             canted_tan = near[0]
         elif not worn and abs(float(canted_tan) - self.estimated_cant_tan) > 0.01:
             raise ValueError(
                 f"{name}: stated inclination of the data tan = {float(canted_tan):.4f} but the head looks inclined by "
-                f"tan = {self.estimated_cant_tan:.4f}; check canted_tan / --rail-canted and the profile orientation")
+                f"tan = {self.estimated_cant_tan:.4f}; check canted_tan / --rail-canted and the profile orientation "
+                "(a worn head, whose crown does not show it: worn=True / --rail-worn)")
         #: inclination already contained in the data, tan of the angle
         self.canted_tan = float(canted_tan)
 
@@ -271,9 +273,9 @@ def resolve_wheel(spec) -> WheelProfile:
     return WheelProfile.from_file(spec)
 
 
-def resolve_rail(spec, canted_tan: float | None = None) -> RailProfile:
+def resolve_rail(spec, canted_tan: float | None = None, worn: bool = False) -> RailProfile:
     """A :class:`RailProfile` from a profile object, a built-in name (:data:`RAIL_PROFILE_NAMES`: 'UIC60'/'60E1')
-    or a file path; :class:`~.validation.ProfileError` for anything else."""
+    or a file path (``worn``: :class:`RailProfile`'s); :class:`~.validation.ProfileError` for anything else."""
     if isinstance(spec, RailProfile):
         return spec
     problem = profile_spec_problem(spec, "rail")
@@ -281,4 +283,4 @@ def resolve_rail(spec, canted_tan: float | None = None) -> RailProfile:
         raise ProfileError(f"rail: {problem}")
     if str(spec).strip().upper() in RAIL_PROFILE_NAMES:
         return RailProfile.uic60(canted_tan=0.0 if canted_tan is None else canted_tan)
-    return RailProfile.from_file(spec, canted_tan=canted_tan)
+    return RailProfile.from_file(spec, canted_tan=canted_tan, worn=worn)
