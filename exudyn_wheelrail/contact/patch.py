@@ -64,7 +64,7 @@ from .strips import N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_WIDTH, fil
 
 __all__ = ["N_STRIPS", "FIXED_POINT_TOL", "FIXED_POINT_MAX", "DAMPING", "LENGTH_FLOOR", "B_FLOOR", "PatchSolution",
            "PatchError", "strip_h", "strip_influence", "hertz_start", "local_length_ratio", "solve_core", "scratch",
-           "N_VECTORS",
+           "N_VECTORS", "resultants", "R_FORCE", "R_AREA", "R_SIN", "R_COS", "R_ETA", "R_HALF_WIDTH", "N_RESULTANTS",
            "solve_strips", "patch_of_contact"]
 
 #: strips across a patch (against the exact solution on S1002/UIC60 at ten positions: 16 strips within 0.7 % in
@@ -316,6 +316,39 @@ def solve_core(g, A, n, width, e_star, q, xl, C, aug, vectors, idx):
     return -3, eps
 
 
+# the resultants of a solved patch: res[R_*]
+R_FORCE = 0       # Σ load_j, load_j = π/2 q_j x_l,j w (the integral of the strip's semi-elliptic pressure)
+R_AREA = 1        # Σ 2 x_l,j w
+R_SIN = 2         # Σ load_j sin γ_j and Σ load_j cos γ_j: the resultant's contact angle is their atan2
+R_COS = 3
+R_ETA = 4         # Σ load_j η_j: the resultant's lateral position is R_ETA / R_FORCE
+R_HALF_WIDTH = 5  # half the lateral extent of the loaded strips (first to last), the equivalent ellipse's b
+N_RESULTANTS = 6
+
+
+@compiled(refcount=False)
+def resultants(q, xl, width, gamma, eta, n, res):
+    """The resultants (R_*) of the patch whose strips (centres ``eta``, contact angles ``gamma``, equal ``width``)
+    carry the peaks ``q`` over the half-lengths ``xl`` into ``res``."""
+    for k in range(N_RESULTANTS):
+        res[k] = 0.0
+    first = -1
+    last = -1
+    for j in range(n):
+        load = 0.5 * math.pi * q[j] * xl[j] * width
+        if load > 0.0:
+            if first < 0:
+                first = j
+            last = j
+        res[R_FORCE] += load
+        res[R_AREA] += 2.0 * xl[j] * width
+        res[R_SIN] += load * math.sin(gamma[j])
+        res[R_COS] += load * math.cos(gamma[j])
+        res[R_ETA] += load * eta[j]
+    if first >= 0:
+        res[R_HALF_WIDTH] = 0.5 * (last - first + 1) * width
+
+
 # ------------------------------------------------------------------------------------------ Python front
 @dataclass(frozen=True)
 class PatchSolution:
@@ -335,12 +368,18 @@ class PatchSolution:
         return 0.5 * math.pi * self.peak_Pa * self.half_length_m * self.width_m
 
     @property
+    def _resultants(self) -> np.ndarray:
+        res = np.zeros(N_RESULTANTS)
+        resultants(self.peak_Pa, self.half_length_m, self.width_m, self.gamma_rad, self.eta_m, self.eta_m.size, res)
+        return res
+
+    @property
     def normal_force_N(self) -> float:
-        return float(self.load_N.sum())
+        return float(self._resultants[R_FORCE])
 
     @property
     def area_m2(self) -> float:
-        return float(2.0 * self.half_length_m.sum() * self.width_m)
+        return float(self._resultants[R_AREA])
 
     @property
     def peak_pressure_Pa(self) -> float:
@@ -349,24 +388,24 @@ class PatchSolution:
     @property
     def contact_angle_rad(self) -> float:
         """Contact angle of the resultant: the strips' normals weighted by their loads."""
-        load = self.load_N
-        return float(math.atan2(np.dot(load, np.sin(self.gamma_rad)), np.dot(load, np.cos(self.gamma_rad))))
+        res = self._resultants
+        return float(math.atan2(res[R_SIN], res[R_COS]))
 
     @property
     def eta_resultant_m(self) -> float:
-        load = self.load_N
-        return float(np.dot(load, self.eta_m) / load.sum())
+        res = self._resultants
+        return float(res[R_ETA] / res[R_FORCE])
 
     @property
     def lateral_extent_m(self) -> tuple[float, float]:
-        loaded = np.flatnonzero(self.peak_Pa > 0.0)
+        loaded = np.flatnonzero(self.load_N > 0.0)
         return (float(self.eta_m[loaded[0]] - 0.5 * self.width_m), float(self.eta_m[loaded[-1]] + 0.5 * self.width_m))
 
     def equivalent_ellipse(self) -> tuple[float, float]:
-        """(a, b): the patch's lateral half-width b and the semi-axis a along rolling of the same area."""
-        lo, hi = self.lateral_extent_m
-        b = 0.5 * (hi - lo)
-        return self.area_m2 / (math.pi * b), b
+        """(a, b): the semi-axis a along rolling of the patch's area and its lateral half-width b."""
+        res = self._resultants
+        b = res[R_HALF_WIDTH]
+        return float(res[R_AREA] / (math.pi * b)), float(b)
 
 
 def solve_strips(eta_m, width_m: float, g, A, gamma, E_star_Pa: float) -> PatchSolution:

@@ -48,7 +48,8 @@ from . import kernel as K
 from .layout import (F_B_REL, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
                      F_PENETRATION, F_PR_Y, F_PR_Z, F_PW_Y, F_PW_Z, F_ROLLING_RADIUS, F_S_RAIL, F_S_WHEEL, F_SEMI_A,
                      F_SEMI_B, F_STATUS, N_SLOTS, P_E_STAR, P_RAIL_ROLL_CURVATURE)
-from .patch import N_STRIPS, scratch, solve_core
+from .patch import (N_RESULTANTS, N_STRIPS, R_AREA, R_COS, R_ETA, R_FORCE, R_HALF_WIDTH, R_SIN, resultants, scratch,
+                    solve_core)
 from .strips import (N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_RADIUS, S_RAIL_Y, S_RAIL_Z, S_S_RAIL,
                      S_S_WHEEL, fill_strips, strip_at, zone_edges)
 
@@ -90,7 +91,8 @@ N_PP = 3
 def patch_params(n_strips: int = N_STRIPS, switch_lo: float = SWITCH_LO, switch_hi: float = SWITCH_HI) -> tuple:
     """The pass's argument ``patch``: its parameters ``pp[PP_*]`` and its work arrays (nothing is allocated per
     call): ``(pp, strips (n, N_STRIP_FIELDS), zones (N_SLOTS, _Z_WIDTH): per contact its group, the group's Hertz
-    resultant and its zone's edges, vecs (4, n): g, A, q, x_l, *patch.scratch(n), order (N_SLOTS,) int)``."""
+    resultant and its zone's edges, vecs (5, max(n, N_RESULTANTS)): g, A, q, x_l (their first n entries) and the
+    patch's resultants (patch.resultants), *patch.scratch(n), order (N_SLOTS,) int)``."""
     if not (isinstance(n_strips, int) and n_strips >= 5):
         raise ValueError(f"n_strips: expected an integer >= 5, got {n_strips!r}")
     if not 0.0 <= switch_lo < switch_hi:
@@ -107,8 +109,8 @@ def pass_work(pp):
     """The pass's argument for the parameters ``pp`` (:func:`patch_params`, whose docstring lists the arrays)."""
     n = int(pp[PP_N_STRIPS])
     C, aug, vectors, idx = scratch(n)
-    return (pp, np.zeros((n, N_STRIP_FIELDS)), np.zeros((N_SLOTS, _Z_WIDTH)), np.zeros((4, n)), C, aug, vectors, idx,
-            np.zeros(N_SLOTS, dtype=np.int64))
+    return (pp, np.zeros((n, N_STRIP_FIELDS)), np.zeros((N_SLOTS, _Z_WIDTH)), np.zeros((5, max(n, N_RESULTANTS))), C,
+            aug, vectors, idx, np.zeros(N_SLOTS, dtype=np.int64))
 
 
 @compiled(refcount=False)
@@ -160,32 +162,17 @@ def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_
     it, _ = solve_core(g, A, n, width, e_star, q, xl, C, aug, vectors, idx)
     if it < 0:
         return False
-    force = 0.0
-    area = 0.0
-    sy = 0.0
-    sz = 0.0
-    se = 0.0
-    first = -1
-    last = -1
-    for j in range(n):
-        load = 0.5 * math.pi * q[j] * xl[j] * width
-        if load > 0.0:
-            if first < 0:
-                first = j
-            last = j
-        force += load
-        area += 2.0 * xl[j] * width
-        sy += load * math.sin(strips[j, S_GAMMA])
-        sz += load * math.cos(strips[j, S_GAMMA])
-        se += load * strips[j, S_ETA]
+    res = vecs[4]
+    resultants(q, xl, width, strips[:, S_GAMMA], strips[:, S_ETA], n, res)
+    force = res[R_FORCE]
     if not force > 0.0:
         return False
     delta = row[F_PENETRATION]
     w = weight
-    eta = (1.0 - w) * hertz[_H_ETA] + w * se / force
-    gamma = (1.0 - w) * hertz[_H_GAMMA] + w * math.atan2(sy, sz)
-    b_patch = 0.5 * (last - first + 1) * width
-    a_patch = area / (math.pi * b_patch)
+    eta = (1.0 - w) * hertz[_H_ETA] + w * res[R_ETA] / force
+    gamma = (1.0 - w) * hertz[_H_GAMMA] + w * math.atan2(res[R_SIN], res[R_COS])
+    b_patch = res[R_HALF_WIDTH]
+    a_patch = res[R_AREA] / (math.pi * b_patch)
     # the rail point and the wheel's radius at the resultant's lateral position (a strip of its own)
     strip_at(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, o_y, o_z, n_y, n_z, s_r, s_w, k_rail_roll,
              eta, strips[0])
