@@ -9,6 +9,12 @@ the thread (``time.thread_time``), the minimum per round kept.  Reported: µs pe
 ratio, and the contacts per call that carry the patch (``FLAG_PATCH``) or fell back to Hertz
 (``FLAG_PATCH_FAILED``).  The machine's load before and after.
 
+The table's answers against the patch solved online, on the same states: every wheel of every state, the kernel's
+output (the Hertz connector's) passed once through the table (``patch_table.patch_tabulated``) and once through the
+pass (``patch_pass.patch_wheels``); the wheel's normal force (the sum of its contacts') compared: median, 99th,
+99.9th percentile and worst relative error, and the share of wheel evaluations the table sends online (its answer
+then is the pass's, bit for bit).
+
 Run:  python benchmarks/bench_patch_cost.py [--stride 3] [--rounds 5] [--preset default]
 Writes benchmarks/results/patch_cost.json.
 """
@@ -24,8 +30,10 @@ from pathlib import Path
 import numpy as np
 
 from exudyn_wheelrail.contact.kernel import FLAG_PATCH, FLAG_PATCH_FAILED
+from exudyn_wheelrail.contact.patch_pass import patch_params, patch_wheels
+from exudyn_wheelrail.contact.patch_table import patch_tabulated
 from exudyn_wheelrail.contact.layout import F_FLAGS, F_NORMAL_FORCE, F_STATUS
-from exudyn_wheelrail.multibody.core_data import ST_OUT, ST_WARM
+from exudyn_wheelrail.multibody.core_data import ST_OUT, ST_SIDE_POSES, ST_WARM
 from exudyn_wheelrail.scenarios.build import build_scenario
 from exudyn_wheelrail.simulation.presets import PRESETS
 
@@ -69,6 +77,33 @@ def patch_counts(c, qs, vs, ts, ws) -> dict:
             "patch_failures_per_call": failed / n}
 
 
+def wheel_force(rows) -> float:
+    live = (rows[:, F_STATUS] > 0) & (rows[:, F_NORMAL_FORCE] > 0)
+    return float(rows[live, F_NORMAL_FORCE].sum())
+
+
+def table_against_online(hertz, patch, qs, vs, ts, ws) -> dict:
+    """The table's answer against the pass solved online for every wheel of every state (module docstring)."""
+    kc = patch._kc
+    par, data, slots = patch.patch_table.arrays()
+    work = patch_params()
+    out, poses = hertz._state[ST_OUT], hertz._state[ST_SIDE_POSES]
+    errors, online = [], 0
+    for i in range(len(ts)):
+        stages.stage_core(qs, vs, ts, ws, hertz._state[ST_WARM], hertz._data, hertz._f, hertz.results, i, i + 1)
+        for w in range(poses.shape[0]):
+            one = slice(w, w + 1)
+            tab, direct = out[one].copy(), out[one].copy()
+            patch_tabulated(par, data, slots, kc.nodes, kc.meta, kc.curve_ids[one], poses[one], kc.params, tab, work)
+            patch_wheels(kc.nodes, kc.meta, kc.curve_ids[one], poses[one], kc.params, direct, work)
+            online += int(np.array_equal(tab, direct))
+            errors.append(abs(wheel_force(tab[0]) / wheel_force(direct[0]) - 1.0))
+    e = np.array(errors)
+    return {"wheel_evaluations": len(e), "solved_online": online,
+            "table_vs_online_wheel_force": dict(zip(("median", "p99", "p99_9", "max"),
+                                                    (float(v) for v in np.percentile(e, [50, 99, 99.9, 100]))))}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--stride", type=int, default=3)
@@ -87,15 +122,20 @@ def main(argv=None):
         for name, c in (("hertz", hertz), ("non-hertzian", patch)):
             times[name].append(time_calls(c, qs, vs, ts, ws))
     counts = patch_counts(patch, qs, vs, ts, ws)
+    accuracy = table_against_online(hertz, patch, qs, vs, ts, ws)
     best = {k: min(v) for k, v in times.items()}
     load_after = os.getloadavg()
     result = dict(case=f"RTRI 20 m, 250 km/h, preset {args.preset}, states of the Hertz run (status {status})",
                   states=len(ts), us_per_call=best, rounds=times, ratio=best["non-hertzian"] / best["hertz"],
-                  **counts, load_before=list(load_before), load_after=list(load_after))
+                  **counts, **accuracy, load_before=list(load_before), load_after=list(load_after))
     print(f"{len(ts)} states; hertz {best['hertz']:.1f} us, non-hertzian {best['non-hertzian']:.1f} us per call: "
           f"ratio {result['ratio']:.2f}; patch contacts per call {counts['patch_contacts_per_call']:.2f} of "
           f"{counts['loaded_contacts_per_call']:.2f}, failures {counts['patch_failures_per_call']:.3f}; load "
           f"{load_before[0]:.2f} -> {load_after[0]:.2f}")
+    err = accuracy["table_vs_online_wheel_force"]
+    print(f"table against the online patch: {accuracy['solved_online']} of {accuracy['wheel_evaluations']} wheel "
+          f"evaluations solved online; wheel force error median {err['median']:.2%}, p99 {err['p99']:.2%}, "
+          f"p99.9 {err['p99_9']:.2%}, worst {err['max']:.2%}")
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n")
     print(f"wrote {args.out}")
 

@@ -4,11 +4,11 @@ Case: the Manchester A-2.2 wheelset (S1002 on UIC60 1:40, gauge 1435 mm, back-to
 G = 82 GPa, ν = 0.28) at the lateral shifts ``--y-mm`` (no yaw), in the pose where Hertz carries 10 kN per wheel
 (``solve_quasi_static``).  For every contact of the right wheel at that pose, at the kernel's penetration:
 
-* the exact solution (``contact.halfspace.solve_strip_geometry``: one row of cells per strip of the profiles'
+* the exact solution (``contact.patch.exact_of_contact``: one row of cells per strip of the profiles'
   interpenetration, ``--n-x`` cells along the rolling direction, ``--ref-strips`` strips);
 * the patch (``contact.patch.solve_strips``, ``--strips`` strips) and Hertz (the kernel's point);
 * normal force, patch area, peak pressure, contact angle of the resultant: relative errors against the exact one;
-* time: one patch solve (its strips' geometry included) and the exact solve, wall clock, best of ``--repeats``.
+* time: one patch solve and the exact solve (each with its strips' geometry), wall clock, best of ``--repeats``.
 
 Run:  python benchmarks/patch_accuracy.py [--out benchmarks/results/patch_accuracy.json]
 """
@@ -26,7 +26,6 @@ import numpy as np
 from exudyn_wheelrail.analysis.quasi_static import solve_quasi_static
 from exudyn_wheelrail.contact import kernel as K
 from exudyn_wheelrail.contact import patch as P
-from exudyn_wheelrail.contact.halfspace import solve_strip_geometry
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import manchester_a22 as A22  # noqa: E402
@@ -68,11 +67,9 @@ def main(argv=None):
             row = out[0, slot].copy()
             if not (row[K.F_STATUS] > 0 and row[K.F_NORMAL_FORCE] > 0):
                 continue
-            ref_strips, _ = P.patch_of_contact(contact.nodes, contact.meta, contact.curve_ids[0], row, pose, 0.0,
-                                               contact.E_star, n_strips=args.ref_strips)
-            t_ref, ref = best_time(lambda: solve_strip_geometry(ref_strips[:, P.S_ETA], ref_strips[:, P.S_G],
-                                                                ref_strips[:, P.S_A], args.n_x, contact.E_star), 1)
-            angle = ref.contact_angle_rad(ref_strips[:, P.S_GAMMA])
+            t_ref, (_, ref, angle) = best_time(lambda: P.exact_of_contact(
+                contact.nodes, contact.meta, contact.curve_ids[0], row, pose, 0.0, contact.E_star,
+                n_strips=args.ref_strips, n_x=args.n_x), 1)
             t_patch, (_, sol) = best_time(lambda: P.patch_of_contact(contact.nodes, contact.meta, contact.curve_ids[0],
                                                                      row, pose, 0.0, contact.E_star,
                                                                      n_strips=args.strips), args.repeats)

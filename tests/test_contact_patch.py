@@ -17,7 +17,7 @@ import pytest
 from exudyn_wheelrail.analysis.quasi_static import solve_quasi_static
 from exudyn_wheelrail.contact import kernel as K
 from exudyn_wheelrail.contact import patch as P
-from exudyn_wheelrail.contact.halfspace import solve_halfspace, solve_strip_geometry
+from exudyn_wheelrail.contact.halfspace import solve_halfspace
 from exudyn_wheelrail.contact.normal import hertz_from_penetration
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
@@ -146,31 +146,23 @@ def a22_contact():
 REFERENCE_STRIPS = 64
 
 
-def profile_case(contact, y_m):
+def compare(contact, y_m, n_x=48):
     """The right wheel's contacts of the S1002/UIC60 wheelset at lateral shift ``y_m`` under 10 kN per wheel
-    (Hertz's pose, no yaw): [(slot, kernel row, the reference's strips, the patch at the default strip count)]."""
+    (Hertz's pose, no yaw): per contact (the patch at the default strip count, the exact solution on
+    REFERENCE_STRIPS strips, its angle, the kernel row)."""
     res = solve_quasi_static(contact, y_m, 0.0, A22.WHEEL_LOAD_N, A22.SPEED_M_S, mu=A22.MU,
                              shear_modulus_Pa=A22.SHEAR_MODULUS_PA, poisson=A22.POISSON, creep_law="fastsim")
     out = contact.evaluate(np.array([[y_m, res.z_m, res.roll_rad]]))
     pose = contact.side_poses(contact.poses)[0].copy()
     cases = []
     for slot in range(K.N_SLOTS):
-        row = out[0, slot]
+        row = out[0, slot].copy()
         if row[K.F_STATUS] > 0 and row[K.F_NORMAL_FORCE] > 0:
             args = (contact.nodes, contact.meta, contact.curve_ids[0], row, pose, 0.0, contact.E_star)
-            strips, _ = P.patch_of_contact(*args, n_strips=REFERENCE_STRIPS)
+            _, ref, angle = P.exact_of_contact(*args, n_strips=REFERENCE_STRIPS, n_x=n_x)
             _, sol = P.patch_of_contact(*args)
-            cases.append((slot, row.copy(), strips, sol))
+            cases.append((sol, ref, angle, row))
     return cases
-
-
-def compare(contact, y_m, n_x=48):
-    """Per contact of the position: (patch solution, exact solution, exact angle, kernel row)."""
-    out = []
-    for slot, row, strips, sol in profile_case(contact, y_m):
-        ref = solve_strip_geometry(strips[:, S.S_ETA], strips[:, S.S_G], strips[:, S.S_A], n_x, contact.E_star)
-        out.append((sol, ref, ref.contact_angle_rad(strips[:, S.S_GAMMA]), row))
-    return out
 
 
 def test_patch_on_the_conformal_tread_against_the_exact_solution(a22_contact):

@@ -33,7 +33,7 @@ def _check_pair_options(args) -> None:
     """The wheel-rail pair's options: plausible numbers, known profiles (the files are read when the pair is built,
     which checks that a wheel file holds a wheel and a rail file a rail)."""
     from ..contact.pair import BACK_TO_BACK_M, GAUGE_M, R0_M, back_to_back_problem
-    from ..profiles.profiles import profile_spec_problem
+    from ..profiles.profiles import RAIL_PROFILE_NAMES, profile_spec_problem
     for option, kind in (("--wheel", "wheel"), ("--rail", "rail")):
         problem = profile_spec_problem(getattr(args, kind), kind)
         if problem:
@@ -50,6 +50,8 @@ def _check_pair_options(args) -> None:
     elif args.rail_worn:
         raise ValueError("--rail-worn: a worn rail head needs --rail-canted (the inclination its data contain): its "
                          "crown does not show it")
+    if args.rail_worn and str(args.rail).strip().upper() in RAIL_PROFILE_NAMES:
+        raise ValueError(f"--rail-worn: applies to a measured rail file, not to the built-in {args.rail}")
     Y_MAX_M.check("--y-max", args.y_max)
     Y_STEP_M.check("--y-step", args.y_step)
     if args.y_step > args.y_max:

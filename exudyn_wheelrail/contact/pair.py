@@ -13,7 +13,7 @@ import numpy as np
 
 from ..conventions import DEFAULT_BACK_TO_BACK_M, GAUGE_MEASURING_DEPTH_M, STANDARD_GAUGE_M, parse_inclination
 from ..profiles.curve import ProfileCurve, pack_curves
-from ..profiles.profiles import RailProfile, WheelProfile, resolve_rail, resolve_wheel
+from ..profiles.profiles import INCLINATION_TAN, RailProfile, WheelProfile, resolve_rail, resolve_wheel
 from ..validation import Quantity
 
 # Plausibility of the placement parameters (used by the pair, the vehicle files and the command line).
@@ -23,8 +23,6 @@ GAUGE_M = Quantity("track gauge", "m", 0.6, 1.8)
 BACK_TO_BACK_M = Quantity("flange back-to-back distance", "m", 0.5, 1.8)
 #: nominal rolling radius: small tram and light-rail wheels (~0.15 m) up to large locomotive wheels (~0.65 m)
 R0_M = Quantity("nominal rolling radius", "m", 0.1, 1.0)
-#: rail inclination (tan of the cant angle): vertical up to 1:10
-INCLINATION_TAN = Quantity("rail inclination (tan of the cant angle)", "", 0.0, 0.1)
 #: gauge minus back-to-back distance: two flange thicknesses plus the play, > 0 and < 0.15 m
 FLANGE_CLEARANCE_M = (0.0, 0.15)
 

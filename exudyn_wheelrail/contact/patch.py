@@ -59,13 +59,14 @@ from scipy.special import ellipe, ellipkm1
 
 from ..jit import compiled
 from .layout import F_NR_Y, F_NR_Z, F_PR_Y, F_PR_Z, F_S_RAIL, F_S_WHEEL, F_SEMI_B
+from .halfspace import solve_strip_geometry
 from .normal import hertz_from_penetration
 from .strips import N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_WIDTH, fill_strips, zone_edges
 
 __all__ = ["N_STRIPS", "FIXED_POINT_TOL", "FIXED_POINT_MAX", "DAMPING", "LENGTH_FLOOR", "B_FLOOR", "PatchSolution",
            "PatchError", "strip_h", "strip_influence", "hertz_start", "local_length_ratio", "solve_core", "scratch",
            "N_VECTORS", "resultants", "R_FORCE", "R_AREA", "R_SIN", "R_COS", "R_ETA", "R_HALF_WIDTH", "N_RESULTANTS",
-           "solve_strips", "patch_of_contact"]
+           "solve_strips", "strips_of_contact", "patch_of_contact", "exact_of_contact"]
 
 #: strips across a patch (against the exact solution on S1002/UIC60 at ten positions: 16 strips within 0.7 % in
 #: force, 2.6 % in area, 1.1 % in the contact angle; docs/validation.md)
@@ -431,10 +432,10 @@ def solve_strips(eta_m, width_m: float, g, A, gamma, E_star_Pa: float) -> PatchS
     return PatchSolution(eta, float(width_m), q, xl, np.asarray(gamma, dtype=float), float(eps), float(g.max()), it)
 
 
-def patch_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll: float, E_star_Pa: float,
-                     n_strips: int = N_STRIPS):
-    """The patch of one kernel output row ``row`` (fields of :mod:`.layout`) of a wheel at the side-frame ``pose``
-    (c_y, c_z, roll), the wheel's curves ``curve_ids`` (rail, tread, flange or -1): ``(strips, PatchSolution)``."""
+def strips_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll: float, n_strips: int = N_STRIPS):
+    """The ``n_strips`` strips (fields S_* of :mod:`.strips`) across the overlap zone of one kernel output row
+    ``row`` (fields of :mod:`.layout`) of a wheel at the side-frame ``pose`` (c_y, c_z, roll), the wheel's curves
+    ``curve_ids`` (rail, tread, flange or -1); :class:`PatchError` where a strip's points are not found."""
     rail, tread, flange = (int(c) for c in curve_ids)
     c_y, c_z, roll = (float(v) for v in pose)
     args = (nodes, meta, rail, tread, flange, c_y, c_z, math.cos(roll), math.sin(roll), row[F_PR_Y], row[F_PR_Z],
@@ -445,5 +446,22 @@ def patch_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll: float, E_st
     fill_strips(*args, lo, hi, strips)
     if not (strips[:, S_OK] > 0.0).all():
         raise PatchError("a strip's profile points were not found (Newton did not converge)")
+    return strips
+
+
+def patch_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll: float, E_star_Pa: float,
+                     n_strips: int = N_STRIPS):
+    """The patch of one kernel output row (arguments as :func:`strips_of_contact`): ``(strips, PatchSolution)``."""
+    strips = strips_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll, n_strips)
     return strips, solve_strips(strips[:, S_ETA], strips[0, S_WIDTH], strips[:, S_G], strips[:, S_A],
                                 strips[:, S_GAMMA], E_star_Pa)
+
+
+def exact_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll: float, E_star_Pa: float,
+                     n_strips: int = 64, n_x: int = 48):
+    """The exact half-space solution (:func:`.halfspace.solve_strip_geometry`) over the interpenetration of one
+    kernel output row's zone (arguments as :func:`strips_of_contact`), on ``n_strips`` strips × ``n_x`` cells — the
+    patch's reference: ``(strips, HalfSpaceSolution, contact angle of its resultant)``."""
+    strips = strips_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll, n_strips)
+    exact = solve_strip_geometry(strips[:, S_ETA], strips[:, S_G], strips[:, S_A], n_x, E_star_Pa)
+    return strips, exact, exact.contact_angle_rad(strips[:, S_GAMMA])

@@ -25,9 +25,10 @@ radius and the semi-axes.  A slot that has no force of its own at any of its fou
 the tail of another slot's zone at one of them at least, no contact at the others — is that zone's tail here too
 (merged, no force: the zone's carrying slot reads the whole zone's resultant, at every node its own).  The kernel
 finds such a second maximum of the conformal tread wherever it appears inside the first one's zone, so this is the
-common case of a zone merging; a wheel outside the grid, or one with a slot that carries its own contact at some of
-its nodes and not at others (a second zone merging into the first between two nodes), gets the patch solved online
-(:func:`~.patch_pass.patch_wheels`) for that evaluation.
+common case of a zone merging.  A wheel outside the grid, one with a slot that carries its own contact at some of
+its nodes and not at others (a second zone merging into the first between two nodes), or one whose tails have no
+loaded slot read as carrying a contact, gets the patch solved online (:func:`~.patch_pass.patch_wheels`) for that
+evaluation.
 
 The build solves the pass at every node and height (global kernel search, the pass's own strips): about
 ``nodes × len(deltas_m)`` patches, roll columns in parallel; cached on disk per profile pair, kernel parameters,
@@ -90,10 +91,9 @@ class PatchTableGrid:
     covers the tread and the flange root of S1002/UIC60 (|c_y| <= 8 mm; beyond, on the flange, Hertz holds and the
     pass keeps it at the cost of two strips) and wheel rolls of ±4 mrad relative to the rail; the roll step is
     fine because the conformal tread's patch changes by percent per 0.5 mrad (measured: 1 mrad steps, 4 % RMS error
-    of the force midway; 0.1 mm steps in c_y, 1.8 % at most).  The lateral step 0.05 mm follows the merging of the
-    tread's second zone into the first, whose pose moves with the roll (against the patch solved online on the RTRI
-    run's wheel evaluations: the wheel's normal force within 0.07 % at the median, 0.7 % at the 99th percentile,
-    8.8 % at the worst, at the ridge where a second zone joins)."""
+    of the force midway; 0.1 mm steps in c_y, 1.8 % at most).  Where the tread's second zone joins the first, the
+    force at a given penetration rises along a ridge ~0.1 mm wide that moves with the roll, which a cell of these
+    steps flattens (the table against the patch solved online over the RTRI run: docs/performance.md)."""
 
     y_min_m: float = -0.008
     y_max_m: float = 0.008
@@ -298,6 +298,8 @@ def patch_tabulated(par, data, slots, nodes, meta, curve_ids, poses, params, out
             j = min(int(y), int(par[TP_NR]) - 2)
             fx = x - i
             fy = y - j
+            carried = False
+            tails = False
             for s in range(K.N_SLOTS):
                 row = out[w, s]
                 acc = slots[s]
@@ -322,10 +324,15 @@ def patch_tabulated(par, data, slots, nodes, meta, curve_ids, poses, params, out
                 # one corner at least, nothing at the others): else it is solved online
                 if n_patch == 4:
                     acc[PT_CODE] = CODE_PATCH
+                    carried = True
                 elif n_patch == 0 and n_merged > 0:
                     acc[PT_CODE] = CODE_MERGED
+                    tails = True
                 else:
                     online = True
+            # a zone's tail needs a loaded slot that carries a zone here: never a wheel left without its force
+            if tails and not carried:
+                online = True
         if online:
             patch_wheels(nodes, meta, curve_ids[w:w + 1], poses[w:w + 1], params, out[w:w + 1], patch)
             continue

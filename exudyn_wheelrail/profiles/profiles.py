@@ -15,6 +15,7 @@ from .curve import ProfileCurve
 from .dense import DenseProfile
 from .readers import load_profile
 from .standard import S1002_FLANGE_BACK_Y_M, s1002_dense, uic60_dense
+from ..validation import Quantity
 from .validation import FLANGE_HEIGHT_RANGE_M, FLANGE_TIP_MAX_Y_M, ProfileError, check_profile_kind
 
 
@@ -158,6 +159,8 @@ class WheelProfile:
 
 #: Inclinations a rail profile's data are recognised to contain (tan of the angle).
 STANDARD_CANTS = (0.0, 1.0 / 40.0, 1.0 / 30.0, 1.0 / 20.0)
+#: rail inclination (tan of the cant angle): vertical up to 1:10
+INCLINATION_TAN = Quantity("rail inclination (tan of the cant angle)", "", 0.0, 0.1)
 
 
 class RailProfile:
@@ -177,6 +180,8 @@ class RailProfile:
         self.curve = curve
         self.name = name
         self.estimated_cant_tan = self.estimate_cant_tan()
+        if canted_tan is not None:
+            canted_tan = INCLINATION_TAN.check(f"{name}: canted_tan", canted_tan)
         if worn and canted_tan is None:
             raise ValueError(f"{name}: a worn rail head needs the inclination its data contain stated "
                              "(canted_tan= / --rail-canted): its crown does not show it")
@@ -186,14 +191,14 @@ class RailProfile:
                 raise ValueError(
                     f"{name}: the rail head looks inclined by tan = {self.estimated_cant_tan:.4f} (crown top off the "
                     "head centre line), which is not 0, 1:40, 1:30 or 1:20; state the inclination the data contain "
-                    "(canted_tan= / --rail-canted; for a worn head also worn=True / --rail-worn) — or check the "
+                    "(canted_tan= / --rail-canted; for a worn head also RailProfile(worn=True) / --rail-worn) — or check the "
                     "profile's lateral orientation (y to the field side)")
             canted_tan = near[0]
         elif not worn and abs(float(canted_tan) - self.estimated_cant_tan) > 0.01:
             raise ValueError(
                 f"{name}: stated inclination of the data tan = {float(canted_tan):.4f} but the head looks inclined by "
                 f"tan = {self.estimated_cant_tan:.4f}; check canted_tan / --rail-canted and the profile orientation "
-                "(a worn head, whose crown does not show it: worn=True / --rail-worn)")
+                "(a worn head, whose crown does not show it: RailProfile(worn=True) / --rail-worn)")
         #: inclination already contained in the data, tan of the angle
         self.canted_tan = float(canted_tan)
 
