@@ -607,13 +607,29 @@ def cache_dir() -> Path:
     return Path(d) if d else Path.home() / ".cache" / "exudyn_wheelrail"
 
 
-def _key(nodes, meta, curve_row, params, grid: GeometryTableGrid) -> str:
+def cache_key(nodes, meta, curve_row, arrays, tag) -> str:
+    """The cache key of a table of the curves ``curve_row`` in ``nodes``/``meta``: a digest of them, of the float
+    ``arrays`` (its parameters) and of ``repr(tag)`` (its grid and format version)."""
     h = hashlib.sha256()
     for a in (np.ascontiguousarray(nodes, dtype=float), np.ascontiguousarray(meta, dtype=float),
-              np.asarray(curve_row, dtype=np.int64), np.ascontiguousarray(params, dtype=float)):
+              np.asarray(curve_row, dtype=np.int64), *(np.ascontiguousarray(x, dtype=float) for x in arrays)):
         h.update(a.tobytes())
-    h.update(repr((grid, TABLE_VERSION)).encode())
+    h.update(repr(tag).encode())
     return h.hexdigest()[:20]
+
+
+def load_cached(path: Path, data_shape, names) -> dict | None:
+    """The arrays ``names`` of the cached table file ``path``, or None where there is none, where it is corrupt,
+    lacks one of them or its ``data`` is not of ``data_shape`` (the table is then built again)."""
+    if not path.exists():
+        return None
+    try:
+        with np.load(path) as z:
+            if z["data"].shape != tuple(data_shape):
+                return None
+            return {name: z[name] for name in names}
+    except Exception:   # a corrupt cache file is rebuilt
+        return None
 
 
 def geometry_table(nodes, meta, mono, curve_row, params, grid: GeometryTableGrid | None = None,
@@ -625,22 +641,16 @@ def geometry_table(nodes, meta, mono, curve_row, params, grid: GeometryTableGrid
     pg = np.array(params, dtype=float)
     pg[K.P_GLOBAL] = 1.0
     pg[K.P_BLEND_DEPTH] = 1e9           # report the second maximum of a zone whenever it penetrates (flagged)
-    key = _key(nodes, meta, curve_row, pg, grid)
+    key = cache_key(nodes, meta, curve_row, (pg,), (grid, TABLE_VERSION))
     if key in _MEMORY:
         return _MEMORY[key]
     path = cache_dir() / f"geometry_table_{key}.npz"
-    if cache and path.exists():
-        try:
-            z = np.load(path)
-            ys, rolls = grid.axes()
-            if z["data"].shape != (len(ys), len(rolls), K.N_SLOTS, N_G):
-                raise ValueError("stale cache file")
-            t = GeometryTable(grid, z["cz_ref"], z["data"], int(z["failed"]), key)
-            _MEMORY[key] = t
-            return t
-        except Exception:   # a corrupt cache file is rebuilt
-            pass
     ys, rolls = grid.axes()
+    z = load_cached(path, (len(ys), len(rolls), K.N_SLOTS, N_G), ("cz_ref", "data", "failed")) if cache else None
+    if z is not None:
+        t = GeometryTable(grid, z["cz_ref"], z["data"], int(z["failed"]), key)
+        _MEMORY[key] = t
+        return t
     data = np.zeros((len(ys), len(rolls), K.N_SLOTS, N_G))
     cz_ref = np.zeros((len(ys), len(rolls)))
     r0 = nominal_height(nodes, meta, curve_row)

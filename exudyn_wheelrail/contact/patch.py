@@ -66,7 +66,7 @@ from .strips import N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_WIDTH, fil
 __all__ = ["N_STRIPS", "FIXED_POINT_TOL", "FIXED_POINT_MAX", "DAMPING", "LENGTH_FLOOR", "B_FLOOR", "PatchSolution",
            "PatchError", "strip_h", "strip_influence", "hertz_start", "local_length_ratio", "solve_core", "scratch",
            "N_VECTORS", "resultants", "R_FORCE", "R_AREA", "R_SIN", "R_COS", "R_ETA", "R_HALF_WIDTH", "N_RESULTANTS",
-           "solve_strips", "strips_of_contact", "patch_of_contact", "exact_of_contact"]
+           "solve_strips", "MIN_STEP_M", "row_zone_edges", "strips_of_contact", "patch_of_contact", "exact_of_contact"]
 
 #: strips across a patch (against the exact solution on S1002/UIC60 at ten positions: 16 strips within 0.7 % in
 #: force, 2.6 % in area, 1.1 % in the contact angle; docs/validation.md)
@@ -317,6 +317,20 @@ def solve_core(g, A, n, width, e_star, q, xl, C, aug, vectors, idx):
     return -3, eps
 
 
+#: the smallest step out of a zone towards its edges (Hertz's lateral semi-axis otherwise) [m]
+MIN_STEP_M = 1e-4
+
+
+@compiled(refcount=False)
+def row_zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, work):
+    """The edges (η_lo, η_hi) of the overlap zone of a kernel output row (fields of :mod:`.layout`) in its contact
+    plane (:func:`.strips.zone_edges`, stepping by Hertz's lateral semi-axis, at least MIN_STEP_M); ``work`` a
+    strip row's scratch."""
+    return zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row[F_PR_Y], row[F_PR_Z],
+                      row[F_NR_Y], row[F_NR_Z], row[F_S_RAIL], row[F_S_WHEEL], k_rail_roll, 0.0,
+                      max(row[F_SEMI_B], MIN_STEP_M), work)
+
+
 # the resultants of a solved patch: res[R_*]
 R_FORCE = 0       # Σ load_j, load_j = π/2 q_j x_l,j w (the integral of the strip's semi-elliptic pressure)
 R_AREA = 1        # Σ 2 x_l,j w
@@ -440,8 +454,8 @@ def strips_of_contact(nodes, meta, curve_ids, row, pose, k_rail_roll: float, n_s
     c_y, c_z, roll = (float(v) for v in pose)
     args = (nodes, meta, rail, tread, flange, c_y, c_z, math.cos(roll), math.sin(roll), row[F_PR_Y], row[F_PR_Z],
             row[F_NR_Y], row[F_NR_Z], row[F_S_RAIL], row[F_S_WHEEL], k_rail_roll)
-    scratch = np.zeros(N_STRIP_FIELDS)
-    lo, hi = zone_edges(*args, 0.0, max(float(row[F_SEMI_B]), 1e-4), scratch)
+    lo, hi = row_zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, math.cos(roll), math.sin(roll), row,
+                            k_rail_roll, np.zeros(N_STRIP_FIELDS))
     strips = np.zeros((n_strips, N_STRIP_FIELDS))
     fill_strips(*args, lo, hi, strips)
     if not (strips[:, S_OK] > 0.0).all():

@@ -48,10 +48,10 @@ from . import kernel as K
 from .layout import (F_B_REL, F_CONTACT_ANGLE, F_DN_DDELTA, F_FLAGS, F_NORMAL_FORCE, F_NR_Y, F_NR_Z,
                      F_PENETRATION, F_PR_Y, F_PR_Z, F_PW_Y, F_PW_Z, F_ROLLING_RADIUS, F_S_RAIL, F_S_WHEEL, F_SEMI_A,
                      F_SEMI_B, F_STATUS, N_SLOTS, P_E_STAR, P_RAIL_ROLL_CURVATURE)
-from .patch import (N_RESULTANTS, N_STRIPS, R_AREA, R_COS, R_ETA, R_FORCE, R_HALF_WIDTH, R_SIN, resultants, scratch,
-                    solve_core)
+from .patch import (N_RESULTANTS, N_STRIPS, R_AREA, R_COS, R_ETA, R_FORCE, R_HALF_WIDTH, R_SIN, resultants,
+                    row_zone_edges, scratch, solve_core)
 from .strips import (N_STRIP_FIELDS, S_A, S_ETA, S_G, S_GAMMA, S_OK, S_RADIUS, S_RAIL_Y, S_RAIL_Z, S_S_RAIL,
-                     S_S_WHEEL, fill_strips, strip_at, zone_edges)
+                     S_S_WHEEL, fill_strips, strip_at)
 
 __all__ = ["SWITCH_LO", "SWITCH_HI", "HERTZ_EXPONENT", "PP_N_STRIPS", "PP_SWITCH_LO", "PP_SWITCH_HI", "N_PP",
            "patch_params",
@@ -61,9 +61,6 @@ __all__ = ["SWITCH_LO", "SWITCH_HI", "HERTZ_EXPONENT", "PP_N_STRIPS", "PP_SWITCH
 #: replaces it (relative to δ; module docstring)
 SWITCH_LO = 0.02
 SWITCH_HI = 0.05
-
-#: the smallest step out of a zone towards its edges (Hertz's lateral semi-axis otherwise) [m]
-MIN_STEP_M = 1e-4
 
 # a zone's Hertz resultant (the pass's scratch, zones[group, 1:]): hertz[_H_*]
 _H_FORCE = 0
@@ -128,19 +125,12 @@ def hertz_miss(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_
 
 
 @compiled(refcount=False)
-def _zone_of(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, scratch):
-    """The edges (η_lo, η_hi) of the overlap zone of a contact's row, in its contact plane."""
-    return zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row[F_PR_Y], row[F_PR_Z],
-                      row[F_NR_Y], row[F_NR_Z], row[F_S_RAIL], row[F_S_WHEEL], k_rail_roll, 0.0,
-                      max(row[F_SEMI_B], MIN_STEP_M), scratch)
-
-
-@compiled(refcount=False)
 def _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, row, k_rail_roll, e_star, n, weight,
                hertz, lo, hi, strips, vecs, C, aug, vectors, idx):
     """Solve the patch of ``row``'s zone and write its blend with Hertz's resultant ``hertz`` (_H_*: force,
     lateral position in the plane, angle, semi-axes — the zone's Hertz contacts together) into ``row``; ``lo``,
-    ``hi`` the zone's edges (:func:`_zone_of`).  False (row untouched) if the patch could not be solved."""
+    ``hi`` the zone's edges (:func:`~.patch.row_zone_edges`).  False (row untouched) if the patch could not be
+    solved."""
     o_y, o_z, n_y, n_z = row[F_PR_Y], row[F_PR_Z], row[F_NR_Y], row[F_NR_Z]
     s_r, s_w = row[F_S_RAIL], row[F_S_WHEEL]
     if not hi - lo > 0.0:
@@ -236,7 +226,7 @@ def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
                 break
             lead = out[w, order[a]]
             t_y, t_z = -lead[F_NR_Z], lead[F_NR_Y]
-            lo, hi = _zone_of(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead, k_rr, strips[0])
+            lo, hi = row_zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead, k_rr, strips[0])
             zones[a, _Z_LO] = lo
             zones[a, _Z_HI] = hi
             for b in range(a + 1, m):
@@ -276,7 +266,7 @@ def patch_wheels(nodes, meta, curve_ids, poses, params, out, patch):
             hertz[_H_A] = lead[F_SEMI_A]
             hertz[_H_B] = lead[F_SEMI_B]
             if np.isnan(zones[a, _Z_LO]):
-                zones[a, _Z_LO], zones[a, _Z_HI] = _zone_of(nodes, meta, rail, tread, flange, c_y, c_z, cos_r,
+                zones[a, _Z_LO], zones[a, _Z_HI] = row_zone_edges(nodes, meta, rail, tread, flange, c_y, c_z, cos_r,
                                                               sin_r, lead, k_rr, strips[0])
             if _patch_row(nodes, meta, rail, tread, flange, c_y, c_z, cos_r, sin_r, lead, k_rr, e_star, n, weight,
                           hertz, zones[a, _Z_LO], zones[a, _Z_HI], strips, vecs, C, aug, vectors, idx):

@@ -36,7 +36,6 @@ pass parameters and grid (the geometry table's cache folder).
 """
 from __future__ import annotations
 
-import hashlib
 import math
 from dataclasses import dataclass, field
 
@@ -45,8 +44,8 @@ from numba import prange
 
 from ..jit import compiled
 from . import kernel as K
-from .geometry_table import (GeometryTableGrid, cache_dir, column_arrays, height_at_penetration, nominal_height,
-                             save_cached)
+from .geometry_table import (GeometryTableGrid, cache_dir, cache_key, column_arrays, height_at_penetration,
+                             load_cached, nominal_height, save_cached)
 from .patch_pass import HERTZ_EXPONENT, PP_N_STRIPS, PP_SWITCH_HI, PP_SWITCH_LO, pass_work, patch_params, patch_wheels
 from ..profiles.curve import curve_point
 from .strips import curve_of
@@ -211,27 +210,17 @@ def patch_table(nodes, meta, mono, curve_row, params, pp=None, grid: PatchTableG
     pp = patch_params()[0] if pp is None else np.asarray(pp, dtype=float)
     pg = np.array(params, dtype=float)
     pg[K.P_GLOBAL] = 1.0
-    h = hashlib.sha256()
-    for a in (np.ascontiguousarray(nodes, dtype=float), np.ascontiguousarray(meta, dtype=float),
-              np.asarray(curve_row, dtype=np.int64), pg, pp):
-        h.update(np.ascontiguousarray(a).tobytes())
-    h.update(repr((grid, PATCH_TABLE_VERSION)).encode())
-    key = h.hexdigest()[:20]
+    key = cache_key(nodes, meta, curve_row, (pg, pp), (grid, PATCH_TABLE_VERSION))
     if key in _MEMORY:
         return _MEMORY[key]
     ys, rolls, deltas = grid.axes()
     shape = (len(ys), len(rolls), len(deltas), K.N_SLOTS, N_PT)
     path = cache_dir() / f"patch_table_{key}.npz"
-    if cache and path.exists():
-        try:
-            z = np.load(path)
-            if z["data"].shape != shape:
-                raise ValueError("stale cache file")
-            t = PatchTable(grid, z["data"], int(z["failed"]), key)
-            _MEMORY[key] = t
-            return t
-        except Exception:   # a corrupt cache file is rebuilt
-            pass
+    z = load_cached(path, shape, ("data", "failed")) if cache else None
+    if z is not None:
+        t = PatchTable(grid, z["data"], int(z["failed"]), key)
+        _MEMORY[key] = t
+        return t
     data = np.zeros(shape)
     failed = build_patch_table_core(nodes, meta, mono, np.asarray(curve_row, dtype=np.int64), pg, pp, ys, rolls,
                                     deltas, nominal_height(nodes, meta, curve_row), data)
